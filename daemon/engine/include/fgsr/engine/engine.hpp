@@ -1,0 +1,138 @@
+// The fgsr engine: Mob-FGSR frame generation on a Vulkan compute queue.
+//
+// Thread-safety: an Engine may be shared; each Session is used by one thread at a time.
+// Lifetime: sessions must be destroyed before their engine.
+#pragma once
+
+#include <fgsr/engine/result.hpp>
+#include <fgsr/engine/types.hpp>
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace fgsr {
+
+struct DeviceOptions {
+    // Device to use: a decimal index into the physical-device list, or a case-insensitive substring
+    // of the device name. Empty: the FGSR_DEVICE environment variable, else the first non-CPU
+    // device, else the first CPU device (Mesa lavapipe).
+    std::string device;
+    // Khronos validation layer; also enabled by FGSR_VALIDATION=1. Validation messages of
+    // severity error are counted (Engine::validation_errors) and logged to stderr.
+    bool validation = false;
+};
+
+enum class MotionModel : uint32_t {
+    quadratic = 0, // uniform acceleration, supplement Eqs. 1-2 (needs the previous frame's vectors)
+    linear = 1,    // uniform velocity, Eqs. 14-15
+};
+
+enum class BlendMode : uint32_t {
+    select = 0, // paper Eq. 1: the temporally closer warped frame where both agree
+    mix = 1,    // alpha-weighted mix where both agree
+};
+
+// Algorithm parameters. Depth threshold is relative (|d0 - d1| / min(d0, d1)), so it holds for
+// any linear depth unit; brightness threshold is on display-referred luma in [0, 1].
+struct Params {
+    MotionModel motion = MotionModel::quadratic;
+    BlendMode blend = BlendMode::select;
+    float t_depth = 0.05f;
+    float t_bright = 0.13f;
+    bool fill_gaps = true;  // refine: fill the grid-like gaps of splatting
+    bool fill_holes = true; // disocc: give holes a vector (skipped pass when false)
+};
+
+struct PassTiming {
+    std::string name; // "splat", "refine", "disocc", "warp", "blend" (ingest: Session::last_ingest_ms)
+    double ms = 0;    // GPU time from timestamp queries
+};
+
+struct GeneratedFrame {
+    float time = 0;    // alpha for interpolation, 1 + alpha for extrapolation
+    ImageRGBA color;   // linear RGBA, the session's resolution
+    std::vector<PassTiming> passes;
+    double gpu_ms = 0; // sum of passes
+};
+
+class Session;
+
+class Engine {
+  public:
+    static Result<std::unique_ptr<Engine>> create(const DeviceOptions& options = {});
+    ~Engine();
+    Engine(const Engine&) = delete;
+    Engine& operator=(const Engine&) = delete;
+
+    std::string device_name() const;
+    bool is_cpu_device() const;
+    uint64_t validation_errors() const;
+
+    // Lists the Vulkan devices "index: name (type)" for --list-devices.
+    static Result<std::vector<std::string>> list_devices();
+
+    Result<std::unique_ptr<Session>> create_session(const FrameFormat& format, const Params& params = {});
+
+    struct Impl;
+
+  private:
+    explicit Engine(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+// A stream of frames of one format. Frame 1 is the newest submitted frame, frame 0 the one before.
+class Session {
+  public:
+    ~Session();
+    Session(const Session&) = delete;
+    Session& operator=(const Session&) = delete;
+
+    const FrameFormat& format() const;
+    const Params& params() const;
+    void set_params(const Params& p);
+
+    // Copies, validates and ingests a frame; it becomes frame 1. An empty mv plane means the
+    // vectors are unknown (e.g. the first frame after a cut). Errors leave the session unchanged.
+    Result<void> submit(const FrameView& frame);
+    // Forgets the submitted frames (scene cut).
+    void reset();
+    uint64_t frames_submitted() const;
+    // GPU time of the last submit's ingest pass.
+    double last_ingest_ms() const;
+
+    // Frames between frame 0 and frame 1 at each alpha in (0, 1), in one GPU submission.
+    Result<std::vector<GeneratedFrame>> interpolate(std::span<const float> alphas);
+    // Frames after frame 1 at 1 + alpha for each alpha in (0, 1].
+    Result<std::vector<GeneratedFrame>> extrapolate(std::span<const float> alphas);
+
+    // Test and diagnostics access: the internal frames and the intermediate buffers of the last
+    // generated frame (the last alpha of the last call).
+    struct Intermediates {
+        std::vector<uint64_t> keys;
+        std::vector<float> field;       // 4 per pixel: v0.xy, v1.xy
+        std::vector<float> field_depth;
+        std::vector<uint32_t> field_state;
+        std::vector<float> warped_color0, warped_color1; // 4 per pixel
+        std::vector<float> warped_depth0, warped_depth1;
+    };
+    Result<Intermediates> read_intermediates() const;
+    struct InternalFrameData {
+        std::vector<float> color; // 4 per pixel
+        std::vector<float> depth;
+        std::vector<float> mv; // 2 per pixel
+        bool has_mv = false;
+    };
+    // which = 1: newest frame, 0: the one before.
+    Result<InternalFrameData> read_frame(int which) const;
+
+    struct Impl;
+
+  private:
+    friend class Engine;
+    explicit Session(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace fgsr

@@ -1,0 +1,73 @@
+// CPU reference of the engine: the same algorithm headers (shaders/*.h) compiled as C++ with GLM.
+// Each function runs one pass on explicit inputs, so a test can feed it exactly what the GPU pass
+// saw and compare outputs pass by pass. Tools use ingest() to reach the internal convention.
+#pragma once
+
+#include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/result.hpp>
+#include <fgsr/engine/types.hpp>
+
+#include "common.h" // shaders/: GenParams, IngestParams
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace fgsr::ref {
+
+using gpu::GenParams;
+using gpu::IngestParams;
+
+// One frame in the engine's internal convention (see types.hpp).
+struct InternalFrame {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<glm::vec4> color; // linear RGBA
+    std::vector<float> depth;     // linear view depth, larger is farther
+    std::vector<glm::vec2> mv;    // pixels, y down, to previous; all zero when !has_mv
+    bool has_mv = false;
+};
+
+// States of a reconstructed field pixel (the FIELD_* values of shaders/field.h).
+enum FieldState : uint32_t { kFieldSplatted = 0, kFieldGapFilled = 1, kFieldHole = 2, kFieldHoleFilled = 3 };
+
+// Reconstructed motion field of one generated frame (see shaders/field.h).
+struct Field {
+    std::vector<glm::vec4> v;     // (v0.xy, v1.xy) per target pixel
+    std::vector<float> depth;     // frame-1 depth of the surface, FGSR_FAR_DEPTH if unknown
+    std::vector<uint32_t> state;  // FIELD_* values
+};
+
+// Warped frames: index frame * N + pixel, frame 0 then frame 1; negative depth = off screen.
+struct Warped {
+    std::vector<glm::vec4> color;
+    std::vector<float> depth;
+};
+
+// Checks a frame against its format (sizes, enum values, near/far). Shared by the engine and tools.
+Result<void> validate(const FrameFormat& format, const FrameView& frame);
+
+// The push constants the engine uses for `ingest` of a frame of this format.
+IngestParams ingest_params(const FrameFormat& format, bool has_mv);
+
+// Converts a validated frame to the internal convention (the `ingest` pass on the CPU).
+InternalFrame ingest(const FrameFormat& format, const FrameView& frame);
+
+// The push constants the engine uses for one generated frame.
+GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate, bool frame0_has_mv,
+                     bool frame1_has_mv);
+
+// Passes of frame generation; f0 is the older frame, f1 the newer one.
+std::vector<uint64_t> splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
+Field refine(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys,
+             const GenParams& g);
+void disocc(const InternalFrame& f0, const InternalFrame& f1, Field& field, const GenParams& g);
+Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field, const GenParams& g);
+std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const GenParams& g);
+
+// The whole chain: interpolated (blend output) or extrapolated (warped frame 1) colour.
+// `fill_holes` false skips disocc, as Params::fill_holes does.
+std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g,
+                                bool fill_holes = true);
+
+} // namespace fgsr::ref

@@ -1,0 +1,433 @@
+#include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/reference.hpp>
+
+#include "bindings.h"
+#include "field.h"
+#include "vk.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <initializer_list>
+
+namespace fgsr {
+
+namespace {
+
+constexpr uint32_t kMaxAlphas = 64;
+constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
+
+enum PassId : uint32_t { kIngest, kSplat, kRefine, kDisocc, kWarp, kBlend, kPassCount };
+constexpr std::array<const char*, kPassCount> kPassNames = {"ingest", "splat", "refine", "disocc", "warp", "blend"};
+constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT, SPLAT_COUNT, REFINE_COUNT,
+                                                            DISOCC_COUNT, WARP_COUNT,  BLEND_COUNT};
+
+uint32_t groups(uint32_t n) { return (n + FGSR_GROUP_X - 1) / FGSR_GROUP_X; }
+
+} // namespace
+
+struct Engine::Impl {
+    std::unique_ptr<vk::Context> ctx;
+    std::array<vk::Pipeline, kPassCount> pipelines;
+};
+
+Engine::Engine(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Engine::~Engine() = default;
+
+Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
+    auto impl = std::make_unique<Impl>();
+    auto ctx = vk::create_context(options);
+    if (!ctx) return ctx.error();
+    impl->ctx = std::move(*ctx);
+    for (uint32_t p = 0; p < kPassCount; ++p) {
+        uint32_t push = p == kIngest ? sizeof(gpu::IngestParams) : sizeof(gpu::GenParams);
+        auto pipe = vk::Pipeline::create(*impl->ctx, kPassNames[p], kPassBindings[p], push);
+        if (!pipe) return pipe.error();
+        impl->pipelines[p] = std::move(*pipe);
+    }
+    return std::unique_ptr<Engine>(new Engine(std::move(impl)));
+}
+
+std::string Engine::device_name() const { return impl_->ctx->props.deviceName; }
+bool Engine::is_cpu_device() const { return impl_->ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+uint64_t Engine::validation_errors() const { return impl_->ctx->validation_errors.load(); }
+Result<std::vector<std::string>> Engine::list_devices() { return vk::enumerate_devices(); }
+
+struct Session::Impl {
+    Engine::Impl* engine = nullptr;
+    vk::Context* ctx = nullptr;
+    FrameFormat format;
+    Params params;
+    size_t n = 0;
+
+    // Client planes are copied here, then ingested.
+    vk::Buffer color_raw, depth_raw, mv_raw;
+    struct GpuFrame {
+        vk::Buffer color, depth, mv;
+        bool has_mv = false;
+    };
+    std::array<GpuFrame, 2> frames;
+    int newest = 1; // index into frames of frame 1
+    uint64_t submitted = 0;
+    double ingest_ms = 0;
+
+    // Intermediates of one generated frame, reused by each alpha in turn.
+    vk::Buffer keys, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1, warped_depth1;
+    std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
+    bool last_extrapolate = false;
+    size_t last_output = 0;
+
+    VkCommandPool cmd_pool = VK_NULL_HANDLE;
+    VkCommandBuffer cmd = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    VkDescriptorPool desc_pool = VK_NULL_HANDLE;
+    VkQueryPool queries = VK_NULL_HANDLE;
+
+    ~Impl() {
+        if (!ctx) return;
+        vkDeviceWaitIdle(ctx->device);
+        if (queries) vkDestroyQueryPool(ctx->device, queries, nullptr);
+        if (desc_pool) vkDestroyDescriptorPool(ctx->device, desc_pool, nullptr);
+        if (fence) vkDestroyFence(ctx->device, fence, nullptr);
+        if (cmd_pool) vkDestroyCommandPool(ctx->device, cmd_pool, nullptr);
+    }
+
+    Result<void> init() {
+        VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        pi.queueFamilyIndex = ctx->queue_family;
+        FGSR_VK(vkCreateCommandPool(ctx->device, &pi, nullptr, &cmd_pool), "vkCreateCommandPool");
+        VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        ai.commandPool = cmd_pool;
+        ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        ai.commandBufferCount = 1;
+        FGSR_VK(vkAllocateCommandBuffers(ctx->device, &ai, &cmd), "vkAllocateCommandBuffers");
+        VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        FGSR_VK(vkCreateFence(ctx->device, &fi, nullptr, &fence), "vkCreateFence");
+        const uint32_t max_sets = kMaxAlphas * kPassCount + 4;
+        VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, max_sets * 9};
+        VkDescriptorPoolCreateInfo di{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        di.maxSets = max_sets;
+        di.poolSizeCount = 1;
+        di.pPoolSizes = &ps;
+        FGSR_VK(vkCreateDescriptorPool(ctx->device, &di, nullptr, &desc_pool), "vkCreateDescriptorPool");
+        VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        qi.queryCount = kMaxAlphas * kQueriesPerFrame;
+        FGSR_VK(vkCreateQueryPool(ctx->device, &qi, nullptr, &queries), "vkCreateQueryPool");
+
+        const VkDeviceSize px = n;
+        auto make = [&](vk::Buffer& b, VkDeviceSize bytes, bool host) -> Result<void> {
+            auto r = vk::Buffer::create(*ctx, bytes, host);
+            if (!r) return r.error();
+            b = std::move(*r);
+            return {};
+        };
+        FGSR_TRY(make(color_raw, px * bytes_per_pixel(format.color_format), true));
+        FGSR_TRY(make(depth_raw, px * 4, true));
+        FGSR_TRY(make(mv_raw, px * bytes_per_pixel(format.mv_format), true));
+        for (GpuFrame& f : frames) {
+            FGSR_TRY(make(f.color, px * 16, false));
+            FGSR_TRY(make(f.depth, px * 4, false));
+            FGSR_TRY(make(f.mv, px * 8, false));
+        }
+        FGSR_TRY(make(keys, px * 8, false));
+        FGSR_TRY(make(field, px * 16, false));
+        FGSR_TRY(make(field_depth, px * 4, false));
+        FGSR_TRY(make(field_state, px * 4, false));
+        FGSR_TRY(make(warped_color0, px * 16, false));
+        FGSR_TRY(make(warped_depth0, px * 4, false));
+        FGSR_TRY(make(warped_color1, px * 16, false));
+        FGSR_TRY(make(warped_depth1, px * 4, false));
+        return {};
+    }
+
+    Result<void> ensure_outputs(size_t count) {
+        while (outputs.size() < count) {
+            auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * 16, true);
+            if (!r) return r.error();
+            outputs.push_back(std::move(*r));
+        }
+        return {};
+    }
+
+    Result<void> begin() {
+        FGSR_VK(vkResetDescriptorPool(ctx->device, desc_pool, 0), "vkResetDescriptorPool");
+        FGSR_VK(vkResetCommandBuffer(cmd, 0), "vkResetCommandBuffer");
+        VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        FGSR_VK(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
+        vkCmdResetQueryPool(cmd, queries, 0, kMaxAlphas * kQueriesPerFrame);
+        return {};
+    }
+
+    Result<void> finish() {
+        FGSR_VK(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+        VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        si.commandBufferCount = 1;
+        si.pCommandBuffers = &cmd;
+        FGSR_VK(vkResetFences(ctx->device, 1, &fence), "vkResetFences");
+        FGSR_VK(vkQueueSubmit(ctx->queue, 1, &si, fence), "vkQueueSubmit");
+        FGSR_VK(vkWaitForFences(ctx->device, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+        return {};
+    }
+
+    void barrier() {
+        VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                           VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                             0, 1, &mb, 0, nullptr, 0, nullptr);
+    }
+
+    void timestamp(uint32_t query) {
+        vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, queries, query);
+    }
+
+    Result<void> dispatch(PassId pass, std::initializer_list<const vk::Buffer*> buffers, const void* push) {
+        const vk::Pipeline& p = engine->pipelines[pass];
+        VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        ai.descriptorPool = desc_pool;
+        ai.descriptorSetCount = 1;
+        VkDescriptorSetLayout layout = p.set_layout();
+        ai.pSetLayouts = &layout;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        FGSR_VK(vkAllocateDescriptorSets(ctx->device, &ai, &set), "vkAllocateDescriptorSets");
+        std::array<VkDescriptorBufferInfo, 16> infos{};
+        std::array<VkWriteDescriptorSet, 16> writes{};
+        uint32_t i = 0;
+        for (const vk::Buffer* b : buffers) {
+            infos[i] = VkDescriptorBufferInfo{b->handle(), 0, VK_WHOLE_SIZE};
+            writes[i] = VkWriteDescriptorSet{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            writes[i].dstSet = set;
+            writes[i].dstBinding = i;
+            writes[i].descriptorCount = 1;
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            writes[i].pBufferInfo = &infos[i];
+            ++i;
+        }
+        vkUpdateDescriptorSets(ctx->device, i, writes.data(), 0, nullptr);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
+        vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, p.push_size(), push);
+        vkCmdDispatch(cmd, groups(format.width), groups(format.height), 1);
+        return {};
+    }
+
+    // Milliseconds between consecutive timestamps [first, first + count].
+    Result<std::vector<double>> read_times(uint32_t first, uint32_t count) {
+        std::vector<uint64_t> ticks(count + 1);
+        FGSR_VK(vkGetQueryPoolResults(ctx->device, queries, first, count + 1, ticks.size() * 8, ticks.data(), 8,
+                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+                "vkGetQueryPoolResults");
+        const uint64_t mask = ctx->timestamp_valid_bits >= 64 ? ~0ull : ((1ull << ctx->timestamp_valid_bits) - 1);
+        std::vector<double> ms(count);
+        for (uint32_t i = 0; i < count; ++i)
+            ms[i] = double((ticks[i + 1] - ticks[i]) & mask) * double(ctx->props.limits.timestampPeriod) * 1e-6;
+        return ms;
+    }
+
+    // Copies a buffer to the host (through a staging buffer when it is not mapped).
+    template <class T> Result<std::vector<T>> download(const vk::Buffer& b, size_t count) {
+        auto staging = vk::Buffer::create(*ctx, count * sizeof(T), true);
+        if (!staging) return staging.error();
+        FGSR_TRY(begin());
+        VkBufferCopy region{0, 0, count * sizeof(T)};
+        vkCmdCopyBuffer(cmd, b.handle(), staging->handle(), 1, &region);
+        barrier();
+        FGSR_TRY(finish());
+        std::vector<T> out(count);
+        std::memcpy(out.data(), staging->mapped(), count * sizeof(T));
+        return out;
+    }
+
+    Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
+};
+
+Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& format, const Params& params) {
+    // Validate the format with an empty frame view of the right sizes.
+    const size_t n = size_t(format.width) * format.height;
+    if (n == 0) return make_error(Errc::empty_input, "session frame size is " + std::to_string(format.width) + "x" +
+                                                         std::to_string(format.height));
+    if (bytes_per_pixel(format.color_format) == 0)
+        return make_error(Errc::unsupported, "unknown colour format " + std::to_string(uint32_t(format.color_format)));
+    if (bytes_per_pixel(format.mv_format) == 0)
+        return make_error(Errc::unsupported, "unknown motion-vector format " + std::to_string(uint32_t(format.mv_format)));
+    auto impl = std::make_unique<Session::Impl>();
+    impl->engine = impl_.get();
+    impl->ctx = impl_->ctx.get();
+    impl->format = format;
+    impl->params = params;
+    impl->n = n;
+    // A view with planes of exactly the right size validates conventions and limits.
+    std::vector<std::byte> c(n * bytes_per_pixel(format.color_format)), d(n * 4);
+    FGSR_TRY(ref::validate(format, FrameView{c, d, {}}));
+    FGSR_TRY(impl->init());
+    return std::unique_ptr<Session>(new Session(std::move(impl)));
+}
+
+Session::Session(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Session::~Session() = default;
+const FrameFormat& Session::format() const { return impl_->format; }
+const Params& Session::params() const { return impl_->params; }
+void Session::set_params(const Params& p) { impl_->params = p; }
+uint64_t Session::frames_submitted() const { return impl_->submitted; }
+double Session::last_ingest_ms() const { return impl_->ingest_ms; }
+
+void Session::reset() {
+    impl_->submitted = 0;
+    for (auto& f : impl_->frames) f.has_mv = false;
+}
+
+Result<void> Session::submit(const FrameView& frame) {
+    Impl& s = *impl_;
+    FGSR_TRY(ref::validate(s.format, frame));
+    std::memcpy(s.color_raw.mapped(), frame.color.data(), frame.color.size());
+    std::memcpy(s.depth_raw.mapped(), frame.depth.data(), frame.depth.size());
+    const bool has_mv = !frame.mv.empty();
+    if (has_mv) std::memcpy(s.mv_raw.mapped(), frame.mv.data(), frame.mv.size());
+    const int slot = 1 - s.newest;
+    Impl::GpuFrame& f = s.frames[size_t(slot)];
+    gpu::IngestParams p = ref::ingest_params(s.format, has_mv);
+    FGSR_TRY(s.begin());
+    s.timestamp(0);
+    FGSR_TRY(s.dispatch(kIngest, {&s.color_raw, &s.depth_raw, &s.mv_raw, &f.color, &f.depth, &f.mv}, &p));
+    s.timestamp(1);
+    s.barrier();
+    FGSR_TRY(s.finish());
+    auto t = s.read_times(0, 1);
+    if (!t) return t.error();
+    s.ingest_ms = (*t)[0];
+    f.has_mv = has_mv;
+    s.newest = slot;
+    ++s.submitted;
+    return {};
+}
+
+Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
+    if (submitted < 2)
+        return make_error(Errc::empty_input, std::string(extrapolate ? "extrapolation" : "interpolation") +
+                                                 " needs two submitted frames, the session has " + std::to_string(submitted));
+    if (alphas.empty()) return make_error(Errc::invalid_argument, "no alpha requested");
+    if (alphas.size() > kMaxAlphas)
+        return make_error(Errc::invalid_argument, std::to_string(alphas.size()) + " alphas requested, at most " +
+                                                      std::to_string(kMaxAlphas) + " per call");
+    for (float a : alphas) {
+        bool ok = extrapolate ? (a > 0.f && a <= 1.f) : (a > 0.f && a < 1.f);
+        if (!std::isfinite(a) || !ok)
+            return make_error(Errc::invalid_argument, "alpha " + std::to_string(a) + " is outside " +
+                                                          (extrapolate ? "(0, 1] for extrapolation" : "(0, 1) for interpolation"));
+    }
+    FGSR_TRY(ensure_outputs(alphas.size()));
+    const GpuFrame& f1 = frames[size_t(newest)];
+    const GpuFrame& f0 = frames[size_t(1 - newest)];
+
+    FGSR_TRY(begin());
+    for (size_t k = 0; k < alphas.size(); ++k) {
+        const gpu::GenParams g = ref::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv);
+        const uint32_t q = uint32_t(k) * kQueriesPerFrame;
+        const vk::Buffer& out = outputs[k];
+        timestamp(q);
+        vkCmdFillBuffer(cmd, keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
+        barrier();
+        FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &keys}, &g));
+        barrier();
+        timestamp(q + 1);
+        FGSR_TRY(dispatch(kRefine, {&f1.mv, &f0.mv, &f1.depth, &keys, &field, &field_depth, &field_state}, &g));
+        barrier();
+        timestamp(q + 2);
+        if (params.fill_holes) {
+            FGSR_TRY(dispatch(kDisocc, {&f1.mv, &f0.mv, &field, &field_depth, &field_state}, &g));
+            barrier();
+        }
+        timestamp(q + 3);
+        const vk::Buffer& w1 = extrapolate ? out : warped_color1;
+        FGSR_TRY(dispatch(kWarp, {&field, &f0.color, &f1.color, &f0.depth, &f1.depth, &warped_color0, &warped_depth0, &w1,
+                                  &warped_depth1},
+                          &g));
+        barrier();
+        timestamp(q + 4);
+        if (!extrapolate) {
+            FGSR_TRY(dispatch(kBlend, {&warped_color0, &warped_depth0, &warped_color1, &warped_depth1, &field_state, &out}, &g));
+            barrier();
+            timestamp(q + 5);
+        }
+    }
+    FGSR_TRY(finish());
+
+    std::vector<GeneratedFrame> result(alphas.size());
+    const uint32_t passes = extrapolate ? 4 : 5;
+    for (size_t k = 0; k < alphas.size(); ++k) {
+        GeneratedFrame& gf = result[k];
+        gf.time = extrapolate ? 1.f + alphas[k] : alphas[k];
+        auto t = read_times(uint32_t(k) * kQueriesPerFrame, passes);
+        if (!t) return t.error();
+        for (uint32_t p = 0; p < passes; ++p) {
+            if (kSplat + p == kDisocc && !params.fill_holes) continue;
+            gf.passes.push_back(PassTiming{kPassNames[kSplat + p], (*t)[p]});
+            gf.gpu_ms += (*t)[p];
+        }
+        gf.color.width = format.width;
+        gf.color.height = format.height;
+        gf.color.rgba.resize(n * 4);
+        std::memcpy(gf.color.rgba.data(), outputs[k].mapped(), n * 16);
+    }
+    last_extrapolate = extrapolate;
+    last_output = alphas.size() - 1;
+    return result;
+}
+
+Result<std::vector<GeneratedFrame>> Session::interpolate(std::span<const float> alphas) {
+    return impl_->generate(alphas, false);
+}
+
+Result<std::vector<GeneratedFrame>> Session::extrapolate(std::span<const float> alphas) {
+    return impl_->generate(alphas, true);
+}
+
+Result<Session::Intermediates> Session::read_intermediates() const {
+    Impl& s = *impl_;
+    Intermediates out;
+    auto keys = s.download<uint64_t>(s.keys, s.n);
+    if (!keys) return keys.error();
+    out.keys = std::move(*keys);
+    auto get_f = [&](const vk::Buffer& b, size_t count, std::vector<float>& dst) -> Result<void> {
+        auto r = s.download<float>(b, count);
+        if (!r) return r.error();
+        dst = std::move(*r);
+        return {};
+    };
+    FGSR_TRY(get_f(s.field, s.n * 4, out.field));
+    FGSR_TRY(get_f(s.field_depth, s.n, out.field_depth));
+    auto st = s.download<uint32_t>(s.field_state, s.n);
+    if (!st) return st.error();
+    out.field_state = std::move(*st);
+    FGSR_TRY(get_f(s.warped_color0, s.n * 4, out.warped_color0));
+    FGSR_TRY(get_f(s.warped_depth0, s.n, out.warped_depth0));
+    FGSR_TRY(get_f(s.last_extrapolate ? s.outputs[s.last_output] : s.warped_color1, s.n * 4, out.warped_color1));
+    FGSR_TRY(get_f(s.warped_depth1, s.n, out.warped_depth1));
+    return out;
+}
+
+Result<Session::InternalFrameData> Session::read_frame(int which) const {
+    Impl& s = *impl_;
+    if (which != 0 && which != 1) return make_error(Errc::invalid_argument, "frame index must be 0 or 1");
+    const Impl::GpuFrame& f = s.frames[size_t(which == 1 ? s.newest : 1 - s.newest)];
+    InternalFrameData out;
+    auto c = s.download<float>(f.color, s.n * 4);
+    if (!c) return c.error();
+    auto d = s.download<float>(f.depth, s.n);
+    if (!d) return d.error();
+    auto m = s.download<float>(f.mv, s.n * 2);
+    if (!m) return m.error();
+    out.color = std::move(*c);
+    out.depth = std::move(*d);
+    out.mv = std::move(*m);
+    out.has_mv = f.has_mv;
+    return out;
+}
+
+} // namespace fgsr

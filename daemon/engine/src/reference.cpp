@@ -1,0 +1,265 @@
+// CPU reference: the algorithm headers of shaders/ compiled as C++ members of small structs whose
+// load_/store_ functions read and write host vectors.
+#include <fgsr/engine/reference.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+
+namespace fgsr::gpu {
+
+namespace {
+
+uint word_at(const std::byte* base, size_t word) {
+    uint v;
+    std::memcpy(&v, base + 4 * word, 4);
+    return v;
+}
+
+struct IngestCpu {
+    const std::byte* color;
+    const std::byte* depth;
+    const std::byte* mv;
+    ref::InternalFrame* out;
+
+    uint load_color_word(uint w) const { return word_at(color, w); }
+    uint load_depth_word(uint i) const { return word_at(depth, i); }
+    uint load_mv_word(uint w) const { return word_at(mv, w); }
+    void store_frame(uint i, vec4 c, float d, vec2 m) {
+        out->color[i] = c;
+        out->depth[i] = d;
+        out->mv[i] = m;
+    }
+#include "ingest.h"
+};
+
+// Loads shared by the generation passes.
+struct FramesCpu {
+    const ref::InternalFrame* f0;
+    const ref::InternalFrame* f1;
+    size_t at(ivec2 q) const { return size_t(q.y) * f1->width + size_t(q.x); }
+    vec2 load_mv1(ivec2 q) const { return f1->mv[at(q)]; }
+    vec2 load_mv0(ivec2 q) const { return f0->mv[at(q)]; }
+    float load_depth1(ivec2 q) const { return f1->depth[at(q)]; }
+    float load_depth0(ivec2 q) const { return f0->depth[at(q)]; }
+    vec4 load_color1(ivec2 q) const { return f1->color[at(q)]; }
+    vec4 load_color0(ivec2 q) const { return f0->color[at(q)]; }
+};
+
+struct SplatCpu : FramesCpu {
+    std::vector<uint64_t>* keys;
+    void splat_min(uint i, uint64_t key) { (*keys)[i] = std::min((*keys)[i], key); }
+#include "field.h"
+#include "motion.h"
+#include "splat.h"
+};
+
+struct RefineCpu : FramesCpu {
+    const std::vector<uint64_t>* keys;
+    ref::Field* field;
+    uint64_t load_key(ivec2 q) const { return (*keys)[at(q)]; }
+    void store_field(uint i, vec4 f, float d, uint s) {
+        field->v[i] = f;
+        field->depth[i] = d;
+        field->state[i] = s;
+    }
+#include "field.h"
+#include "motion.h"
+#include "refine.h"
+};
+
+struct DisoccCpu : FramesCpu {
+    ref::Field* field;
+    vec4 load_field(ivec2 q) const { return field->v[at(q)]; }
+    float load_field_depth(ivec2 q) const { return field->depth[at(q)]; }
+    uint load_field_state(ivec2 q) const { return field->state[at(q)]; }
+    void store_field(uint i, vec4 f, float d, uint s) {
+        field->v[i] = f;
+        field->depth[i] = d;
+        field->state[i] = s;
+    }
+#include "field.h"
+#include "motion.h"
+#include "disocc.h"
+};
+
+struct WarpCpu : FramesCpu {
+    const ref::Field* field;
+    ref::Warped* out;
+    vec4 load_field(ivec2 q) const { return field->v[at(q)]; }
+    void store_warped(uint i, uint frame, vec4 c, float d) {
+        size_t o = size_t(frame) * f1->width * f1->height + i;
+        out->color[o] = c;
+        out->depth[o] = d;
+    }
+#include "warp.h"
+};
+
+struct BlendCpu {
+    const ref::Warped* warped;
+    const ref::Field* field;
+    size_t n;
+    uint width;
+    vec4 load_warped_color(uint i, uint frame) const { return warped->color[frame * n + i]; }
+    float load_warped_depth(uint i, uint frame) const { return warped->depth[frame * n + i]; }
+    uint load_field_state(ivec2 q) const { return field->state[size_t(q.y) * width + size_t(q.x)]; }
+    void store_output(uint i, vec4 c) { (*out)[i] = c; }
+    std::vector<vec4>* out;
+#include "field.h"
+#include "blend.h"
+};
+
+template <class F> void for_each_pixel(uint32_t w, uint32_t h, F&& f) {
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) f(ivec2(int(x), int(y)));
+}
+
+} // namespace
+} // namespace fgsr::gpu
+
+namespace fgsr::ref {
+
+using gpu::for_each_pixel;
+
+#include "field.h"
+static_assert(kFieldSplatted == FIELD_SPLATTED && kFieldGapFilled == FIELD_GAP_FILLED && kFieldHole == FIELD_HOLE &&
+              kFieldHoleFilled == FIELD_HOLE_FILLED);
+
+Result<void> validate(const FrameFormat& f, const FrameView& frame) {
+    if (f.width == 0 || f.height == 0)
+        return make_error(Errc::empty_input, "frame size is " + std::to_string(f.width) + "x" + std::to_string(f.height));
+    if (f.width > 16384 || f.height > 16384)
+        return make_error(Errc::invalid_argument, "frame size " + std::to_string(f.width) + "x" +
+                                                      std::to_string(f.height) + " exceeds 16384x16384");
+    if (bytes_per_pixel(f.color_format) == 0)
+        return make_error(Errc::unsupported, "unknown colour format " + std::to_string(uint32_t(f.color_format)));
+    if (bytes_per_pixel(f.mv_format) == 0)
+        return make_error(Errc::unsupported, "unknown motion-vector format " + std::to_string(uint32_t(f.mv_format)));
+    const Conventions& c = f.conventions;
+    if (uint32_t(c.depth_kind) > uint32_t(DepthKind::device_reversed))
+        return make_error(Errc::unsupported, "unknown depth kind " + std::to_string(uint32_t(c.depth_kind)));
+    if (uint32_t(c.mv_units) > uint32_t(MvUnits::uv) || uint32_t(c.mv_direction) > uint32_t(MvDirection::from_previous))
+        return make_error(Errc::unsupported, "unknown motion-vector units or direction");
+    if (c.depth_kind != DepthKind::linear) {
+        bool far_ok = std::isinf(c.far_plane) || c.far_plane == 0.f || (std::isfinite(c.far_plane) && c.far_plane > c.near_plane);
+        if (!(std::isfinite(c.near_plane) && c.near_plane > 0.f) || !far_ok)
+            return make_error(Errc::invalid_argument, "device depth needs 0 < near < far (far may be 0 or inf for an "
+                                                      "infinite far plane); got near " +
+                                                          std::to_string(c.near_plane) + ", far " + std::to_string(c.far_plane));
+    }
+    const size_t n = size_t(f.width) * f.height;
+    auto check = [&](std::span<const std::byte> plane, size_t bpp, const char* what) -> Result<void> {
+        if (plane.empty()) return make_error(Errc::empty_input, std::string(what) + " plane is empty");
+        if (plane.size() != n * bpp)
+            return make_error(Errc::size_mismatch, std::string(what) + " plane has " + std::to_string(plane.size()) +
+                                                       " bytes, expected " + std::to_string(n * bpp) + " for " +
+                                                       std::to_string(f.width) + "x" + std::to_string(f.height));
+        return {};
+    };
+    FGSR_TRY(check(frame.color, bytes_per_pixel(f.color_format), "colour"));
+    FGSR_TRY(check(frame.depth, 4, "depth"));
+    if (!frame.mv.empty()) FGSR_TRY(check(frame.mv, bytes_per_pixel(f.mv_format), "motion-vector"));
+    return {};
+}
+
+IngestParams ingest_params(const FrameFormat& f, bool has_mv) {
+    const Conventions& c = f.conventions;
+    float sx = c.mv_units == MvUnits::uv ? float(f.width) : 1.f;
+    float sy = c.mv_units == MvUnits::uv ? float(f.height) : 1.f;
+    if (c.mv_direction == MvDirection::from_previous) sx = -sx, sy = -sy;
+    if (c.mv_y_up) sy = -sy;
+    IngestParams p{};
+    p.width = f.width;
+    p.height = f.height;
+    p.color_format = uint32_t(f.color_format);
+    p.depth_kind = uint32_t(c.depth_kind);
+    p.near_plane = c.near_plane;
+    p.far_plane = std::isinf(c.far_plane) ? 0.f : c.far_plane;
+    p.mv_format = uint32_t(f.mv_format);
+    p.has_mv = has_mv ? 1u : 0u;
+    p.mv_scale_x = sx;
+    p.mv_scale_y = sy;
+    return p;
+}
+
+InternalFrame ingest(const FrameFormat& f, const FrameView& frame) {
+    const size_t n = size_t(f.width) * f.height;
+    InternalFrame out;
+    out.width = f.width;
+    out.height = f.height;
+    out.color.resize(n);
+    out.depth.resize(n);
+    out.mv.resize(n);
+    out.has_mv = !frame.mv.empty();
+    gpu::IngestCpu cpu{frame.color.data(), frame.depth.data(), frame.mv.data(), &out};
+    IngestParams p = ingest_params(f, out.has_mv);
+    for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.ingest_pixel(glm::uvec2(q), p); });
+    return out;
+}
+
+GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate, bool frame0_has_mv,
+                     bool frame1_has_mv) {
+    GenParams g{};
+    g.width = format.width;
+    g.height = format.height;
+    g.alpha = alpha;
+    g.extrapolate = extrapolate ? 1u : 0u;
+    g.quadratic = params.motion == MotionModel::quadratic ? 1u : 0u;
+    g.frame0_has_mv = frame0_has_mv ? 1u : 0u;
+    g.frame1_has_mv = frame1_has_mv ? 1u : 0u;
+    g.t_depth = params.t_depth;
+    g.t_bright = params.t_bright;
+    g.blend_mode = uint32_t(params.blend);
+    g.fill_gaps = params.fill_gaps ? 1u : 0u;
+    return g;
+}
+
+std::vector<uint64_t> splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g) {
+    std::vector<uint64_t> keys(size_t(g.width) * g.height, std::numeric_limits<uint64_t>::max());
+    gpu::SplatCpu cpu{{&f0, &f1}, &keys};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.splat_pixel(q, g); });
+    return keys;
+}
+
+Field refine(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys, const GenParams& g) {
+    const size_t n = size_t(g.width) * g.height;
+    Field field{std::vector<glm::vec4>(n), std::vector<float>(n), std::vector<uint32_t>(n)};
+    gpu::RefineCpu cpu{{&f0, &f1}, &keys, &field};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.refine_pixel(q, g); });
+    return field;
+}
+
+void disocc(const InternalFrame& f0, const InternalFrame& f1, Field& field, const GenParams& g) {
+    gpu::DisoccCpu cpu{{&f0, &f1}, &field};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.disocc_pixel(q, g); });
+}
+
+Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field, const GenParams& g) {
+    const size_t n = size_t(g.width) * g.height;
+    Warped out{std::vector<glm::vec4>(2 * n), std::vector<float>(2 * n, -1.f)};
+    gpu::WarpCpu cpu{{&f0, &f1}, &field, &out};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.warp_pixel(q, g); });
+    return out;
+}
+
+std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const GenParams& g) {
+    const size_t n = size_t(g.width) * g.height;
+    std::vector<glm::vec4> out(n);
+    gpu::BlendCpu cpu{&warped, &field, n, g.width, &out};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.blend_pixel(q, g); });
+    return out;
+}
+
+std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g, bool fill_holes) {
+    Field field = refine(f0, f1, splat(f0, f1, g), g);
+    if (fill_holes) disocc(f0, f1, field, g);
+    Warped warped = warp(f0, f1, field, g);
+    if (g.extrapolate != 0u) {
+        const size_t n = size_t(g.width) * g.height;
+        return std::vector<glm::vec4>(warped.color.begin() + long(n), warped.color.end());
+    }
+    return blend(warped, field, g);
+}
+
+} // namespace fgsr::ref

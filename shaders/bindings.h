@@ -1,0 +1,55 @@
+// Descriptor binding numbers of every pass (set 0, all storage buffers), shared by the GLSL entry
+// files and the host code that binds them. Each pass's bindings are numbered 0..COUNT-1.
+#ifndef FGSR_SHADERS_BINDINGS_H
+#define FGSR_SHADERS_BINDINGS_H
+
+#define INGEST_COLOR_RAW 0
+#define INGEST_DEPTH_RAW 1
+#define INGEST_MV_RAW 2
+#define INGEST_COLOR 3
+#define INGEST_DEPTH 4
+#define INGEST_MV 5
+#define INGEST_COUNT 6
+
+#define SPLAT_MV1 0
+#define SPLAT_MV0 1
+#define SPLAT_DEPTH1 2
+#define SPLAT_KEYS 3
+#define SPLAT_COUNT 4
+
+#define REFINE_MV1 0
+#define REFINE_MV0 1
+#define REFINE_DEPTH1 2
+#define REFINE_KEYS 3
+#define REFINE_FIELD 4
+#define REFINE_FIELD_DEPTH 5
+#define REFINE_FIELD_STATE 6
+#define REFINE_COUNT 7
+
+#define DISOCC_MV1 0
+#define DISOCC_MV0 1
+#define DISOCC_FIELD 2
+#define DISOCC_FIELD_DEPTH 3
+#define DISOCC_FIELD_STATE 4
+#define DISOCC_COUNT 5
+
+#define WARP_FIELD 0
+#define WARP_COLOR0 1
+#define WARP_COLOR1 2
+#define WARP_DEPTH0 3
+#define WARP_DEPTH1 4
+#define WARP_OUT_COLOR0 5
+#define WARP_OUT_DEPTH0 6
+#define WARP_OUT_COLOR1 7 // extrapolation: the output frame
+#define WARP_OUT_DEPTH1 8
+#define WARP_COUNT 9
+
+#define BLEND_COLOR0 0
+#define BLEND_DEPTH0 1
+#define BLEND_COLOR1 2
+#define BLEND_DEPTH1 3
+#define BLEND_FIELD_STATE 4
+#define BLEND_OUTPUT 5
+#define BLEND_COUNT 6
+
+#endif

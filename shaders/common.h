@@ -1,0 +1,78 @@
+// Shared GLSL / C++ layer of the algorithm headers.
+//
+// Every pass is one `<pass>.comp` (bindings, main) plus one `<pass>.h` (the algorithm). The
+// algorithm header only calls `load_*` / `store_*` functions its entry defines, so the very same
+// text compiles as GLSL on the GPU and, with GLM, as the C++ CPU reference (in C++ the header is
+// included inside a struct whose members provide load_/store_). Push-constant blocks are plain
+// structs of 4-byte scalars written once here, static_assert'ed on the C++ side.
+#ifndef FGSR_SHADERS_COMMON_H
+#define FGSR_SHADERS_COMMON_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <glm/gtc/packing.hpp>
+namespace fgsr::gpu {
+using namespace glm;
+using uint = uint32_t;
+using uint64_t = std::uint64_t;
+} // namespace fgsr::gpu
+#define FGSR_INLINE inline
+#else
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#define FGSR_INLINE
+#endif
+
+// Workgroup size of every 2D pass (8x8 pixels).
+#define FGSR_GROUP_X 8
+#define FGSR_GROUP_Y 8
+
+// Depth that marks "nothing here" (holes) and invalid depths after ingest.
+#define FGSR_FAR_DEPTH 1.0e30
+
+// Splat key of an empty pixel: all bits set (atomicMin never writes a larger value).
+#define FGSR_EMPTY_KEY_LO 0xffffffffu
+
+#ifdef __cplusplus
+namespace fgsr::gpu {
+#endif
+// ---- push-constant blocks (std430 scalars only; layout identical in GLSL and C++) ----
+
+// ingest: client formats -> internal convention
+struct IngestParams {
+    uint width;
+    uint height;
+    uint color_format; // fgsr::ColorFormat
+    uint depth_kind;   // fgsr::DepthKind
+    float near_plane;
+    float far_plane; // <= 0 or inf: infinite
+    uint mv_format;  // fgsr::MvFormat
+    uint has_mv;     // 0: vectors unknown, written as 0
+    float mv_scale_x; // internal = raw * scale (units, direction and y axis folded in)
+    float mv_scale_y;
+    uint pad0;
+    uint pad1;
+};
+
+// splat, refine, disocc, warp and blend share one parameter block per generated frame.
+struct GenParams {
+    uint width;
+    uint height;
+    float alpha;      // interpolation: (0,1); extrapolation: the a of 1+a, (0,1]
+    uint extrapolate; // 0: interpolate between frame 0 and 1; 1: extrapolate after frame 1
+    uint quadratic;   // 1: uniform acceleration (needs frame 0 vectors); 0: uniform velocity
+    uint frame0_has_mv;
+    uint frame1_has_mv;
+    float t_depth;  // T_D: relative depth difference (|d0-d1| / min(d0,d1)) that means disocclusion
+    float t_bright; // T_B: luma difference (display-referred, [0,1]) that means a shading change
+    uint blend_mode; // 0: paper Eq. 1 (pick temporally closer), 1: weighted blend when similar
+    uint fill_gaps;  // 1: refine fills grid-like gaps; 0: every empty pixel is a hole
+    uint pad1;
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(IngestParams) == 48 && sizeof(GenParams) == 48, "push constants are 4-byte scalars");
+} // namespace fgsr::gpu
+#endif
+#endif

@@ -1,0 +1,63 @@
+// Pass `ingest`: one client frame in its declared formats and conventions -> the internal
+// convention (fgsr/engine/types.hpp). One invocation per pixel.
+//
+// Entry provides:
+//   uint  load_color_word(uint word)      raw colour plane as 32-bit words
+//   uint  load_depth_word(uint pixel)     raw depth plane (one float per pixel)
+//   uint  load_mv_word(uint word)         raw vector plane as 32-bit words
+//   void  store_frame(uint pixel, vec4 color, float depth, vec2 mv)
+
+FGSR_INLINE bool is_finite(float v) { return !(isnan(v) || isinf(v)); }
+
+FGSR_INLINE float srgb_to_linear(float c) {
+    return c <= 0.04045f ? c / 12.92f : pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// Linear view depth from the client's depth; FGSR_FAR_DEPTH for invalid or far-plane values.
+FGSR_INLINE float linear_depth(float d, IngestParams p) {
+    if (!is_finite(d)) return FGSR_FAR_DEPTH;
+    float n = p.near_plane;
+    float f = p.far_plane;
+    bool infinite_far = !(f > 0.0f) || isinf(f);
+    float z = d;
+    if (p.depth_kind == 1u) { // device depth, 0 at near, 1 at far
+        if (d >= 1.0f) return FGSR_FAR_DEPTH;
+        z = infinite_far ? n / (1.0f - d) : (n * f) / (f - d * (f - n));
+    } else if (p.depth_kind == 2u) { // reversed-Z, 1 at near, 0 at far
+        if (d <= 0.0f) return FGSR_FAR_DEPTH;
+        z = infinite_far ? n / d : (n * f) / (n + d * (f - n));
+    }
+    return (is_finite(z) && z > 0.0f) ? min(z, float(FGSR_FAR_DEPTH)) : float(FGSR_FAR_DEPTH);
+}
+
+FGSR_INLINE vec4 decode_color(uint pixel, IngestParams p) {
+    vec4 c;
+    if (p.color_format == 0u) {
+        c = unpackUnorm4x8(load_color_word(pixel));
+        c = vec4(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z), c.w);
+    } else if (p.color_format == 1u) {
+        c = vec4(unpackHalf2x16(load_color_word(2u * pixel)), unpackHalf2x16(load_color_word(2u * pixel + 1u)));
+    } else {
+        c = vec4(uintBitsToFloat(load_color_word(4u * pixel)), uintBitsToFloat(load_color_word(4u * pixel + 1u)),
+                 uintBitsToFloat(load_color_word(4u * pixel + 2u)), uintBitsToFloat(load_color_word(4u * pixel + 3u)));
+    }
+    // Non-finite channels become 0; negative light is clamped; HDR values are kept up to half max.
+    for (int k = 0; k < 4; ++k) c[k] = is_finite(c[k]) ? clamp(c[k], 0.0f, 65504.0f) : 0.0f;
+    return c;
+}
+
+FGSR_INLINE vec2 decode_mv(uint pixel, IngestParams p) {
+    if (p.has_mv == 0u) return vec2(0.0f);
+    vec2 m = p.mv_format == 0u ? unpackHalf2x16(load_mv_word(pixel))
+                               : vec2(uintBitsToFloat(load_mv_word(2u * pixel)), uintBitsToFloat(load_mv_word(2u * pixel + 1u)));
+    m = vec2(m.x * p.mv_scale_x, m.y * p.mv_scale_y);
+    // Non-finite vectors carry no motion; huge ones are clamped so positions stay exact in float.
+    float limit = 4.0f * float(p.width + p.height);
+    return vec2(is_finite(m.x) ? clamp(m.x, -limit, limit) : 0.0f, is_finite(m.y) ? clamp(m.y, -limit, limit) : 0.0f);
+}
+
+FGSR_INLINE void ingest_pixel(uvec2 pix, IngestParams p) {
+    if (pix.x >= p.width || pix.y >= p.height) return;
+    uint i = pix.y * p.width + pix.x;
+    store_frame(i, decode_color(i, p), linear_depth(uintBitsToFloat(load_depth_word(i)), p), decode_mv(i, p));
+}

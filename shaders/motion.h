@@ -1,0 +1,33 @@
+// Motion of one frame-1 pixel to the generated instant (shared by splat and refine).
+//
+// Internal vectors point to the previous frame: mv1(p1) = p0 - p1. In the paper's notation the
+// motion from frame 0 to frame 1 is m1 = p1 - p0 = -mv1(p1), and m0 = -mv0(p0) the motion from
+// frame -1 to frame 0 of the same surface point, read at its frame-0 position p0.
+//
+// Entry provides:
+//   vec2 load_mv1(ivec2 pixel)   frame 1 vectors
+//   vec2 load_mv0(ivec2 pixel)   frame 0 vectors (only called when frame0_has_mv != 0)
+
+FGSR_INLINE bool inside(ivec2 q, GenParams g) {
+    return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);
+}
+
+// Returns vec4(p_target.xy, p0.xy) for the surface point at pixel `p1` of frame 1: its position at
+// the generated time (alpha for interpolation, 1 + alpha for extrapolation) and in frame 0.
+// Uniform acceleration: supplement Eqs. 1 and 2. Uniform velocity (or no frame-0 vectors, or a
+// frame-0 position off screen): Eqs. 14 and 15.
+FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
+    vec2 c1 = vec2(p1) + vec2(0.5f);
+    vec2 m1 = -load_mv1(p1);
+    vec2 p0 = c1 - m1;
+    vec2 m0 = m1;
+    if (g.quadratic != 0u && g.frame0_has_mv != 0u) {
+        ivec2 q = ivec2(floor(p0));
+        if (inside(q, g)) m0 = -load_mv0(q);
+    }
+    float a = g.alpha;
+    vec2 accel = 0.5f * a * a * (m1 - m0);
+    vec2 pt = g.extrapolate == 0u ? p0 + 0.5f * a * (m1 + m0) + accel
+                                  : c1 + 0.5f * a * (3.0f * m1 - m0) + accel;
+    return vec4(pt, p0);
+}

@@ -1,0 +1,34 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.h"
+#include "bindings.h"
+layout(local_size_x = FGSR_GROUP_X, local_size_y = FGSR_GROUP_Y) in;
+layout(push_constant) uniform Push { GenParams g; } pc;
+layout(std430, binding = WARP_FIELD) readonly buffer Field { vec4 field[]; };
+layout(std430, binding = WARP_COLOR0) readonly buffer Color0 { vec4 color0[]; };
+layout(std430, binding = WARP_COLOR1) readonly buffer Color1 { vec4 color1[]; };
+layout(std430, binding = WARP_DEPTH0) readonly buffer Depth0 { float depth0[]; };
+layout(std430, binding = WARP_DEPTH1) readonly buffer Depth1 { float depth1[]; };
+layout(std430, binding = WARP_OUT_COLOR0) writeonly buffer OutColor0 { vec4 out_color0[]; };
+layout(std430, binding = WARP_OUT_DEPTH0) writeonly buffer OutDepth0 { float out_depth0[]; };
+layout(std430, binding = WARP_OUT_COLOR1) writeonly buffer OutColor1 { vec4 out_color1[]; };
+layout(std430, binding = WARP_OUT_DEPTH1) writeonly buffer OutDepth1 { float out_depth1[]; };
+
+vec4 load_field(ivec2 q) { return field[q.y * int(pc.g.width) + q.x]; }
+vec4 load_color0(ivec2 q) { return color0[q.y * int(pc.g.width) + q.x]; }
+vec4 load_color1(ivec2 q) { return color1[q.y * int(pc.g.width) + q.x]; }
+float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
+void store_warped(uint i, uint frame, vec4 c, float d) {
+    if (frame == 0u) {
+        out_color0[i] = c;
+        out_depth0[i] = d;
+    } else {
+        out_color1[i] = c;
+        out_depth1[i] = d;
+    }
+}
+
+#include "warp.h"
+
+void main() { warp_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }

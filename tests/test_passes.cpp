@@ -1,0 +1,209 @@
+// Every pass on the GPU against the CPU reference (the same algorithm header compiled with GLM),
+// pass by pass: each CPU pass is fed exactly what the GPU pass read, so a difference cannot
+// cascade. Tolerances: ingest and vectors 1e-4 relative (GPU math may fuse multiply-adds and use
+// its own pow); splat keys and field states must agree on at least 99.9% of pixels (a position
+// that lands exactly on a pixel border may round either way under fused arithmetic).
+#include "engine_fixture.hpp"
+
+#include <cmath>
+
+namespace fgsr::test {
+namespace {
+
+struct PassCase {
+    uint32_t width, height;
+    bool extrapolate;
+    MotionModel motion;
+    float alpha;
+    float range; // vector magnitude in pixels
+    ColorFormat color_format;
+    MvFormat mv_format;
+};
+
+std::string case_name(const testing::TestParamInfo<PassCase>& info) {
+    const PassCase& c = info.param;
+    return std::to_string(c.width) + "x" + std::to_string(c.height) + (c.extrapolate ? "_extrap" : "_interp") +
+           (c.motion == MotionModel::quadratic ? "_quadratic" : "_linear") + "_a" +
+           std::to_string(int(std::lround(c.alpha * 100))) + "_r" + std::to_string(int(c.range)) + "_" +
+           std::string(to_string(c.color_format)) + "_" + std::string(to_string(c.mv_format));
+}
+
+// Converts internal-convention planes to the case's client formats (so ingest is exercised too).
+RawFrame to_client(const RawFrame& f, const PassCase& c, size_t n) {
+    RawFrame out;
+    out.depth = f.depth;
+    const float* col = reinterpret_cast<const float*>(f.color.data());
+    if (c.color_format == ColorFormat::rgba32f_linear) {
+        out.color = f.color;
+    } else if (c.color_format == ColorFormat::rgba16f_linear) {
+        std::vector<uint32_t> w(n * 2);
+        for (size_t i = 0; i < n; ++i) {
+            w[2 * i] = glm::packHalf2x16(glm::vec2(col[4 * i], col[4 * i + 1]));
+            w[2 * i + 1] = glm::packHalf2x16(glm::vec2(col[4 * i + 2], col[4 * i + 3]));
+        }
+        out.color = bytes_of(w);
+    } else {
+        std::vector<uint32_t> w(n);
+        for (size_t i = 0; i < n; ++i)
+            w[i] = glm::packUnorm4x8(glm::vec4(col[4 * i], col[4 * i + 1], col[4 * i + 2], col[4 * i + 3]));
+        out.color = bytes_of(w);
+    }
+    if (!f.mv.empty()) {
+        const float* m = reinterpret_cast<const float*>(f.mv.data());
+        if (c.mv_format == MvFormat::rg32f) {
+            out.mv = f.mv;
+        } else {
+            std::vector<uint32_t> w(n);
+            for (size_t i = 0; i < n; ++i) w[i] = glm::packHalf2x16(glm::vec2(m[2 * i], m[2 * i + 1]));
+            out.mv = bytes_of(w);
+        }
+    }
+    return out;
+}
+
+double max_rel(float a, float b) { return std::abs(a - b) / std::max(1.0, double(std::max(std::abs(a), std::abs(b)))); }
+
+class PassesMatchReference : public testing::TestWithParam<PassCase> {};
+
+TEST_P(PassesMatchReference, EveryPass) {
+    const PassCase c = GetParam();
+    const size_t n = size_t(c.width) * c.height;
+    FrameFormat fmt = internal_format(c.width, c.height);
+    fmt.color_format = c.color_format;
+    fmt.mv_format = c.mv_format;
+    Params params;
+    params.motion = c.motion;
+    params.fill_holes = false;
+    auto s = engine().create_session(fmt, params);
+    ASSERT_TRUE(s) << s.error().message;
+    Session& session = **s;
+
+    RawFrame raw0 = to_client(random_frame(c.width, c.height, 11, c.range), c, n);
+    RawFrame raw1 = to_client(random_frame(c.width, c.height, 12, c.range), c, n);
+    ASSERT_TRUE(session.submit(raw0.view()));
+    ASSERT_TRUE(session.submit(raw1.view()));
+
+    // ingest
+    auto g0 = session.read_frame(0);
+    auto g1 = session.read_frame(1);
+    ASSERT_TRUE(g0 && g1);
+    ref::InternalFrame f0 = to_internal(*g0, c.width, c.height), f1 = to_internal(*g1, c.width, c.height);
+    ref::InternalFrame c0 = ref::ingest(fmt, raw0.view()), c1 = ref::ingest(fmt, raw1.view());
+    double ingest_err = 0;
+    for (size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 4; ++k) ingest_err = std::max(ingest_err, max_rel(f1.color[i][k], c1.color[i][k]));
+        ingest_err = std::max(ingest_err, max_rel(f1.depth[i], c1.depth[i]));
+        for (int k = 0; k < 2; ++k) ingest_err = std::max(ingest_err, max_rel(f1.mv[i][k], c1.mv[i][k]));
+        for (int k = 0; k < 4; ++k) ingest_err = std::max(ingest_err, max_rel(f0.color[i][k], c0.color[i][k]));
+    }
+    EXPECT_LT(ingest_err, 1e-4) << "ingest";
+
+    // splat and refine, disocc skipped
+    std::vector<float> alphas{c.alpha};
+    auto out_pre = c.extrapolate ? session.extrapolate(alphas) : session.interpolate(alphas);
+    ASSERT_TRUE(out_pre) << out_pre.error().message;
+    auto pre = session.read_intermediates();
+    ASSERT_TRUE(pre);
+    const ref::GenParams g = ref::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
+    std::vector<uint64_t> keys = ref::splat(f0, f1, g);
+    size_t key_diff = 0, occupied = 0;
+    for (size_t i = 0; i < n; ++i) {
+        key_diff += keys[i] != pre->keys[i];
+        occupied += (pre->keys[i] & 0xffffffffull) != 0xffffffffull;
+    }
+    EXPECT_LE(key_diff, n / 1000) << "splat keys differ on " << key_diff << " of " << n << " pixels";
+    if (n >= 64) EXPECT_GT(occupied, n / 4) << "the case must exercise splatting";
+
+    ref::Field field = ref::refine(f0, f1, pre->keys, g);
+    size_t state_diff = 0, gaps = 0, holes = 0;
+    double field_err = 0;
+    for (size_t i = 0; i < n; ++i) {
+        state_diff += field.state[i] != pre->field_state[i];
+        gaps += pre->field_state[i] == ref::kFieldGapFilled;
+        holes += pre->field_state[i] == ref::kFieldHole;
+        if (field.state[i] == pre->field_state[i]) {
+            for (int k = 0; k < 4; ++k) field_err = std::max(field_err, max_rel(field.v[i][k], pre->field[4 * i + size_t(k)]));
+            field_err = std::max(field_err, max_rel(field.depth[i], pre->field_depth[i]));
+        }
+    }
+    EXPECT_LE(state_diff, n / 1000) << "refine states differ on " << state_diff << " pixels";
+    EXPECT_LT(field_err, 1e-4) << "refine vectors";
+    if (n >= 64) EXPECT_GT(gaps + holes, 0u) << "the case must exercise gap filling or holes";
+
+    // disocc, warp, blend on the GPU's own refine output
+    ref::Field gpu_field;
+    gpu_field.v.resize(n);
+    std::memcpy(gpu_field.v.data(), pre->field.data(), n * 16);
+    gpu_field.depth = pre->field_depth;
+    gpu_field.state = pre->field_state;
+
+    params.fill_holes = true;
+    session.set_params(params);
+    auto out = c.extrapolate ? session.extrapolate(alphas) : session.interpolate(alphas);
+    ASSERT_TRUE(out) << out.error().message;
+    auto post = session.read_intermediates();
+    ASSERT_TRUE(post);
+    ref::disocc(f0, f1, gpu_field, g);
+    double disocc_err = 0;
+    size_t disocc_diff = 0;
+    for (size_t i = 0; i < n; ++i) {
+        disocc_diff += gpu_field.state[i] != post->field_state[i];
+        for (int k = 0; k < 4; ++k) disocc_err = std::max(disocc_err, max_rel(gpu_field.v[i][k], post->field[4 * i + size_t(k)]));
+    }
+    EXPECT_EQ(disocc_diff, 0u) << "disocc states";
+    EXPECT_LT(disocc_err, 1e-4) << "disocc vectors";
+
+    ref::Field post_field;
+    post_field.v.resize(n);
+    std::memcpy(post_field.v.data(), post->field.data(), n * 16);
+    post_field.depth = post->field_depth;
+    post_field.state = post->field_state;
+    ref::Warped warped = ref::warp(f0, f1, post_field, g);
+    double warp_err = 0;
+    size_t depth_diff = 0;
+    for (size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 4; ++k) {
+            warp_err = std::max(warp_err, max_rel(warped.color[n + i][k], post->warped_color1[4 * i + size_t(k)]));
+            if (!c.extrapolate) warp_err = std::max(warp_err, max_rel(warped.color[i][k], post->warped_color0[4 * i + size_t(k)]));
+        }
+        depth_diff += warped.depth[n + i] != post->warped_depth1[i];
+        if (!c.extrapolate) depth_diff += warped.depth[i] != post->warped_depth0[i];
+    }
+    EXPECT_LT(warp_err, 1e-4) << "warp colour";
+    EXPECT_LE(depth_diff, n / 1000) << "warp depth (nearest pixel) differs on " << depth_diff << " pixels";
+
+    if (!c.extrapolate) {
+        ref::Warped gw;
+        gw.color.resize(2 * n);
+        gw.depth.resize(2 * n);
+        std::memcpy(gw.color.data(), post->warped_color0.data(), n * 16);
+        std::memcpy(gw.color.data() + n, post->warped_color1.data(), n * 16);
+        std::copy(post->warped_depth0.begin(), post->warped_depth0.end(), gw.depth.begin());
+        std::copy(post->warped_depth1.begin(), post->warped_depth1.end(), gw.depth.begin() + long(n));
+        std::vector<glm::vec4> blended = ref::blend(gw, post_field, g);
+        double blend_err = 0;
+        for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < 4; ++k)
+                blend_err = std::max(blend_err, max_rel(blended[i][k], (*out)[0].color.rgba[4 * i + size_t(k)]));
+        EXPECT_LT(blend_err, 1e-4) << "blend";
+    } else {
+        double out_err = 0;
+        for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < 4; ++k) out_err = std::max(out_err, max_rel(warped.color[n + i][k], (*out)[0].color.rgba[4 * i + size_t(k)]));
+        EXPECT_LT(out_err, 1e-4) << "extrapolated output";
+    }
+    expect_no_validation_errors();
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Random, PassesMatchReference,
+    testing::Values(PassCase{64, 48, false, MotionModel::quadratic, 0.5f, 6.f, ColorFormat::rgba32f_linear, MvFormat::rg32f},
+                    PassCase{64, 48, false, MotionModel::linear, 0.25f, 6.f, ColorFormat::rgba16f_linear, MvFormat::rg16f},
+                    PassCase{61, 37, true, MotionModel::quadratic, 0.5f, 8.f, ColorFormat::rgba8_srgb, MvFormat::rg32f},
+                    PassCase{61, 37, true, MotionModel::linear, 1.0f, 8.f, ColorFormat::rgba32f_linear, MvFormat::rg16f},
+                    PassCase{200, 120, false, MotionModel::quadratic, 0.8f, 30.f, ColorFormat::rgba8_srgb, MvFormat::rg16f},
+                    PassCase{1, 1, false, MotionModel::quadratic, 0.5f, 2.f, ColorFormat::rgba32f_linear, MvFormat::rg32f}),
+    case_name);
+
+} // namespace
+} // namespace fgsr::test
