@@ -112,7 +112,9 @@ TEST_P(PassesMatchReference, EveryPass) {
         occupied += (pre->keys[i] & 0xffffffffull) != 0xffffffffull;
     }
     EXPECT_LE(key_diff, n / 1000) << "splat keys differ on " << key_diff << " of " << n << " pixels";
-    if (n >= 64) EXPECT_GT(occupied, n / 4) << "the case must exercise splatting";
+    if (n >= 64) {
+        EXPECT_GT(occupied, n / 4) << "the case must exercise splatting";
+    }
 
     ref::Field field = ref::refine(f0, f1, pre->keys, g);
     size_t state_diff = 0, gaps = 0, holes = 0;
@@ -128,7 +130,9 @@ TEST_P(PassesMatchReference, EveryPass) {
     }
     EXPECT_LE(state_diff, n / 1000) << "refine states differ on " << state_diff << " pixels";
     EXPECT_LT(field_err, 1e-4) << "refine vectors";
-    if (n >= 64) EXPECT_GT(gaps + holes, 0u) << "the case must exercise gap filling or holes";
+    if (n >= 64) {
+        EXPECT_GT(gaps + holes, 0u) << "the case must exercise gap filling or holes";
+    }
 
     // disocc, warp, blend on the GPU's own refine output
     ref::Field gpu_field;
