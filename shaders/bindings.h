@@ -15,7 +15,8 @@
 #define SPLAT_MV0 1
 #define SPLAT_DEPTH1 2
 #define SPLAT_KEYS 3
-#define SPLAT_COUNT 4
+#define SPLAT_DEPTH0 4
+#define SPLAT_COUNT 5
 
 #define REFINE_MV1 0
 #define REFINE_MV0 1
@@ -24,14 +25,14 @@
 #define REFINE_FIELD 4
 #define REFINE_FIELD_DEPTH 5
 #define REFINE_FIELD_STATE 6
-#define REFINE_COUNT 7
+#define REFINE_DEPTH0 7
+#define REFINE_COUNT 8
 
 #define DISOCC_MV1 0
-#define DISOCC_MV0 1
-#define DISOCC_FIELD 2
-#define DISOCC_FIELD_DEPTH 3
-#define DISOCC_FIELD_STATE 4
-#define DISOCC_COUNT 5
+#define DISOCC_FIELD 1
+#define DISOCC_FIELD_DEPTH 2
+#define DISOCC_FIELD_STATE 3
+#define DISOCC_COUNT 4
 
 #define WARP_FIELD 0
 #define WARP_COLOR0 1

@@ -28,7 +28,7 @@ FGSR_INLINE vec4 select_blend(vec4 c0, float d0, vec4 c1, float d1, uint state, 
     bool ok1 = d1 >= 0.0f;
     if (state == FIELD_HOLE_FILLED) return ok0 || !ok1 ? c0 : c1;
     if (ok0 != ok1) return ok0 ? c0 : c1;
-    float dd = (d0 - d1) / max(min(d0, d1), 1.0e-20f);
+    float dd = (d0 - d1) / max(min(d0, d1), 1.0e-20f); // signed relative_depth_difference
     if (dd > g.t_depth) return c0;
     if (dd < -g.t_depth) return c1;
     float db = abs(display_luma(c0) - display_luma(c1));

@@ -71,6 +71,13 @@ struct GenParams {
     uint pad1;
 };
 
+FGSR_INLINE bool inside(ivec2 q, GenParams g) {
+    return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);
+}
+
+// |a - b| relative to the nearer of the two (depths are positive).
+FGSR_INLINE float relative_depth_difference(float a, float b) { return abs(a - b) / max(min(a, b), 1.0e-20f); }
+
 #ifdef __cplusplus
 static_assert(sizeof(IngestParams) == 48 && sizeof(GenParams) == 48, "push constants are 4-byte scalars");
 } // namespace fgsr::gpu

@@ -8,7 +8,8 @@
 // sparse ring pattern (radii 1..16) around t. Blend then reads frame 0 only.
 // Only hole pixels are written and only known pixels are read, so the pass is race-free in place.
 //
-// Entry provides (besides motion.h's loads):
+// Entry provides:
+//   vec2  load_mv1(ivec2 pixel)
 //   vec4  load_field(ivec2 pixel)
 //   float load_field_depth(ivec2 pixel)
 //   uint  load_field_state(ivec2 pixel)

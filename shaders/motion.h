@@ -4,13 +4,17 @@
 // motion from frame 0 to frame 1 is m1 = p1 - p0 = -mv1(p1), and m0 = -mv0(p0) the motion from
 // frame -1 to frame 0 of the same surface point, read at its frame-0 position p0.
 //
+// m0 must belong to the same surface: where p0 lies on another surface in frame 0 (the point was
+// hidden then, or sits on an edge) its vector would describe the occluder. So m0 is read from the
+// pixel of the 3x3 neighbourhood of p0 whose frame-0 depth is closest to the point's frame-1
+// depth, and only if that depth agrees within 4 T_D (relative); otherwise the motion falls back to
+// uniform velocity for that pixel.
+//
 // Entry provides:
-//   vec2 load_mv1(ivec2 pixel)   frame 1 vectors
-//   vec2 load_mv0(ivec2 pixel)   frame 0 vectors (only called when frame0_has_mv != 0)
-
-FGSR_INLINE bool inside(ivec2 q, GenParams g) {
-    return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);
-}
+//   vec2  load_mv1(ivec2 pixel)     frame 1 vectors
+//   float load_depth1(ivec2 pixel)
+//   vec2  load_mv0(ivec2 pixel)     frame 0 vectors (only called when frame0_has_mv != 0)
+//   float load_depth0(ivec2 pixel)
 
 // Returns vec4(p_target.xy, p0.xy) for the surface point at pixel `p1` of frame 1: its position at
 // the generated time (alpha for interpolation, 1 + alpha for extrapolation) and in frame 0.
@@ -23,7 +27,24 @@ FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
     vec2 m0 = m1;
     if (g.quadratic != 0u && g.frame0_has_mv != 0u) {
         ivec2 q = ivec2(floor(p0));
-        if (inside(q, g)) m0 = -load_mv0(q);
+        float d1 = load_depth1(p1);
+        float tolerance = 4.0f * g.t_depth;
+        if (inside(q, g) && relative_depth_difference(load_depth0(q), d1) < tolerance) {
+            m0 = -load_mv0(q);
+        } else {
+            float best = tolerance;
+            for (int y = -1; y <= 1; ++y)
+                for (int x = -1; x <= 1; ++x) {
+                    ivec2 qq = q + ivec2(x, y);
+                    if (inside(qq, g)) {
+                        float rel = relative_depth_difference(load_depth0(qq), d1);
+                        if (rel < best) {
+                            best = rel;
+                            m0 = -load_mv0(qq);
+                        }
+                    }
+                }
+        }
     }
     float a = g.alpha;
     vec2 accel = 0.5f * a * a * (m1 - m0);

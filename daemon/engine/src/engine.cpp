@@ -333,14 +333,14 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         timestamp(q);
         vkCmdFillBuffer(cmd, keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
         barrier();
-        FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &keys}, &g));
+        FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &keys, &f0.depth}, &g));
         barrier();
         timestamp(q + 1);
-        FGSR_TRY(dispatch(kRefine, {&f1.mv, &f0.mv, &f1.depth, &keys, &field, &field_depth, &field_state}, &g));
+        FGSR_TRY(dispatch(kRefine, {&f1.mv, &f0.mv, &f1.depth, &keys, &field, &field_depth, &field_state, &f0.depth}, &g));
         barrier();
         timestamp(q + 2);
         if (params.fill_holes) {
-            FGSR_TRY(dispatch(kDisocc, {&f1.mv, &f0.mv, &field, &field_depth, &field_state}, &g));
+            FGSR_TRY(dispatch(kDisocc, {&f1.mv, &field, &field_depth, &field_state}, &g));
             barrier();
         }
         timestamp(q + 3);

@@ -80,7 +80,6 @@ struct DisoccCpu : FramesCpu {
         field->state[i] = s;
     }
 #include "field.h"
-#include "motion.h"
 #include "disocc.h"
 };
 

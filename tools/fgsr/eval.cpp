@@ -1,0 +1,218 @@
+#include "eval.hpp"
+
+#include <fgsr/capture/image_io.hpp>
+#include <fgsr/capture/metrics.hpp>
+#include <fgsr/capture/synthetic.hpp>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace fgsr::cli {
+
+namespace {
+
+ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
+    ImageRGBA out = a;
+    for (size_t i = 0; i < out.rgba.size(); ++i) out.rgba[i] = a.rgba[i] + (b.rgba[i] - a.rgba[i]) * t;
+    return out;
+}
+
+bool is_engine_method(const std::string& m) { return m == "fgsr" || m == "linear"; }
+
+Result<capture::Capture> load_capture(const EvalOptions& o) {
+    if (o.capture == "builtin") {
+        capture::SceneOptions so;
+        return capture::make_synthetic_capture(so, 11);
+    }
+    return capture::load(o.capture, o.prefer_lr);
+}
+
+} // namespace
+
+Result<EvalReport> run_eval(const EvalOptions& o) {
+    for (const std::string& m : o.methods)
+        if (m != "fgsr" && m != "linear" && m != "blend" && m != "repeat")
+            return make_error(Errc::invalid_argument, "unknown method '" + m + "' (methods: fgsr, linear, blend, repeat)");
+    const bool extrap = o.mode == EvalMode::extrap;
+    if (!std::isfinite(o.alpha) || o.alpha <= 0.f || o.alpha > 1.f || (!extrap && o.alpha >= 1.f))
+        return make_error(Errc::invalid_argument, fmt::format("alpha {} is outside {}", o.alpha, extrap ? "(0, 1]" : "(0, 1)"));
+
+    if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
+    auto loaded = load_capture(o);
+    if (!loaded) return loaded.error();
+    capture::Capture cap = std::move(*loaded);
+    if (cap.ground_truth_kind == capture::GroundTruth::consecutive) {
+        if (o.progress) std::fprintf(stderr, "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
+        auto half = capture::make_half_rate(cap);
+        if (!half) return half.error();
+        cap = std::move(*half);
+    }
+    // Ground truth exists halfway between inputs only.
+    if (std::abs(o.alpha - 0.5f) > 1e-6f)
+        return make_error(Errc::invalid_argument, fmt::format("capture '{}' has ground truth only halfway between inputs; "
+                                                              "use --alpha 0.5",
+                                                              cap.name));
+    const size_t inputs = cap.inputs.size();
+    // Interpolation: pair (k, k+1) -> gt[k]. Extrapolation: pair (k-1, k) -> gt[k] (k + 0.5).
+    std::vector<size_t> targets;
+    for (size_t k = extrap ? 1 : 0; k + 1 < inputs && k < cap.ground_truth.size(); ++k) targets.push_back(k);
+    if (o.max_frames > 0 && targets.size() > size_t(o.max_frames)) targets.resize(size_t(o.max_frames));
+    if (targets.empty()) return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
+
+    EvalReport rep;
+    rep.capture = cap.name;
+    rep.mode = extrap ? "extrap" : "interp";
+    rep.alpha = o.alpha;
+    rep.frames = targets.size();
+    rep.composed_vectors = cap.composed_vectors;
+    rep.width = cap.format.width;
+    rep.height = cap.format.height;
+    rep.method_order = o.methods;
+
+    std::unique_ptr<Engine> engine;
+    std::map<std::string, std::unique_ptr<Session>> sessions;
+    for (const std::string& m : o.methods) {
+        if (!is_engine_method(m)) continue;
+        if (!engine) {
+            auto e = Engine::create(o.device);
+            if (!e) return e.error();
+            engine = std::move(*e);
+            rep.device = engine->device_name();
+        }
+        Params p = o.params;
+        p.motion = m == "fgsr" ? MotionModel::quadratic : MotionModel::linear;
+        auto s = engine->create_session(cap.format, p);
+        if (!s) return s.error();
+        sessions[m] = std::move(*s);
+    }
+
+    if (o.out) {
+        std::error_code ec;
+        for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
+        std::filesystem::create_directories(*o.out / "reference", ec);
+        if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
+    }
+
+    // Submit inputs in order; after input k+1 (interp) or k (extrap) generate the target's frame.
+    const size_t last_input = targets.back() + (extrap ? 0 : 1);
+    size_t next_target = 0;
+    double ingest_sum = 0;
+    size_t ingest_count = 0;
+    for (size_t i = 0; i <= last_input; ++i) {
+        for (auto& [name, s] : sessions) {
+            FGSR_TRY(s->submit(cap.inputs[i].view()));
+            ingest_sum += s->last_ingest_ms();
+            ++ingest_count;
+        }
+        if (next_target >= targets.size()) break;
+        const size_t k = targets[next_target];
+        const size_t newest = extrap ? k : k + 1;
+        if (i != newest) continue;
+        ++next_target;
+        if (o.progress)
+            std::fprintf(stderr, "[eval] %s %s: frame %zu/%zu\n", cap.name.c_str(), rep.mode.c_str(), next_target, targets.size());
+        const ImageRGBA& gt = cap.ground_truth[k];
+        const ImageRGBA i1 = capture::decode_color(cap.format, cap.inputs[newest]);
+        const ImageRGBA i0 = capture::decode_color(cap.format, cap.inputs[newest - 1]);
+        for (const std::string& m : o.methods) {
+            ImageRGBA img;
+            MethodScore& score = rep.methods[m];
+            if (is_engine_method(m)) {
+                const float a[] = {o.alpha};
+                auto out = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
+                if (!out) return out.error();
+                GeneratedFrame& gf = (*out)[0];
+                score.mean_ms += gf.gpu_ms;
+                for (const PassTiming& p : gf.passes) score.pass_ms[p.name] += p.ms;
+                img = std::move(gf.color);
+            } else if (m == "blend") {
+                img = extrap ? i1 : lerp(i0, i1, o.alpha);
+            } else { // repeat: the nearest input in time
+                img = extrap || o.alpha > 0.5f ? i1 : i0;
+            }
+            auto p = capture::psnr(img, gt);
+            if (!p) return p.error();
+            auto s = capture::ssim(img, gt);
+            if (!s) return s.error();
+            score.psnr.push_back(*p);
+            score.ssim.push_back(*s);
+            if (o.out) {
+                const std::string stem = fmt::format("{:04d}", k + 1);
+                FGSR_TRY(capture::write_png(*o.out / m / (stem + ".png"), img));
+                (void)capture::write_exr(*o.out / m / (stem + ".exr"), img); // TMP
+            }
+        }
+        if (o.out) FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1), gt));
+    }
+    rep.ingest_ms = ingest_count ? ingest_sum / double(ingest_count) : 0;
+    for (auto& [name, s] : rep.methods) {
+        const double n = double(s.psnr.size());
+        for (double v : s.psnr) s.mean_psnr += v / n;
+        for (double v : s.ssim) s.mean_ssim += v / n;
+        s.mean_ms /= n;
+        for (auto& [pass, ms] : s.pass_ms) ms /= n;
+    }
+    if (o.out) {
+        FILE* f = std::fopen((*o.out / "metrics.json").c_str(), "w");
+        if (!f) return make_error(Errc::io, "cannot write " + (*o.out / "metrics.json").string());
+        std::string js = report_json(rep, true);
+        std::fwrite(js.data(), 1, js.size(), f);
+        std::fclose(f);
+    }
+    return rep;
+}
+
+std::string report_json(const EvalReport& r, bool per_frame) {
+    nlohmann::ordered_json j;
+    j["capture"] = r.capture;
+    j["mode"] = r.mode;
+    j["alpha"] = r.alpha;
+    j["frames"] = r.frames;
+    j["composed_vectors"] = r.composed_vectors;
+    j["width"] = r.width;
+    j["height"] = r.height;
+    j["device"] = r.device;
+    j["ingest_ms"] = r.ingest_ms;
+    nlohmann::ordered_json methods = nlohmann::ordered_json::object();
+    for (const std::string& m : r.method_order) {
+        const MethodScore& s = r.methods.at(m);
+        nlohmann::ordered_json jm;
+        jm["psnr"] = s.mean_psnr;
+        jm["ssim"] = s.mean_ssim;
+        jm["ms"] = s.mean_ms;
+        if (!s.pass_ms.empty()) {
+            nlohmann::ordered_json passes = nlohmann::ordered_json::object();
+            for (const char* p : {"splat", "refine", "disocc", "warp", "blend"})
+                if (s.pass_ms.count(p)) passes[p] = s.pass_ms.at(p);
+            jm["pass_ms"] = passes;
+        }
+        if (per_frame) {
+            jm["psnr_per_frame"] = s.psnr;
+            jm["ssim_per_frame"] = s.ssim;
+        }
+        methods[m] = jm;
+    }
+    j["methods"] = methods;
+    return j.dump(2) + "\n";
+}
+
+std::string report_table(const EvalReport& r) {
+    std::string s = fmt::format("capture {} ({}x{}), mode {}, alpha {}, {} frames{}{}\n", r.capture, r.width, r.height, r.mode,
+                                r.alpha, r.frames, r.composed_vectors ? ", composed two-frame vectors" : "",
+                                r.device.empty() ? "" : ", device " + r.device);
+    s += fmt::format("{:<8} {:>9} {:>7} {:>9}   per pass (ms)\n", "method", "PSNR dB", "SSIM", "GPU ms");
+    for (const std::string& m : r.method_order) {
+        const MethodScore& ms = r.methods.at(m);
+        std::string passes;
+        for (const char* p : {"splat", "refine", "disocc", "warp", "blend"})
+            if (ms.pass_ms.count(p)) passes += fmt::format("{} {:.2f}  ", p, ms.pass_ms.at(p));
+        s += fmt::format("{:<8} {:>9.2f} {:>7.4f} {:>9.2f}   {}\n", m, ms.mean_psnr, ms.mean_ssim, ms.mean_ms, passes);
+    }
+    if (r.ingest_ms > 0) s += fmt::format("ingest: {:.2f} ms per input frame\n", r.ingest_ms);
+    return s;
+}
+
+} // namespace fgsr::cli

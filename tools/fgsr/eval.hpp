@@ -1,0 +1,55 @@
+// `fgsr eval`: scores generated frames against ground truth, method by method, on the same frames.
+#pragma once
+
+#include <fgsr/capture/capture.hpp>
+#include <fgsr/engine/engine.hpp>
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fgsr::cli {
+
+enum class EvalMode { interp, extrap };
+
+struct EvalOptions {
+    std::string capture = "builtin"; // a capture directory, or "builtin" (generated synthetic scene)
+    EvalMode mode = EvalMode::interp;
+    float alpha = 0.5f;
+    std::vector<std::string> methods{"fgsr", "linear", "blend", "repeat"};
+    std::optional<std::filesystem::path> out; // generated frames (EXR + PNG) and metrics.json
+    bool json = false;
+    bool prefer_lr = false;      // Mob-FGSR captures: LR_Inputs instead of HR_Inputs
+    int max_frames = 0;          // 0: every frame the capture allows
+    DeviceOptions device;
+    Params params;
+    bool progress = true;
+};
+
+struct MethodScore {
+    std::vector<double> psnr, ssim; // per generated frame
+    double mean_psnr = 0, mean_ssim = 0;
+    double mean_ms = 0;                         // engine GPU milliseconds per generated frame (0 for baselines)
+    std::map<std::string, double> pass_ms;      // mean per pass
+};
+
+struct EvalReport {
+    std::string capture;
+    std::string mode;
+    float alpha = 0.5f;
+    size_t frames = 0;
+    bool composed_vectors = false;
+    uint32_t width = 0, height = 0;
+    std::string device;
+    double ingest_ms = 0; // mean GPU milliseconds of ingest per input frame
+    std::vector<std::string> method_order;
+    std::map<std::string, MethodScore> methods;
+};
+
+Result<EvalReport> run_eval(const EvalOptions& options);
+std::string report_json(const EvalReport& r, bool per_frame);
+std::string report_table(const EvalReport& r);
+
+} // namespace fgsr::cli
