@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.h"
 #include "bindings.h"
-layout(local_size_x = FGSR_GROUP_X, local_size_y = FGSR_GROUP_Y) in;
+layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
 layout(push_constant) uniform Push { IngestParams p; } pc;
 layout(std430, binding = INGEST_COLOR_RAW) readonly buffer ColorRaw { uint color_raw[]; };
 layout(std430, binding = INGEST_DEPTH_RAW) readonly buffer DepthRaw { uint depth_raw[]; };

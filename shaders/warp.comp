@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.h"
 #include "bindings.h"
-layout(local_size_x = FGSR_GROUP_X, local_size_y = FGSR_GROUP_Y) in;
+layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
 layout(push_constant) uniform Push { GenParams g; } pc;
 layout(std430, binding = WARP_FIELD) readonly buffer Field { vec4 field[]; };
 layout(std430, binding = WARP_COLOR0) readonly buffer Color0 { vec4 color0[]; };

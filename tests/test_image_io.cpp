@@ -161,10 +161,8 @@ TEST(ImageIo, ExrHalfRgbaRoundTrip) {
         EXPECT_EQ(ch->type, ExrPixel::half);
         for (size_t i = 0; i < size_t(img.width) * img.height; ++i) {
             const float v = img.rgba[i * 4 + c];
-            if (i * 4 + c == 5)
-                EXPECT_EQ(ch->data[i], 1000.f);
-            else
-                EXPECT_EQ(ch->data[i], v) << "channel " << names[c] << " pixel " << i;
+            const float expect = (i * 4 + c == 5) ? 1000.f : v;
+            EXPECT_EQ(ch->data[i], expect) << "channel " << names[c] << " pixel " << i;
         }
     }
 }

@@ -142,7 +142,7 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
             if (o.out) {
                 const std::string stem = fmt::format("{:04d}", k + 1);
                 FGSR_TRY(capture::write_png(*o.out / m / (stem + ".png"), img));
-                (void)capture::write_exr(*o.out / m / (stem + ".exr"), img); // TMP
+                FGSR_TRY(capture::write_exr(*o.out / m / (stem + ".exr"), img));
             }
         }
         if (o.out) FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1), gt));

@@ -1,0 +1,82 @@
+// Image files: 8-bit PNG and OpenEXR, plus the sRGB transfer function.
+//
+// Every function returns errors as values (Errc::io naming the file for anything unreadable,
+// unwritable or malformed); no exception escapes. Images are top row first, tightly packed.
+// Writers do not create directories: the parent directory of `path` must exist.
+#pragma once
+
+#include <fgsr/engine/result.hpp>
+#include <fgsr/engine/types.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fgsr::capture {
+
+// sRGB transfer function (IEC 61966-2-1), scalar. srgb_encode maps linear [0,1] to encoded [0,1];
+// inputs outside [0,1] (and NaN) are clamped first. srgb_decode maps encoded [0,1] to linear [0,1]
+// with the same clamping.
+float srgb_encode(float linear);
+float srgb_decode(float encoded);
+
+// Decodes an 8-bit sRGB value (0..255) to linear [0,1] through a table (exactly srgb_decode(b/255)).
+float srgb8_decode(uint8_t b);
+
+// 8-bit RGBA image as stored in a PNG (no transfer function applied).
+struct Image8 {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<uint8_t> rgba; // width*height*4, top row first
+};
+
+// Writes `img` (linear RGBA) as an 8-bit RGB PNG: each colour channel is clamped to [0,1],
+// sRGB-encoded and rounded to nearest; alpha is dropped. Fails on an empty or inconsistent image.
+Result<void> write_png(const std::filesystem::path& path, const ImageRGBA& img);
+
+// Writes raw 8-bit RGBA bytes as an RGBA PNG (no conversion; used for packed-float planes).
+Result<void> write_png8(const std::filesystem::path& path, const Image8& img);
+
+// Reads a PNG of any colour type / bit depth as raw 8-bit RGBA: grey is replicated to RGB,
+// palettes are expanded, 16-bit samples are reduced to their high byte, and a missing alpha
+// channel reads as 255. No gamma or colour-space conversion is applied (bytes as stored).
+Result<Image8> read_png(const std::filesystem::path& path);
+
+// Writes `img` as a half-float RGBA OpenEXR (ZIP compression). Values that do not fit a half
+// become +-inf, as the half conversion does.
+Result<void> write_exr(const std::filesystem::path& path, const ImageRGBA& img);
+
+// Multichannel OpenEXR (single part, scanline or tiled, data window == display window; the first
+// part of a multipart file). EXR I/O uses OpenEXR's global thread pool, which the first call sizes
+// to min(8, hardware threads).
+enum class ExrPixel { half, float32 };
+
+struct ExrChannel {
+    std::string name;        // full channel name, e.g. "ViewLayer.Combined.R"
+    ExrPixel type = ExrPixel::float32; // storage type in the file
+    std::vector<float> data; // width*height values, top row first (half values widened exactly)
+};
+
+struct ExrImage {
+    uint32_t width = 0;
+    uint32_t height = 0;
+    std::vector<ExrChannel> channels;
+
+    // The channel named `name`, or nullptr.
+    const ExrChannel* find(std::string_view name) const;
+};
+
+// Reads every channel of an EXR as float. UINT channels are rejected (Errc::unsupported).
+Result<ExrImage> read_exr(const std::filesystem::path& path);
+
+// Reads only the named channels (in the given order); a missing channel is an Errc::io error
+// naming the file and the channel.
+Result<ExrImage> read_exr(const std::filesystem::path& path, const std::vector<std::string>& names);
+
+// Writes all channels of `img` (ZIP compression); each channel is stored with its `type`
+// (float32 bit-exact; half rounds to nearest, exact for values that came from a half).
+Result<void> write_exr(const std::filesystem::path& path, const ExrImage& img);
+
+} // namespace fgsr::capture
