@@ -11,28 +11,29 @@
 #define INGEST_MV 5
 #define INGEST_COUNT 6
 
-#define SPLAT_MV1 0
-#define SPLAT_MV0 1
-#define SPLAT_DEPTH1 2
-#define SPLAT_KEYS 3
-#define SPLAT_DEPTH0 4
+// splat, refine, disocc and generate share the bindings of the frames and keys they read.
+#define GEN_MV1 0
+#define GEN_MV0 1
+#define GEN_DEPTH1 2
+#define GEN_DEPTH0 3
+#define GEN_KEYS 4
+
 #define SPLAT_COUNT 5
 
-#define REFINE_MV1 0
-#define REFINE_MV0 1
-#define REFINE_DEPTH1 2
-#define REFINE_KEYS 3
-#define REFINE_FIELD 4
-#define REFINE_FIELD_DEPTH 5
-#define REFINE_FIELD_STATE 6
-#define REFINE_DEPTH0 7
+#define REFINE_FIELD 5
+#define REFINE_FIELD_DEPTH 6
+#define REFINE_FIELD_STATE 7
 #define REFINE_COUNT 8
 
-#define DISOCC_MV1 0
-#define DISOCC_FIELD 1
-#define DISOCC_FIELD_DEPTH 2
-#define DISOCC_FIELD_STATE 3
-#define DISOCC_COUNT 4
+#define DISOCC_FIELD 5
+#define DISOCC_FIELD_DEPTH 6
+#define DISOCC_FIELD_STATE 7
+#define DISOCC_COUNT 8
+
+#define GENERATE_COLOR0 5
+#define GENERATE_COLOR1 6
+#define GENERATE_OUTPUT 7
+#define GENERATE_COUNT 8
 
 #define WARP_FIELD 0
 #define WARP_COLOR0 1

@@ -11,12 +11,12 @@ layout(std430, binding = BLEND_DEPTH1) readonly buffer Depth1 { float depth1[]; 
 layout(std430, binding = BLEND_FIELD_STATE) readonly buffer FieldState { uint field_state[]; };
 layout(std430, binding = BLEND_OUTPUT) writeonly buffer Output { vec4 outp[]; };
 
-vec4 load_warped_color(uint i, uint frame) { return frame == 0u ? color0[i] : color1[i]; }
-float load_warped_depth(uint i, uint frame) { return frame == 0u ? depth0[i] : depth1[i]; }
-uint load_field_state(ivec2 q) { return field_state[q.y * int(pc.g.width) + q.x]; }
-void store_output(uint i, vec4 c) { outp[i] = c; }
-
 #include "field.h"
 #include "blend.h"
 
-void main() { blend_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }
+void main() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (!inside(t, pc.g)) return;
+    uint i = uint(t.y) * pc.g.width + uint(t.x);
+    outp[i] = select_blend(color0[i], depth0[i], color1[i], depth1[i], field_state[i], pc.g);
+}

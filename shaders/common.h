@@ -71,7 +71,7 @@ struct GenParams {
     float t_bright; // T_B: luma difference (display-referred, [0,1]) that means a shading change
     uint blend_mode; // 0: paper Eq. 1 (pick temporally closer), 1: weighted blend when similar
     uint fill_gaps;  // 1: refine fills grid-like gaps; 0: every empty pixel is a hole
-    uint pad1;
+    uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector
 };
 
 FGSR_INLINE bool inside(ivec2 q, GenParams g) {

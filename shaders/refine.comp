@@ -4,24 +4,30 @@
 #include "bindings.h"
 layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
 layout(push_constant) uniform Push { GenParams g; } pc;
-layout(std430, binding = REFINE_MV1) readonly buffer Mv1 { vec2 mv1[]; };
-layout(std430, binding = REFINE_MV0) readonly buffer Mv0 { vec2 mv0[]; };
-layout(std430, binding = REFINE_DEPTH1) readonly buffer Depth1 { float depth1[]; };
-layout(std430, binding = REFINE_DEPTH0) readonly buffer Depth0 { float depth0[]; };
-layout(std430, binding = REFINE_KEYS) readonly buffer Keys { uint64_t keys[]; };
-layout(std430, binding = REFINE_FIELD) writeonly buffer Field { vec4 field[]; };
-layout(std430, binding = REFINE_FIELD_DEPTH) writeonly buffer FieldDepth { float field_depth[]; };
-layout(std430, binding = REFINE_FIELD_STATE) writeonly buffer FieldState { uint field_state[]; };
+layout(std430, binding = GEN_MV1) readonly buffer Mv1 { vec2 mv1[]; };
+layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
+layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
+layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
+layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
+layout(std430, binding = REFINE_FIELD) buffer Field { vec4 field[]; };
+layout(std430, binding = REFINE_FIELD_DEPTH) buffer FieldDepth { float field_depth[]; };
+layout(std430, binding = REFINE_FIELD_STATE) buffer FieldState { uint field_state[]; };
 
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
+uint load_field_state(ivec2 q) { return field_state[q.y * int(pc.g.width) + q.x]; }
 void store_field(uint i, vec4 f, float d, uint s) { field[i] = f; field_depth[i] = d; field_state[i] = s; }
 
 #include "field.h"
 #include "motion.h"
 #include "refine.h"
 
-void main() { refine_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }
+void main() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (!inside(t, pc.g)) return;
+    FieldSample f = refine_field(t, pc.g);
+    store_field(uint(t.y) * pc.g.width + uint(t.x), f.v, f.depth, f.state);
+}

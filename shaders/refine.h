@@ -7,10 +7,10 @@
 //
 // Entry provides (besides motion.h's loads):
 //   uint64_t load_key(ivec2 pixel)     splat result of the generated frame
-//   float    load_depth1(ivec2 pixel)
-//   void     store_field(uint index, vec4 field, float depth, uint state)
 
 FGSR_INLINE bool key_empty(uint64_t k) { return uint(k & uint64_t(0xffffffffu)) == FGSR_EMPTY_KEY_LO; }
+FGSR_INLINE uint key_source(uint64_t k) { return uint(k & uint64_t(0xffffffffu)); }
+FGSR_INLINE float key_depth(uint64_t k) { return uintBitsToFloat(uint(k >> 32)); }
 
 // vec4(v0, v1) of the target pixel that frame-1 source pixel `src` splatted to.
 FGSR_INLINE vec4 field_from_source(uint src, GenParams g) {
@@ -26,15 +26,9 @@ FGSR_INLINE bool empty_at(ivec2 q, GenParams g) {
     return inside(q, g) && key_empty(load_key(q));
 }
 
-FGSR_INLINE void refine_pixel(ivec2 t, GenParams g) {
-    if (!inside(t, g)) return;
-    uint i = uint(t.y) * g.width + uint(t.x);
+FGSR_INLINE FieldSample refine_field(ivec2 t, GenParams g) {
     uint64_t k = load_key(t);
-    if (!key_empty(k)) {
-        store_field(i, field_from_source(uint(k & uint64_t(0xffffffffu)), g), uintBitsToFloat(uint(k >> 32)),
-                    FIELD_SPLATTED);
-        return;
-    }
+    if (!key_empty(k)) return field_sample(field_from_source(key_source(k), g), key_depth(k), FIELD_SPLATTED);
     // Empty: look for a 2x2 block of empty pixels containing t.
     bool hole = false;
     for (int by = -1; by <= 0; ++by)
@@ -52,7 +46,7 @@ FGSR_INLINE void refine_pixel(ivec2 t, GenParams g) {
                 ivec2 q = t + ivec2(x, y);
                 if (inside(q, g)) {
                     uint64_t kq = load_key(q);
-                    if (!key_empty(kq)) nearest = min(nearest, uintBitsToFloat(uint(kq >> 32)));
+                    if (!key_empty(kq)) nearest = min(nearest, key_depth(kq));
                 }
             }
         vec4 sum = vec4(0.0f);
@@ -62,16 +56,13 @@ FGSR_INLINE void refine_pixel(ivec2 t, GenParams g) {
                 ivec2 q = t + ivec2(x, y);
                 if (inside(q, g)) {
                     uint64_t kq = load_key(q);
-                    if (!key_empty(kq) && uintBitsToFloat(uint(kq >> 32)) <= nearest * (1.0f + g.t_depth)) {
-                        sum += field_from_source(uint(kq & uint64_t(0xffffffffu)), g);
+                    if (!key_empty(kq) && key_depth(kq) <= nearest * (1.0f + g.t_depth)) {
+                        sum += field_from_source(key_source(kq), g);
                         n += 1.0f;
                     }
                 }
             }
-        if (n > 0.0f) {
-            store_field(i, sum / n, nearest, FIELD_GAP_FILLED);
-            return;
-        }
+        if (n > 0.0f) return field_sample(sum / n, nearest, FIELD_GAP_FILLED);
     }
-    store_field(i, vec4(0.0f), FGSR_FAR_DEPTH, FIELD_HOLE);
+    return field_sample(vec4(0.0f), FGSR_FAR_DEPTH, FIELD_HOLE);
 }

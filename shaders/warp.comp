@@ -14,21 +14,26 @@ layout(std430, binding = WARP_OUT_DEPTH0) writeonly buffer OutDepth0 { float out
 layout(std430, binding = WARP_OUT_COLOR1) writeonly buffer OutColor1 { vec4 out_color1[]; };
 layout(std430, binding = WARP_OUT_DEPTH1) writeonly buffer OutDepth1 { float out_depth1[]; };
 
-vec4 load_field(ivec2 q) { return field[q.y * int(pc.g.width) + q.x]; }
 vec4 load_color0(ivec2 q) { return color0[q.y * int(pc.g.width) + q.x]; }
 vec4 load_color1(ivec2 q) { return color1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
-void store_warped(uint i, uint frame, vec4 c, float d) {
-    if (frame == 0u) {
-        out_color0[i] = c;
-        out_depth0[i] = d;
-    } else {
-        out_color1[i] = c;
-        out_depth1[i] = d;
-    }
-}
 
+#include "field.h"
 #include "warp.h"
 
-void main() { warp_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }
+void main() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (!inside(t, pc.g)) return;
+    uint i = uint(t.y) * pc.g.width + uint(t.x);
+    vec4 f = field[i];
+    vec2 centre = vec2(t) + vec2(0.5f);
+    WarpSample w1 = warp_sample(1u, centre, vec2(f.z, f.w), pc.g);
+    out_color1[i] = w1.color;
+    out_depth1[i] = w1.depth;
+    if (pc.g.extrapolate == 0u) {
+        WarpSample w0 = warp_sample(0u, centre, vec2(f.x, f.y), pc.g);
+        out_color0[i] = w0.color;
+        out_depth0[i] = w0.depth;
+    }
+}

@@ -4,10 +4,8 @@
 // depth. A sample position outside the image is reported by a negative depth.
 //
 // Entry provides:
-//   vec4  load_field(ivec2 pixel)
 //   vec4  load_color0(ivec2 pixel), load_color1(ivec2 pixel)
 //   float load_depth0(ivec2 pixel), load_depth1(ivec2 pixel)
-//   void  store_warped(uint index, uint frame, vec4 color, float depth)   frame 0 or 1
 
 FGSR_INLINE ivec2 clamp_pixel(ivec2 q, GenParams g) {
     return clamp(q, ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
@@ -32,21 +30,20 @@ FGSR_INLINE vec4 sample_color(uint frame, vec2 pos, GenParams g) {
     return mix(mix(c00, c10, w.x), mix(c01, c11, w.x), w.y);
 }
 
-FGSR_INLINE void warp_frame(uint i, vec2 centre, vec2 v, uint frame, GenParams g) {
+struct WarpSample {
+    vec4 color;
+    float depth; // negative: the sample position is off screen
+};
+
+FGSR_INLINE WarpSample warp_sample(uint frame, vec2 centre, vec2 v, GenParams g) {
     vec2 pos = centre + v;
     bool ok = on_screen(pos, g);
     // Keep far-off positions finite before converting to integers.
     pos = clamp(pos, vec2(-1.0f), vec2(float(g.width) + 1.0f, float(g.height) + 1.0f));
     ivec2 qn = clamp_pixel(ivec2(floor(pos)), g);
     float d = frame == 0u ? load_depth0(qn) : load_depth1(qn);
-    store_warped(i, frame, sample_color(frame, pos, g), ok ? d : -1.0f);
-}
-
-FGSR_INLINE void warp_pixel(ivec2 t, GenParams g) {
-    if (t.x >= int(g.width) || t.y >= int(g.height)) return;
-    uint i = uint(t.y) * g.width + uint(t.x);
-    vec4 fv = load_field(t);
-    vec2 centre = vec2(t) + vec2(0.5f);
-    warp_frame(i, centre, vec2(fv.z, fv.w), 1u, g);
-    if (g.extrapolate == 0u) warp_frame(i, centre, vec2(fv.x, fv.y), 0u, g);
+    WarpSample w;
+    w.color = sample_color(frame, pos, g);
+    w.depth = ok ? d : -1.0f;
+    return w;
 }

@@ -74,6 +74,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     Params params;
     params.motion = c.motion;
     params.fill_holes = false;
+    params.separate_passes = true;
     auto s = engine().create_session(fmt, params);
     ASSERT_TRUE(s) << s.error().message;
     Session& session = **s;
@@ -104,7 +105,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     ASSERT_TRUE(out_pre) << out_pre.error().message;
     auto pre = session.read_intermediates();
     ASSERT_TRUE(pre);
-    const ref::GenParams g = ref::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
+    ref::GenParams g = ref::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
     std::vector<uint64_t> keys = ref::splat(f0, f1, g);
     size_t key_diff = 0, occupied = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -143,11 +144,12 @@ TEST_P(PassesMatchReference, EveryPass) {
 
     params.fill_holes = true;
     session.set_params(params);
+    g = ref::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
     auto out = c.extrapolate ? session.extrapolate(alphas) : session.interpolate(alphas);
     ASSERT_TRUE(out) << out.error().message;
     auto post = session.read_intermediates();
     ASSERT_TRUE(post);
-    ref::disocc(f0, f1, gpu_field, g);
+    ref::disocc(f0, f1, pre->keys, gpu_field, g);
     double disocc_err = 0;
     size_t disocc_diff = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -196,6 +198,25 @@ TEST_P(PassesMatchReference, EveryPass) {
             for (int k = 0; k < 4; ++k) out_err = std::max(out_err, max_rel(warped.color[n + i][k], (*out)[0].color.rgba[4 * i + size_t(k)]));
         EXPECT_LT(out_err, 1e-4) << "extrapolated output";
     }
+
+    // The fused pass: against the CPU reference on the GPU's keys, and against the separate passes.
+    params.separate_passes = false;
+    session.set_params(params);
+    auto fused = c.extrapolate ? session.extrapolate(alphas) : session.interpolate(alphas);
+    ASSERT_TRUE(fused) << fused.error().message;
+    auto fk = session.read_intermediates();
+    ASSERT_TRUE(fk);
+    std::vector<glm::vec4> fused_ref = ref::generate_fused(f0, f1, fk->keys, g);
+    double fused_err = 0, chain_err = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 4; ++k) {
+            const float got = (*fused)[0].color.rgba[4 * i + size_t(k)];
+            fused_err = std::max(fused_err, max_rel(fused_ref[i][k], got));
+            chain_err = std::max(chain_err, max_rel((*out)[0].color.rgba[4 * i + size_t(k)], got));
+        }
+    EXPECT_LT(fused_err, 1e-4) << "fused pass vs CPU reference";
+    EXPECT_LT(chain_err, 1e-4) << "fused pass vs separate passes";
+    EXPECT_EQ((*fused)[0].passes.size(), 2u);
     expect_no_validation_errors();
 }
 

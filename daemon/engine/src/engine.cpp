@@ -2,7 +2,6 @@
 #include <fgsr/engine/reference.hpp>
 
 #include "bindings.h"
-#include "field.h"
 #include "vk.hpp"
 
 #include <algorithm>
@@ -18,10 +17,11 @@ namespace {
 constexpr uint32_t kMaxAlphas = 64;
 constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
 
-enum PassId : uint32_t { kIngest, kSplat, kRefine, kDisocc, kWarp, kBlend, kPassCount };
-constexpr std::array<const char*, kPassCount> kPassNames = {"ingest", "splat", "refine", "disocc", "warp", "blend"};
-constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT, SPLAT_COUNT, REFINE_COUNT,
-                                                            DISOCC_COUNT, WARP_COUNT,  BLEND_COUNT};
+enum PassId : uint32_t { kIngest, kSplat, kRefine, kDisocc, kWarp, kBlend, kGenerate, kPassCount };
+constexpr std::array<const char*, kPassCount> kPassNames = {"ingest", "splat", "refine", "disocc",
+                                                            "warp",   "blend", "generate"};
+constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT, SPLAT_COUNT, REFINE_COUNT,  DISOCC_COUNT,
+                                                            WARP_COUNT,   BLEND_COUNT, GENERATE_COUNT};
 
 uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
 
@@ -84,6 +84,7 @@ struct Session::Impl {
     vk::Buffer keys, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1, warped_depth1;
     std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
     bool last_extrapolate = false;
+    bool last_separate = false;
     size_t last_output = 0;
 
     VkCommandPool cmd_pool = VK_NULL_HANDLE;
@@ -333,49 +334,60 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
 
+    std::vector<std::vector<PassId>> timings(alphas.size()); // passes timed per generated frame, in order
     FGSR_TRY(begin());
     for (size_t k = 0; k < alphas.size(); ++k) {
         const gpu::GenParams g = ref::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv);
-        const uint32_t q = uint32_t(k) * kQueriesPerFrame;
+        const uint32_t q0 = uint32_t(k) * kQueriesPerFrame;
+        uint32_t q = q0;
         const vk::Buffer& out = outputs[k];
-        timestamp(q);
+        timestamp(q++);
         vkCmdFillBuffer(cmd, keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
         barrier();
-        FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &keys, &f0.depth}, &g));
+        FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys}, &g));
         barrier();
-        timestamp(q + 1);
-        FGSR_TRY(dispatch(kRefine, {&f1.mv, &f0.mv, &f1.depth, &keys, &field, &field_depth, &field_state, &f0.depth}, &g));
-        barrier();
-        timestamp(q + 2);
-        if (params.fill_holes) {
-            FGSR_TRY(dispatch(kDisocc, {&f1.mv, &field, &field_depth, &field_state}, &g));
+        timestamp(q++);
+        if (!params.separate_passes) {
+            FGSR_TRY(dispatch(kGenerate, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &f0.color, &f1.color, &out}, &g));
             barrier();
+            timestamp(q++);
+            timings[k] = {kSplat, kGenerate};
+            continue;
         }
-        timestamp(q + 3);
+        FGSR_TRY(dispatch(kRefine, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &field, &field_depth, &field_state}, &g));
+        barrier();
+        timestamp(q++);
+        timings[k] = {kSplat, kRefine};
+        if (params.fill_holes) {
+            FGSR_TRY(dispatch(kDisocc, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &field, &field_depth, &field_state}, &g));
+            barrier();
+            timestamp(q++);
+            timings[k].push_back(kDisocc);
+        }
         const vk::Buffer& w1 = extrapolate ? out : warped_color1;
         FGSR_TRY(dispatch(kWarp, {&field, &f0.color, &f1.color, &f0.depth, &f1.depth, &warped_color0, &warped_depth0, &w1,
                                   &warped_depth1},
                           &g));
         barrier();
-        timestamp(q + 4);
+        timestamp(q++);
+        timings[k].push_back(kWarp);
         if (!extrapolate) {
             FGSR_TRY(dispatch(kBlend, {&warped_color0, &warped_depth0, &warped_color1, &warped_depth1, &field_state, &out}, &g));
             barrier();
-            timestamp(q + 5);
+            timestamp(q++);
+            timings[k].push_back(kBlend);
         }
     }
     FGSR_TRY(finish());
 
     std::vector<GeneratedFrame> result(alphas.size());
-    const uint32_t passes = extrapolate ? 4 : 5;
     for (size_t k = 0; k < alphas.size(); ++k) {
         GeneratedFrame& gf = result[k];
         gf.time = extrapolate ? 1.f + alphas[k] : alphas[k];
-        auto t = read_times(uint32_t(k) * kQueriesPerFrame, passes);
+        auto t = read_times(uint32_t(k) * kQueriesPerFrame, uint32_t(timings[k].size()));
         if (!t) return t.error();
-        for (uint32_t p = 0; p < passes; ++p) {
-            if (kSplat + p == kDisocc && !params.fill_holes) continue;
-            gf.passes.push_back(PassTiming{kPassNames[kSplat + p], (*t)[p]});
+        for (size_t p = 0; p < timings[k].size(); ++p) {
+            gf.passes.push_back(PassTiming{kPassNames[timings[k][p]], (*t)[p]});
             gf.gpu_ms += (*t)[p];
         }
         gf.color.width = format.width;
@@ -384,6 +396,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         std::memcpy(gf.color.rgba.data(), outputs[k].mapped(), n * 16);
     }
     last_extrapolate = extrapolate;
+    last_separate = params.separate_passes;
     last_output = alphas.size() - 1;
     return result;
 }
@@ -402,6 +415,7 @@ Result<Session::Intermediates> Session::read_intermediates() const {
     auto keys = s.download<uint64_t>(s.keys, s.n);
     if (!keys) return keys.error();
     out.keys = std::move(*keys);
+    if (!s.last_separate) return out; // the fused pass keeps no other intermediates
     auto get_f = [&](const vk::Buffer& b, size_t count, std::vector<float>& dst) -> Result<void> {
         auto r = s.download<float>(b, count);
         if (!r) return r.error();

@@ -55,59 +55,34 @@ struct SplatCpu : FramesCpu {
 #include "splat.h"
 };
 
-struct RefineCpu : FramesCpu {
+struct KeysCpu : FramesCpu {
     const std::vector<uint64_t>* keys;
-    ref::Field* field;
     uint64_t load_key(ivec2 q) const { return (*keys)[at(q)]; }
-    void store_field(uint i, vec4 f, float d, uint s) {
-        field->v[i] = f;
-        field->depth[i] = d;
-        field->state[i] = s;
-    }
 #include "field.h"
 #include "motion.h"
 #include "refine.h"
-};
-
-struct DisoccCpu : FramesCpu {
-    ref::Field* field;
-    vec4 load_field(ivec2 q) const { return field->v[at(q)]; }
-    float load_field_depth(ivec2 q) const { return field->depth[at(q)]; }
-    uint load_field_state(ivec2 q) const { return field->state[at(q)]; }
-    void store_field(uint i, vec4 f, float d, uint s) {
-        field->v[i] = f;
-        field->depth[i] = d;
-        field->state[i] = s;
-    }
-#include "field.h"
 #include "disocc.h"
 };
 
 struct WarpCpu : FramesCpu {
-    const ref::Field* field;
-    ref::Warped* out;
-    vec4 load_field(ivec2 q) const { return field->v[at(q)]; }
-    void store_warped(uint i, uint frame, vec4 c, float d) {
-        size_t o = size_t(frame) * f1->width * f1->height + i;
-        out->color[o] = c;
-        out->depth[o] = d;
-    }
+#include "field.h"
 #include "warp.h"
 };
 
 struct BlendCpu {
-    const ref::Warped* warped;
-    const ref::Field* field;
-    size_t n;
-    uint width;
-    vec4 load_warped_color(uint i, uint frame) const { return warped->color[frame * n + i]; }
-    float load_warped_depth(uint i, uint frame) const { return warped->depth[frame * n + i]; }
-    uint load_field_state(ivec2 q) const { return field->state[size_t(q.y) * width + size_t(q.x)]; }
-    void store_output(uint i, vec4 c) { (*out)[i] = c; }
-    std::vector<vec4>* out;
 #include "field.h"
 #include "blend.h"
 };
+
+struct GenerateCpu : KeysCpu {
+    std::vector<vec4>* out;
+    void store_output(uint i, vec4 c) { (*out)[i] = c; }
+#include "warp.h"
+#include "blend.h"
+#include "generate.h"
+};
+
+#include "field.h" // FIELD_* for the static_assert in fgsr::ref
 
 template <class F> void for_each_pixel(uint32_t w, uint32_t h, F&& f) {
     for (uint32_t y = 0; y < h; ++y)
@@ -121,7 +96,6 @@ namespace fgsr::ref {
 
 using gpu::for_each_pixel;
 
-#include "field.h"
 static_assert(kFieldSplatted == FIELD_SPLATTED && kFieldGapFilled == FIELD_GAP_FILLED && kFieldHole == FIELD_HOLE &&
               kFieldHoleFilled == FIELD_HOLE_FILLED);
 
@@ -211,6 +185,7 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     g.t_bright = params.t_bright;
     g.blend_mode = uint32_t(params.blend);
     g.fill_gaps = params.fill_gaps ? 1u : 0u;
+    g.fill_holes = params.fill_holes ? 1u : 0u;
     return g;
 }
 
@@ -224,35 +199,71 @@ std::vector<uint64_t> splat(const InternalFrame& f0, const InternalFrame& f1, co
 Field refine(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys, const GenParams& g) {
     const size_t n = size_t(g.width) * g.height;
     Field field{std::vector<glm::vec4>(n), std::vector<float>(n), std::vector<uint32_t>(n)};
-    gpu::RefineCpu cpu{{&f0, &f1}, &keys, &field};
-    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.refine_pixel(q, g); });
+    gpu::KeysCpu cpu{{&f0, &f1}, &keys};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
+        auto f = cpu.refine_field(q, g);
+        const size_t i = cpu.at(q);
+        field.v[i] = f.v;
+        field.depth[i] = f.depth;
+        field.state[i] = f.state;
+    });
     return field;
 }
 
-void disocc(const InternalFrame& f0, const InternalFrame& f1, Field& field, const GenParams& g) {
-    gpu::DisoccCpu cpu{{&f0, &f1}, &field};
-    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.disocc_pixel(q, g); });
+void disocc(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys, Field& field,
+            const GenParams& g) {
+    gpu::KeysCpu cpu{{&f0, &f1}, &keys};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
+        const size_t i = cpu.at(q);
+        if (field.state[i] != kFieldHole) return;
+        auto f = cpu.fill_hole(q, g);
+        field.v[i] = f.v;
+        field.depth[i] = f.depth;
+        field.state[i] = f.state;
+    });
 }
 
 Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field, const GenParams& g) {
     const size_t n = size_t(g.width) * g.height;
     Warped out{std::vector<glm::vec4>(2 * n), std::vector<float>(2 * n, -1.f)};
-    gpu::WarpCpu cpu{{&f0, &f1}, &field, &out};
-    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.warp_pixel(q, g); });
+    gpu::WarpCpu cpu{{&f0, &f1}};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
+        const size_t i = cpu.at(q);
+        const glm::vec4 v = field.v[i];
+        const glm::vec2 centre = glm::vec2(q) + 0.5f;
+        auto w1 = cpu.warp_sample(1u, centre, glm::vec2(v.z, v.w), g);
+        out.color[n + i] = w1.color;
+        out.depth[n + i] = w1.depth;
+        if (g.extrapolate == 0u) {
+            auto w0 = cpu.warp_sample(0u, centre, glm::vec2(v.x, v.y), g);
+            out.color[i] = w0.color;
+            out.depth[i] = w0.depth;
+        }
+    });
     return out;
 }
 
 std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const GenParams& g) {
     const size_t n = size_t(g.width) * g.height;
     std::vector<glm::vec4> out(n);
-    gpu::BlendCpu cpu{&warped, &field, n, g.width, &out};
-    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.blend_pixel(q, g); });
+    gpu::BlendCpu cpu;
+    for (size_t i = 0; i < n; ++i)
+        out[i] = cpu.select_blend(warped.color[i], warped.depth[i], warped.color[n + i], warped.depth[n + i], field.state[i], g);
     return out;
 }
 
-std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g, bool fill_holes) {
-    Field field = refine(f0, f1, splat(f0, f1, g), g);
-    if (fill_holes) disocc(f0, f1, field, g);
+std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys,
+                                      const GenParams& g) {
+    std::vector<glm::vec4> out(size_t(g.width) * g.height);
+    gpu::GenerateCpu cpu{{{&f0, &f1}, &keys}, &out};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.generate_pixel(q, g); });
+    return out;
+}
+
+std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g) {
+    const std::vector<uint64_t> keys = splat(f0, f1, g);
+    Field field = refine(f0, f1, keys, g);
+    if (g.fill_holes != 0u) disocc(f0, f1, keys, field, g);
     Warped warped = warp(f0, f1, field, g);
     if (g.extrapolate != 0u) {
         const size_t n = size_t(g.width) * g.height;

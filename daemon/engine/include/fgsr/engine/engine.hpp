@@ -43,10 +43,16 @@ struct Params {
     float t_bright = 0.13f;
     bool fill_gaps = true;  // refine: fill the grid-like gaps of splatting
     bool fill_holes = true; // disocc: give holes a vector (skipped pass when false)
+    // false: splat, then one fused pass (refine, disocc, warp, blend per pixel; the default, and on
+    // CPU devices several times faster). true: each pass on its own, with per-pass timings and
+    // intermediates kept for read_intermediates(). Both give the same frames.
+    bool separate_passes = false;
 };
 
 struct PassTiming {
-    std::string name; // "splat", "refine", "disocc", "warp", "blend" (ingest: Session::last_ingest_ms)
+    // "splat", then "generate" (fused) or "refine", "disocc", "warp", "blend" (separate passes);
+    // ingest is timed at submit (Session::last_ingest_ms).
+    std::string name;
     double ms = 0;    // GPU time from timestamp queries
 };
 
@@ -108,7 +114,8 @@ class Session {
     Result<std::vector<GeneratedFrame>> extrapolate(std::span<const float> alphas);
 
     // Test and diagnostics access: the internal frames and the intermediate buffers of the last
-    // generated frame (the last alpha of the last call).
+    // generated frame (the last alpha of the last call). Only the keys exist after a fused call;
+    // the other vectors are filled when Params::separate_passes was set.
     struct Intermediates {
         std::vector<uint64_t> keys;
         std::vector<float> field;       // 4 per pixel: v0.xy, v1.xy

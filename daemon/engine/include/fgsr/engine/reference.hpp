@@ -61,13 +61,16 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
 std::vector<uint64_t> splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
 Field refine(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys,
              const GenParams& g);
-void disocc(const InternalFrame& f0, const InternalFrame& f1, Field& field, const GenParams& g);
+void disocc(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys, Field& field,
+            const GenParams& g);
 Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field, const GenParams& g);
 std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const GenParams& g);
 
-// The whole chain: interpolated (blend output) or extrapolated (warped frame 1) colour.
-// `fill_holes` false skips disocc, as Params::fill_holes does.
-std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g,
-                                bool fill_holes = true);
+// The fused pass (refine, disocc, warp and blend per pixel) on given splat keys.
+std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys,
+                                      const GenParams& g);
+
+// The whole chain of separate passes: interpolated (blend output) or extrapolated (warped frame 1).
+std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
 
 } // namespace fgsr::ref

@@ -1,0 +1,33 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.h"
+#include "bindings.h"
+layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
+layout(push_constant) uniform Push { GenParams g; } pc;
+layout(std430, binding = GEN_MV1) readonly buffer Mv1 { vec2 mv1[]; };
+layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
+layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
+layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
+layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
+layout(std430, binding = GENERATE_COLOR0) readonly buffer Color0 { vec4 color0[]; };
+layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { vec4 color1[]; };
+layout(std430, binding = GENERATE_OUTPUT) writeonly buffer Output { vec4 outp[]; };
+
+vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
+vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
+float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
+float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
+vec4 load_color0(ivec2 q) { return color0[q.y * int(pc.g.width) + q.x]; }
+vec4 load_color1(ivec2 q) { return color1[q.y * int(pc.g.width) + q.x]; }
+void store_output(uint i, vec4 c) { outp[i] = c; }
+
+#include "field.h"
+#include "motion.h"
+#include "refine.h"
+#include "disocc.h"
+#include "warp.h"
+#include "blend.h"
+#include "generate.h"
+
+void main() { generate_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }
