@@ -17,23 +17,24 @@
 #define GEN_DEPTH1 2
 #define GEN_DEPTH0 3
 #define GEN_KEYS 4
+#define GEN_MOTION 5 // per frame-1 pixel: field vectors (v0, v1) from its position at the generated time
 
-#define SPLAT_COUNT 5
+#define SPLAT_COUNT 6
 
-#define REFINE_FIELD 5
-#define REFINE_FIELD_DEPTH 6
-#define REFINE_FIELD_STATE 7
-#define REFINE_COUNT 8
+#define REFINE_FIELD 6
+#define REFINE_FIELD_DEPTH 7
+#define REFINE_FIELD_STATE 8
+#define REFINE_COUNT 9
 
-#define DISOCC_FIELD 5
-#define DISOCC_FIELD_DEPTH 6
-#define DISOCC_FIELD_STATE 7
-#define DISOCC_COUNT 8
+#define DISOCC_FIELD 6
+#define DISOCC_FIELD_DEPTH 7
+#define DISOCC_FIELD_STATE 8
+#define DISOCC_COUNT 9
 
-#define GENERATE_COLOR0 5
-#define GENERATE_COLOR1 6
-#define GENERATE_OUTPUT 7
-#define GENERATE_COUNT 8
+#define GENERATE_COLOR0 6
+#define GENERATE_COLOR1 7
+#define GENERATE_OUTPUT 8
+#define GENERATE_COUNT 9
 
 #define WARP_FIELD 0
 #define WARP_COLOR0 1

@@ -28,6 +28,6 @@ FGSR_INLINE FieldSample fill_hole(ivec2 t, GenParams g) {
                 }
             }
         }
-    if (farthest > 0.0f) return field_sample(field_from_source(best, g), farthest, FIELD_HOLE_FILLED);
+    if (farthest > 0.0f) return field_sample(load_motion(best), farthest, FIELD_HOLE_FILLED);
     return field_sample(vec4(0.0f), FGSR_FAR_DEPTH, FIELD_HOLE_FILLED);
 }

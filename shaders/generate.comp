@@ -9,6 +9,7 @@ layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
+layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; };
 layout(std430, binding = GENERATE_COLOR0) readonly buffer Color0 { vec4 color0[]; };
 layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { vec4 color1[]; };
 layout(std430, binding = GENERATE_OUTPUT) writeonly buffer Output { vec4 outp[]; };
@@ -18,12 +19,12 @@ vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
+vec4 load_motion(uint src) { return motion[src]; }
 vec4 load_color0(ivec2 q) { return color0[q.y * int(pc.g.width) + q.x]; }
 vec4 load_color1(ivec2 q) { return color1[q.y * int(pc.g.width) + q.x]; }
 void store_output(uint i, vec4 c) { outp[i] = c; }
 
 #include "field.h"
-#include "motion.h"
 #include "refine.h"
 #include "disocc.h"
 #include "warp.h"

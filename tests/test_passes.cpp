@@ -106,18 +106,24 @@ TEST_P(PassesMatchReference, EveryPass) {
     auto pre = session.read_intermediates();
     ASSERT_TRUE(pre);
     ref::GenParams g = ref::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
-    std::vector<uint64_t> keys = ref::splat(f0, f1, g);
+    ref::Splat sp = ref::splat(f0, f1, g);
     size_t key_diff = 0, occupied = 0;
+    double motion_err = 0;
     for (size_t i = 0; i < n; ++i) {
-        key_diff += keys[i] != pre->keys[i];
+        key_diff += sp.keys[i] != pre->keys[i];
+        for (int k = 0; k < 4; ++k) motion_err = std::max(motion_err, max_rel(sp.motion[i][k], pre->motion[4 * i + size_t(k)]));
         occupied += (pre->keys[i] & 0xffffffffull) != 0xffffffffull;
     }
     EXPECT_LE(key_diff, n / 1000) << "splat keys differ on " << key_diff << " of " << n << " pixels";
+    EXPECT_LT(motion_err, 1e-4) << "splat motion";
+    // Later passes run on exactly what the GPU splat produced.
+    ref::Splat gpu_splat{pre->keys, std::vector<glm::vec4>(n)};
+    std::memcpy(gpu_splat.motion.data(), pre->motion.data(), n * 16);
     if (n >= 64) {
         EXPECT_GT(occupied, n / 4) << "the case must exercise splatting";
     }
 
-    ref::Field field = ref::refine(f0, f1, pre->keys, g);
+    ref::Field field = ref::refine(f0, f1, gpu_splat, g);
     size_t state_diff = 0, gaps = 0, holes = 0;
     double field_err = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -149,7 +155,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     ASSERT_TRUE(out) << out.error().message;
     auto post = session.read_intermediates();
     ASSERT_TRUE(post);
-    ref::disocc(f0, f1, pre->keys, gpu_field, g);
+    ref::disocc(f0, f1, gpu_splat, gpu_field, g);
     double disocc_err = 0;
     size_t disocc_diff = 0;
     for (size_t i = 0; i < n; ++i) {
@@ -206,7 +212,9 @@ TEST_P(PassesMatchReference, EveryPass) {
     ASSERT_TRUE(fused) << fused.error().message;
     auto fk = session.read_intermediates();
     ASSERT_TRUE(fk);
-    std::vector<glm::vec4> fused_ref = ref::generate_fused(f0, f1, fk->keys, g);
+    ref::Splat fused_splat{fk->keys, std::vector<glm::vec4>(n)};
+    std::memcpy(fused_splat.motion.data(), fk->motion.data(), n * 16);
+    std::vector<glm::vec4> fused_ref = ref::generate_fused(f0, f1, fused_splat, g);
     double fused_err = 0, chain_err = 0;
     for (size_t i = 0; i < n; ++i)
         for (int k = 0; k < 4; ++k) {

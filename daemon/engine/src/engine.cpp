@@ -81,7 +81,7 @@ struct Session::Impl {
     double ingest_ms = 0;
 
     // Intermediates of one generated frame, reused by each alpha in turn.
-    vk::Buffer keys, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1, warped_depth1;
+    vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1, warped_depth1;
     std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
     bool last_extrapolate = false;
     bool last_separate = false;
@@ -142,6 +142,7 @@ struct Session::Impl {
             FGSR_TRY(make(f.mv, px * 8, false));
         }
         FGSR_TRY(make(keys, px * 8, false));
+        FGSR_TRY(make(motion, px * 16, false));
         FGSR_TRY(make(field, px * 16, false));
         FGSR_TRY(make(field_depth, px * 4, false));
         FGSR_TRY(make(field_state, px * 4, false));
@@ -344,22 +345,22 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         timestamp(q++);
         vkCmdFillBuffer(cmd, keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
         barrier();
-        FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys}, &g));
+        FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion}, &g));
         barrier();
         timestamp(q++);
         if (!params.separate_passes) {
-            FGSR_TRY(dispatch(kGenerate, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &f0.color, &f1.color, &out}, &g));
+            FGSR_TRY(dispatch(kGenerate, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color, &f1.color, &out}, &g));
             barrier();
             timestamp(q++);
             timings[k] = {kSplat, kGenerate};
             continue;
         }
-        FGSR_TRY(dispatch(kRefine, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &field, &field_depth, &field_state}, &g));
+        FGSR_TRY(dispatch(kRefine, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &field, &field_depth, &field_state}, &g));
         barrier();
         timestamp(q++);
         timings[k] = {kSplat, kRefine};
         if (params.fill_holes) {
-            FGSR_TRY(dispatch(kDisocc, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &field, &field_depth, &field_state}, &g));
+            FGSR_TRY(dispatch(kDisocc, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &field, &field_depth, &field_state}, &g));
             barrier();
             timestamp(q++);
             timings[k].push_back(kDisocc);
@@ -415,6 +416,9 @@ Result<Session::Intermediates> Session::read_intermediates() const {
     auto keys = s.download<uint64_t>(s.keys, s.n);
     if (!keys) return keys.error();
     out.keys = std::move(*keys);
+    auto motion = s.download<float>(s.motion, s.n * 4);
+    if (!motion) return motion.error();
+    out.motion = std::move(*motion);
     if (!s.last_separate) return out; // the fused pass keeps no other intermediates
     auto get_f = [&](const vk::Buffer& b, size_t count, std::vector<float>& dst) -> Result<void> {
         auto r = s.download<float>(b, count);

@@ -48,18 +48,19 @@ struct FramesCpu {
 };
 
 struct SplatCpu : FramesCpu {
-    std::vector<uint64_t>* keys;
-    void splat_min(uint i, uint64_t key) { (*keys)[i] = std::min((*keys)[i], key); }
+    ref::Splat* out;
+    void splat_min(uint i, uint64_t key) { out->keys[i] = std::min(out->keys[i], key); }
+    void store_motion(uint i, vec4 m) { out->motion[i] = m; }
 #include "field.h"
 #include "motion.h"
 #include "splat.h"
 };
 
 struct KeysCpu : FramesCpu {
-    const std::vector<uint64_t>* keys;
-    uint64_t load_key(ivec2 q) const { return (*keys)[at(q)]; }
+    const ref::Splat* splat;
+    uint64_t load_key(ivec2 q) const { return splat->keys[at(q)]; }
+    vec4 load_motion(uint src) const { return splat->motion[src]; }
 #include "field.h"
-#include "motion.h"
 #include "refine.h"
 #include "disocc.h"
 };
@@ -189,17 +190,18 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     return g;
 }
 
-std::vector<uint64_t> splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g) {
-    std::vector<uint64_t> keys(size_t(g.width) * g.height, std::numeric_limits<uint64_t>::max());
-    gpu::SplatCpu cpu{{&f0, &f1}, &keys};
+Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g) {
+    const size_t n = size_t(g.width) * g.height;
+    Splat out{std::vector<uint64_t>(n, std::numeric_limits<uint64_t>::max()), std::vector<glm::vec4>(n)};
+    gpu::SplatCpu cpu{{&f0, &f1}, &out};
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.splat_pixel(q, g); });
-    return keys;
+    return out;
 }
 
-Field refine(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys, const GenParams& g) {
+Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, const GenParams& g) {
     const size_t n = size_t(g.width) * g.height;
     Field field{std::vector<glm::vec4>(n), std::vector<float>(n), std::vector<uint32_t>(n)};
-    gpu::KeysCpu cpu{{&f0, &f1}, &keys};
+    gpu::KeysCpu cpu{{&f0, &f1}, &splat};
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
         auto f = cpu.refine_field(q, g);
         const size_t i = cpu.at(q);
@@ -210,9 +212,9 @@ Field refine(const InternalFrame& f0, const InternalFrame& f1, const std::vector
     return field;
 }
 
-void disocc(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys, Field& field,
+void disocc(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, Field& field,
             const GenParams& g) {
-    gpu::KeysCpu cpu{{&f0, &f1}, &keys};
+    gpu::KeysCpu cpu{{&f0, &f1}, &splat};
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
         const size_t i = cpu.at(q);
         if (field.state[i] != kFieldHole) return;
@@ -252,18 +254,18 @@ std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const Gen
     return out;
 }
 
-std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys,
+std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
                                       const GenParams& g) {
     std::vector<glm::vec4> out(size_t(g.width) * g.height);
-    gpu::GenerateCpu cpu{{{&f0, &f1}, &keys}, &out};
+    gpu::GenerateCpu cpu{{{&f0, &f1}, &splat}, &out};
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.generate_pixel(q, g); });
     return out;
 }
 
 std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g) {
-    const std::vector<uint64_t> keys = splat(f0, f1, g);
-    Field field = refine(f0, f1, keys, g);
-    if (g.fill_holes != 0u) disocc(f0, f1, keys, field, g);
+    const Splat sp = splat(f0, f1, g);
+    Field field = refine(f0, f1, sp, g);
+    if (g.fill_holes != 0u) disocc(f0, f1, sp, field, g);
     Warped warped = warp(f0, f1, field, g);
     if (g.extrapolate != 0u) {
         const size_t n = size_t(g.width) * g.height;

@@ -118,6 +118,7 @@ class Session {
     // the other vectors are filled when Params::separate_passes was set.
     struct Intermediates {
         std::vector<uint64_t> keys;
+        std::vector<float> motion;      // 4 per frame-1 pixel: v0.xy, v1.xy (see ref::Splat)
         std::vector<float> field;       // 4 per pixel: v0.xy, v1.xy
         std::vector<float> field_depth;
         std::vector<uint32_t> field_state;

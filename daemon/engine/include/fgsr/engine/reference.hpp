@@ -31,6 +31,14 @@ struct InternalFrame {
 // States of a reconstructed field pixel (the FIELD_* values of shaders/field.h).
 enum FieldState : uint32_t { kFieldSplatted = 0, kFieldGapFilled = 1, kFieldHole = 2, kFieldHoleFilled = 3 };
 
+// Output of splat: per target pixel the 64-bit key (depth bits << 32 | source index, all ones
+// when empty), per frame-1 pixel its field vectors (v0, v1): displacements from its position at the
+// generated time to its positions in frame 0 and frame 1.
+struct Splat {
+    std::vector<uint64_t> keys;
+    std::vector<glm::vec4> motion;
+};
+
 // Reconstructed motion field of one generated frame (see shaders/field.h).
 struct Field {
     std::vector<glm::vec4> v;     // (v0.xy, v1.xy) per target pixel
@@ -58,16 +66,16 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
                      bool frame1_has_mv);
 
 // Passes of frame generation; f0 is the older frame, f1 the newer one.
-std::vector<uint64_t> splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
-Field refine(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys,
+Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
+Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
              const GenParams& g);
-void disocc(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys, Field& field,
+void disocc(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, Field& field,
             const GenParams& g);
 Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field, const GenParams& g);
 std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const GenParams& g);
 
 // The fused pass (refine, disocc, warp and blend per pixel) on given splat keys.
-std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const std::vector<uint64_t>& keys,
+std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
                                       const GenParams& g);
 
 // The whole chain of separate passes: interpolated (blend output) or extrapolated (warped frame 1).
