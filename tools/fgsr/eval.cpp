@@ -14,6 +14,9 @@ namespace fgsr::cli {
 
 namespace {
 
+// Engine passes in pipeline order: fused ("generate") or separate.
+constexpr const char* kPassOrder[] = {"splat", "generate", "refine", "disocc", "warp", "blend"};
+
 ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
     ImageRGBA out = a;
     for (size_t i = 0; i < out.rgba.size(); ++i) out.rgba[i] = a.rgba[i] + (b.rgba[i] - a.rgba[i]) * t;
@@ -185,7 +188,7 @@ std::string report_json(const EvalReport& r, bool per_frame) {
         jm["ms"] = s.mean_ms;
         if (!s.pass_ms.empty()) {
             nlohmann::ordered_json passes = nlohmann::ordered_json::object();
-            for (const char* p : {"splat", "refine", "disocc", "warp", "blend"})
+            for (const char* p : kPassOrder)
                 if (s.pass_ms.count(p)) passes[p] = s.pass_ms.at(p);
             jm["pass_ms"] = passes;
         }
@@ -207,7 +210,7 @@ std::string report_table(const EvalReport& r) {
     for (const std::string& m : r.method_order) {
         const MethodScore& ms = r.methods.at(m);
         std::string passes;
-        for (const char* p : {"splat", "refine", "disocc", "warp", "blend"})
+        for (const char* p : kPassOrder)
             if (ms.pass_ms.count(p)) passes += fmt::format("{} {:.2f}  ", p, ms.pass_ms.at(p));
         s += fmt::format("{:<8} {:>9.2f} {:>7.4f} {:>9.2f}   {}\n", m, ms.mean_psnr, ms.mean_ssim, ms.mean_ms, passes);
     }

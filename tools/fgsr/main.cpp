@@ -51,10 +51,16 @@ int main(int argc, char** argv) {
                                                    "else first GPU, else lavapipe)");
     eval->add_option("--t-depth", eo.params.t_depth, "T_D: relative depth difference for disocclusion")->capture_default_str();
     eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")->capture_default_str();
-    bool mix = false, no_gaps = false, no_holes = false, quiet = false;
-    eval->add_flag("--mix", mix, "Blend both warped frames where they agree instead of picking the closer one");
+    std::string blend = "mix";
+    bool no_gaps = false, no_holes = false, quiet = false, separate = false;
+    eval->add_option("--blend", blend, "Where both warped frames agree: 'mix' (alpha-weighted) or 'select' (the "
+                                       "temporally closer, paper Eq. 1)")
+        ->check(CLI::IsMember({"mix", "select"}))
+        ->capture_default_str();
     eval->add_flag("--no-gap-fill", no_gaps, "Disable refinement of splatting gaps");
     eval->add_flag("--no-hole-fill", no_holes, "Disable disocclusion filling");
+    eval->add_flag("--separate-passes", separate,
+                   "Run refine, disocc, warp and blend as separate passes (per-pass timings; same frames)");
     eval->add_flag("--quiet", quiet, "No progress on stderr");
 
     // fgsr convert
@@ -74,9 +80,10 @@ int main(int argc, char** argv) {
         eo.mode = mode == "extrap" ? fgsr::cli::EvalMode::extrap : fgsr::cli::EvalMode::interp;
         eo.methods = split_list(methods);
         if (!out_dir.empty()) eo.out = out_dir;
-        eo.params.blend = mix ? fgsr::BlendMode::mix : fgsr::BlendMode::select;
+        eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;
         eo.params.fill_gaps = !no_gaps;
         eo.params.fill_holes = !no_holes;
+        eo.params.separate_passes = separate;
         eo.progress = !quiet;
         auto r = fgsr::cli::run_eval(eo);
         if (!r) return fail(r.error());
