@@ -5,6 +5,8 @@
 // that lands exactly on a pixel border may round either way under fused arithmetic).
 #include "engine_fixture.hpp"
 
+#include <fgsr/capture/synthetic.hpp>
+
 #include <cmath>
 
 namespace fgsr::test {
@@ -18,6 +20,7 @@ struct PassCase {
     float range; // vector magnitude in pixels
     ColorFormat color_format;
     MvFormat mv_format;
+    bool structured = false; // frames of the analytic scene (edges, occlusion, thin bars) instead of random
 };
 
 std::string case_name(const testing::TestParamInfo<PassCase>& info) {
@@ -25,7 +28,8 @@ std::string case_name(const testing::TestParamInfo<PassCase>& info) {
     return std::to_string(c.width) + "x" + std::to_string(c.height) + (c.extrapolate ? "_extrap" : "_interp") +
            (c.motion == MotionModel::quadratic ? "_quadratic" : "_linear") + "_a" +
            std::to_string(int(std::lround(c.alpha * 100))) + "_r" + std::to_string(int(c.range)) + "_" +
-           std::string(to_string(c.color_format)) + "_" + std::string(to_string(c.mv_format));
+           std::string(to_string(c.color_format)) + "_" + std::string(to_string(c.mv_format)) +
+           (c.structured ? "_scene" : "_random");
 }
 
 // Converts internal-convention planes to the case's client formats (so ingest is exercised too).
@@ -79,8 +83,18 @@ TEST_P(PassesMatchReference, EveryPass) {
     ASSERT_TRUE(s) << s.error().message;
     Session& session = **s;
 
-    RawFrame raw0 = to_client(random_frame(c.width, c.height, 11, c.range), c, n);
-    RawFrame raw1 = to_client(random_frame(c.width, c.height, 12, c.range), c, n);
+    auto frame_at = [&](int t) {
+        if (!c.structured) return random_frame(c.width, c.height, 10 + uint32_t(t), c.range);
+        capture::SceneOptions o;
+        o.width = c.width;
+        o.height = c.height;
+        o.speed = c.range / 10.f;
+        auto smp = capture::SyntheticScene(o).render(t + 3, t + 2);
+        const auto* px = reinterpret_cast<const glm::vec4*>(smp.color.rgba.data());
+        return make_raw(std::vector<glm::vec4>(px, px + n), smp.depth, smp.mv);
+    };
+    RawFrame raw0 = to_client(frame_at(1), c, n);
+    RawFrame raw1 = to_client(frame_at(2), c, n);
     ASSERT_TRUE(session.submit(raw0.view()));
     ASSERT_TRUE(session.submit(raw1.view()));
 
@@ -235,7 +249,11 @@ INSTANTIATE_TEST_SUITE_P(
                     PassCase{61, 37, true, MotionModel::quadratic, 0.5f, 8.f, ColorFormat::rgba8_srgb, MvFormat::rg32f},
                     PassCase{61, 37, true, MotionModel::linear, 1.0f, 8.f, ColorFormat::rgba32f_linear, MvFormat::rg16f},
                     PassCase{200, 120, false, MotionModel::quadratic, 0.8f, 30.f, ColorFormat::rgba8_srgb, MvFormat::rg16f},
-                    PassCase{1, 1, false, MotionModel::quadratic, 0.5f, 2.f, ColorFormat::rgba32f_linear, MvFormat::rg32f}),
+                    PassCase{1, 1, false, MotionModel::quadratic, 0.5f, 2.f, ColorFormat::rgba32f_linear, MvFormat::rg32f},
+                    PassCase{240, 135, false, MotionModel::quadratic, 0.5f, 10.f, ColorFormat::rgba16f_linear,
+                             MvFormat::rg32f, true},
+                    PassCase{240, 135, true, MotionModel::quadratic, 0.7f, 20.f, ColorFormat::rgba8_srgb, MvFormat::rg16f,
+                             true}),
     case_name);
 
 } // namespace

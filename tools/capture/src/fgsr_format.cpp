@@ -222,20 +222,6 @@ Result<Frame> exr_to_frame(const FrameFormat& fmt, const fs::path& p, bool has_m
     return f;
 }
 
-Result<void> write_rgba_float(const fs::path& p, const ImageRGBA& img) {
-    ExrImage e;
-    e.width = img.width;
-    e.height = img.height;
-    const size_t n = size_t(img.width) * img.height;
-    const char* names[4] = {"R", "G", "B", "A"};
-    for (size_t c = 0; c < 4; ++c) {
-        ExrChannel ch{names[c], ExrPixel::float32, std::vector<float>(n)};
-        for (size_t i = 0; i < n; ++i) ch.data[i] = img.rgba[i * 4 + c];
-        e.channels.push_back(std::move(ch));
-    }
-    return write_exr(p, e);
-}
-
 Result<ImageRGBA> read_rgba(const fs::path& p, uint32_t w, uint32_t h) {
     auto img = read_exr(p, {"R", "G", "B", "A"});
     if (!img) return img.error();
@@ -332,7 +318,7 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
         FGSR_TRY(ensure_dir(dir / sub));
         for (size_t i = 0; i < imgs.size(); ++i) {
             const std::string rel = sub + "/" + frame_name(i);
-            FGSR_TRY(write_rgba_float(dir / rel, imgs[i]));
+            FGSR_TRY(write_exr(dir / rel, imgs[i], ExrPixel::float32));
             list.push_back(rel);
         }
         return list;

@@ -333,7 +333,7 @@ Result<void> write_exr(const fs::path& path, const ExrImage& img) {
     }
 }
 
-Result<void> write_exr(const fs::path& path, const ImageRGBA& img) {
+Result<void> write_exr(const fs::path& path, const ImageRGBA& img, ExrPixel type) {
     if (!consistent(img)) return make_error(Errc::invalid_argument, path.string() + ": empty or inconsistent image");
     ExrImage e;
     e.width = img.width;
@@ -343,7 +343,7 @@ Result<void> write_exr(const fs::path& path, const ImageRGBA& img) {
     for (size_t c = 0; c < 4; ++c) {
         ExrChannel ch;
         ch.name = names[c];
-        ch.type = ExrPixel::half;
+        ch.type = type;
         ch.data.resize(n);
         for (size_t i = 0; i < n; ++i) ch.data[i] = img.rgba[i * 4 + c];
         e.channels.push_back(std::move(ch));

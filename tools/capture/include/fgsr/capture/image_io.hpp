@@ -44,13 +44,6 @@ Result<void> write_png8(const std::filesystem::path& path, const Image8& img);
 // channel reads as 255. No gamma or colour-space conversion is applied (bytes as stored).
 Result<Image8> read_png(const std::filesystem::path& path);
 
-// Writes `img` as a half-float RGBA OpenEXR (ZIP compression). Values that do not fit a half
-// become +-inf, as the half conversion does.
-Result<void> write_exr(const std::filesystem::path& path, const ImageRGBA& img);
-
-// Multichannel OpenEXR (single part, scanline or tiled, data window == display window; the first
-// part of a multipart file). EXR I/O uses OpenEXR's global thread pool, which the first call sizes
-// to min(8, hardware threads).
 enum class ExrPixel { half, float32 };
 
 struct ExrChannel {
@@ -78,5 +71,9 @@ Result<ExrImage> read_exr(const std::filesystem::path& path, const std::vector<s
 // Writes all channels of `img` (ZIP compression); each channel is stored with its `type`
 // (float32 bit-exact; half rounds to nearest, exact for values that came from a half).
 Result<void> write_exr(const std::filesystem::path& path, const ExrImage& img);
+
+// Writes `img` as an RGBA OpenEXR (ZIP compression), half floats by default (values that do not
+// fit a half become +-inf, as the half conversion does) or 32-bit floats (exact).
+Result<void> write_exr(const std::filesystem::path& path, const ImageRGBA& img, ExrPixel type = ExrPixel::half);
 
 } // namespace fgsr::capture
