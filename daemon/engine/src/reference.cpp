@@ -1,5 +1,6 @@
 // CPU reference: the algorithm headers of shaders/ compiled as C++ members of small structs whose
 // load_/store_ functions read and write host vectors.
+#include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
 
 #include <cmath>
@@ -81,6 +82,15 @@ struct GenerateCpu : KeysCpu {
 #include "warp.h"
 #include "blend.h"
 #include "generate.h"
+};
+
+struct ResampleCpu {
+    const std::vector<vec4>* src;
+    uint width;
+    std::span<const float> lut;
+    vec4 load_src(ivec2 q) const { return (*src)[size_t(q.y) * width + size_t(q.x)]; }
+    float load_lut(uint i) const { return lut[i]; }
+#include "resample.h"
 };
 
 #include "field.h" // FIELD_* for the static_assert in fgsr::ref
@@ -272,6 +282,18 @@ std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1
         return std::vector<glm::vec4>(warped.color.begin() + long(n), warped.color.end());
     }
     return blend(warped, field, g);
+}
+
+std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h, glm::vec2 shift,
+                                      Resample kind, std::span<const float> lut) {
+    std::vector<glm::vec4> out(size_t(w) * h);
+    if (kind == Resample::lut && lut.size() < kLutSize) return out;
+    gpu::ResampleCpu cpu{&src, w, lut};
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            out[size_t(y) * w + x] = cpu.resample(glm::vec2(float(x) + 0.5f, float(y) + 0.5f) + shift,
+                                                  glm::ivec2(int(w), int(h)), uint32_t(kind));
+    return out;
 }
 
 } // namespace fgsr::ref

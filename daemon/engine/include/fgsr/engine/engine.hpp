@@ -35,6 +35,13 @@ enum class BlendMode : uint32_t {
                 // measured: toss-fg 28.20 -> 28.54, bunker LR 29.73 -> 29.95, synthetic 36.18 -> 36.46)
 };
 
+// History resampling of super resolution (shaders/resample.h).
+enum class Resample : uint32_t {
+    bilinear = 0,
+    catmull_rom = 1, // bicubic
+    lut = 2,         // learned 32x32x16 table (fgsr/engine/lut.hpp)
+};
+
 // Algorithm parameters. Depth threshold is relative (|d0 - d1| / min(d0, d1)), so it holds for
 // any linear depth unit; brightness threshold is on display-referred luma in [0, 1].
 struct Params {

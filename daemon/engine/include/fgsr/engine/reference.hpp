@@ -81,4 +81,10 @@ std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFra
 // The whole chain of separate passes: interpolated (blend output) or extrapolated (warped frame 1).
 std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
 
+// Resamples `src` (w x h) at every pixel centre + shift (pixels, x right, y down), with the
+// engine's resampling (shaders/resample.h): out(x, y) = resample(src, (x + 0.5, y + 0.5) + shift).
+// `lut` (kLutSize weights) is read only for Resample::lut.
+std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h, glm::vec2 shift,
+                                      Resample kind, std::span<const float> lut = {});
+
 } // namespace fgsr::ref

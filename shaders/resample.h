@@ -1,0 +1,54 @@
+// Resampling of an image at a continuous position with a 4x4 footprint, shared by the SR history
+// warp (sr.h), the joint ISR/ESR warps and the LUT trainer (tools/fgsr lut-train), so that what is
+// trained is exactly what the engine runs.
+//
+// Position `pos` in pixels (centres at +0.5). Base pixel b = floor(pos - 0.5), phase
+// f = pos - 0.5 - b in [0,1)^2; taps at b + (i - 1, j - 1), i, j in 0..3, weight index j * 4 + i.
+// Kinds (RESAMPLE_*):
+//   bilinear    only the inner 2x2 taps, weights (1-f)/f per axis
+//   catmull_rom separable Catmull-Rom cubic (bicubic with a = -0.5)
+//   lut         learned weights, phase quantised to FGSR_LUT_LEVELS bins per axis:
+//               bin = min(int(f * L), L - 1); weights lut[((bin.y * L) + bin.x) * 16 + k]
+// Taps outside the image are clamped to the border (never wrapped).
+//
+// Entry provides:
+//   vec4  load_src(ivec2 pixel)      the image being resampled (caller-chosen size, see src_size)
+//   float load_lut(uint index)       the LUT (only read for RESAMPLE_LUT)
+#define RESAMPLE_BILINEAR 0u
+#define RESAMPLE_CATMULL_ROM 1u
+#define RESAMPLE_LUT 2u
+#define FGSR_LUT_LEVELS 32
+#define FGSR_LUT_SIZE (FGSR_LUT_LEVELS * FGSR_LUT_LEVELS * 16)
+
+FGSR_INLINE vec4 catmull_rom_weights(float t) {
+    float t2 = t * t;
+    float t3 = t2 * t;
+    return vec4(-0.5f * t3 + t2 - 0.5f * t, 1.5f * t3 - 2.5f * t2 + 1.0f, -1.5f * t3 + 2.0f * t2 + 0.5f * t, 0.5f * t3 - 0.5f * t2);
+}
+
+FGSR_INLINE vec4 resample(vec2 pos, ivec2 src_size, uint kind) {
+    vec2 x = pos - vec2(0.5f);
+    vec2 b = floor(x);
+    vec2 f = x - b;
+    ivec2 base = ivec2(b);
+    ivec2 hi = src_size - ivec2(1);
+    vec4 sum = vec4(0.0f);
+    if (kind == RESAMPLE_BILINEAR) {
+        ivec2 q0 = clamp(base, ivec2(0), hi), q1 = clamp(base + ivec2(1), ivec2(0), hi);
+        vec4 top = mix(load_src(ivec2(q0.x, q0.y)), load_src(ivec2(q1.x, q0.y)), f.x);
+        vec4 bottom = mix(load_src(ivec2(q0.x, q1.y)), load_src(ivec2(q1.x, q1.y)), f.x);
+        return mix(top, bottom, f.y);
+    }
+    vec4 wx = catmull_rom_weights(f.x), wy = catmull_rom_weights(f.y);
+    uint lut_base = 0u;
+    if (kind == RESAMPLE_LUT) {
+        ivec2 bin = min(ivec2(f * float(FGSR_LUT_LEVELS)), ivec2(FGSR_LUT_LEVELS - 1));
+        lut_base = uint(bin.y * FGSR_LUT_LEVELS + bin.x) * 16u;
+    }
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            float w = kind == RESAMPLE_LUT ? load_lut(lut_base + uint(j * 4 + i)) : wx[i] * wy[j];
+            sum += w * load_src(clamp(base + ivec2(i - 1, j - 1), ivec2(0), hi));
+        }
+    return sum;
+}
