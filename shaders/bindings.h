@@ -55,4 +55,13 @@
 #define BLEND_OUTPUT 5
 #define BLEND_COUNT 6
 
+#define SR_COLOR 0
+#define SR_DEPTH 1
+#define SR_MV 2
+#define SR_PREV_DEPTH 3
+#define SR_HISTORY 4
+#define SR_LUT 5
+#define SR_OUTPUT 6
+#define SR_COUNT 7
+
 #endif

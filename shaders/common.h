@@ -52,10 +52,10 @@ struct IngestParams {
     float far_plane; // <= 0 or inf: infinite
     uint mv_format;  // fgsr::MvFormat
     uint has_mv;     // 0: vectors unknown, written as 0
-    float mv_scale_x; // internal = raw * scale (units, direction and y axis folded in)
-    float mv_scale_y;
-    uint pad0;
-    uint pad1;
+    float mv_scale_x; // internal = raw * scale + offset (units, direction and y axis folded in;
+    float mv_scale_y; // the offset removes camera jitter from vectors that contain it, QRISP Eq. 1)
+    float mv_offset_x;
+    float mv_offset_y;
 };
 
 // splat, refine, disocc, warp and blend share one parameter block per generated frame.
@@ -74,6 +74,26 @@ struct GenParams {
     uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector
 };
 
+// super resolution of one rendered frame (sr.h) and the joint ISR / ESR pass (generate_sr.h)
+struct SrParams {
+    uint lr_width;
+    uint lr_height;
+    uint hr_width;
+    uint hr_height;
+    float scale;      // hr / lr
+    float jitter_x;   // sample offset of this frame from the LR pixel centre, LR pixels, y down
+    float jitter_y;
+    float a;          // Eq. 2: weight of the current samples
+    float b;          // Eq. 2: fall-off of a sample's weight with its distance (LR pixels)
+    float t_depth;    // history rejection: relative depth difference
+    uint resample;    // RESAMPLE_* of the history
+    uint has_history; // 0: first frame or reset: spatial upsample only
+    uint dilate;      // 1: motion vector of the frontmost pixel of the 3x3 neighbourhood
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
 FGSR_INLINE bool inside(ivec2 q, GenParams g) {
     return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);
 }
@@ -82,7 +102,8 @@ FGSR_INLINE bool inside(ivec2 q, GenParams g) {
 FGSR_INLINE float relative_depth_difference(float a, float b) { return abs(a - b) / max(min(a, b), 1.0e-20f); }
 
 #ifdef __cplusplus
-static_assert(sizeof(IngestParams) == 48 && sizeof(GenParams) == 48, "push constants are 4-byte scalars");
+static_assert(sizeof(IngestParams) == 48 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
+              "push constants are 4-byte scalars");
 } // namespace fgsr::gpu
 #endif
 #endif

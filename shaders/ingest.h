@@ -50,7 +50,7 @@ FGSR_INLINE vec2 decode_mv(uint pixel, IngestParams p) {
     if (p.has_mv == 0u) return vec2(0.0f);
     vec2 m = p.mv_format == 0u ? unpackHalf2x16(load_mv_word(pixel))
                                : vec2(uintBitsToFloat(load_mv_word(2u * pixel)), uintBitsToFloat(load_mv_word(2u * pixel + 1u)));
-    m = vec2(m.x * p.mv_scale_x, m.y * p.mv_scale_y);
+    m = vec2(m.x * p.mv_scale_x + p.mv_offset_x, m.y * p.mv_scale_y + p.mv_offset_y);
     // Non-finite vectors carry no motion; huge ones are clamped so positions stay exact in float.
     float limit = 4.0f * float(p.width + p.height);
     return vec2(is_finite(m.x) ? clamp(m.x, -limit, limit) : 0.0f, is_finite(m.y) ? clamp(m.y, -limit, limit) : 0.0f);

@@ -7,8 +7,10 @@
 // Kinds (RESAMPLE_*):
 //   bilinear    only the inner 2x2 taps, weights (1-f)/f per axis
 //   catmull_rom separable Catmull-Rom cubic (bicubic with a = -0.5)
-//   lut         learned weights, phase quantised to FGSR_LUT_LEVELS bins per axis:
-//               bin = min(int(f * L), L - 1); weights lut[((bin.y * L) + bin.x) * 16 + k]
+//   lut         learned weights, phase rounded to the nearest multiple of 1/L (L = FGSR_LUT_LEVELS),
+//               so that whole-pixel positions (phase 0, static content) are a bin of their own:
+//               k = floor((pos - 0.5) * L + 0.5), base = floor(k / L), bin = k - base * L (0..L-1),
+//               phase of the bin = bin / L; weights lut[((bin.y * L) + bin.x) * 16 + j * 4 + i]
 // Taps outside the image are clamped to the border (never wrapped).
 //
 // Entry provides:
@@ -42,7 +44,9 @@ FGSR_INLINE vec4 resample(vec2 pos, ivec2 src_size, uint kind) {
     vec4 wx = catmull_rom_weights(f.x), wy = catmull_rom_weights(f.y);
     uint lut_base = 0u;
     if (kind == RESAMPLE_LUT) {
-        ivec2 bin = min(ivec2(f * float(FGSR_LUT_LEVELS)), ivec2(FGSR_LUT_LEVELS - 1));
+        ivec2 k = ivec2(floor(x * float(FGSR_LUT_LEVELS) + vec2(0.5f)));
+        base = ivec2(floor(vec2(k) / float(FGSR_LUT_LEVELS)));
+        ivec2 bin = k - base * FGSR_LUT_LEVELS;
         lut_base = uint(bin.y * FGSR_LUT_LEVELS + bin.x) * 16u;
     }
     for (int j = 0; j < 4; ++j)

@@ -12,7 +12,7 @@
 
 namespace fgsr::cli {
 
-enum class EvalMode { interp, extrap };
+enum class EvalMode { interp, extrap, sr, isr, esr };
 
 struct EvalOptions {
     std::string capture = "builtin"; // a capture directory, or "builtin" (generated synthetic scene)
@@ -49,6 +49,11 @@ struct EvalReport {
 };
 
 Result<EvalReport> run_eval(const EvalOptions& options);
+// Mode sr on a loaded capture (eval_sr.cpp).
+Result<EvalReport> run_eval_sr(const EvalOptions& options, capture::Capture capture);
+// Spatial upscale of an LR frame that sampled the scene at pixel centres + jitter (LR pixels).
+ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, Resample kind, float jitter_x,
+                          float jitter_y);
 std::string report_json(const EvalReport& r, bool per_frame);
 std::string report_table(const EvalReport& r);
 

@@ -1,5 +1,6 @@
 // build/bin/fgsr: command-line front end of the fgsr engine.
 #include "eval.hpp"
+#include "lut_train.hpp"
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -40,7 +41,9 @@ int main(int argc, char** argv) {
                      "Capture directory (Blender, Mob-FGSR PNG or fgsr format), or 'builtin' for the generated "
                      "synthetic scene")
         ->capture_default_str();
-    eval->add_option("--mode", mode, "interp or extrap")->check(CLI::IsMember({"interp", "extrap"}))->capture_default_str();
+    eval->add_option("--mode", mode, "interp, extrap, sr, isr or esr")
+        ->check(CLI::IsMember({"interp", "extrap", "sr", "isr", "esr"}))
+        ->capture_default_str();
     eval->add_option("--alpha", eo.alpha, "Generated instant: alpha (interp) or 1+alpha (extrap)")->capture_default_str();
     eval->add_option("--methods", methods, "Comma-separated: fgsr, linear, blend, repeat")->capture_default_str();
     eval->add_option("--out", out_dir, "Write generated frames (EXR and PNG) and metrics.json here");
@@ -50,6 +53,9 @@ int main(int argc, char** argv) {
     eval->add_option("--device", eo.device.device, "Vulkan device index or name substring (default: FGSR_DEVICE, "
                                                    "else first GPU, else lavapipe)");
     eval->add_option("--t-depth", eo.params.t_depth, "T_D: relative depth difference for disocclusion")->capture_default_str();
+    eval->add_option("--sr-a", eo.params.sr_a, "SR: weight of the current samples (Eq. 2, a)")->capture_default_str();
+    eval->add_option("--sr-b", eo.params.sr_b, "SR: sample weight fall-off with distance (Eq. 2, b)")->capture_default_str();
+    eval->add_flag("--dilate", eo.params.dilate_mvs, "SR: depth-informed motion-vector dilation (frontmost of 3x3)");
     eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")->capture_default_str();
     std::string blend = "mix";
     bool no_gaps = false, no_holes = false, quiet = false, separate = false;
@@ -71,14 +77,24 @@ int main(int argc, char** argv) {
     convert->add_option("--out", conv_out, "Output directory")->required();
     convert->add_flag("--lr", conv_lr, "Mob-FGSR captures: use LR_Inputs");
 
+    // fgsr lut-train
+    fgsr::cli::LutTrainOptions lut_opts;
+    auto* lut_train = fgsr::cli::add_lut_train_command(app, lut_opts);
+
     // fgsr devices
     auto* devices = app.add_subcommand("devices", "List Vulkan devices");
 
     CLI11_PARSE(app, argc, argv);
 
     if (*eval) {
-        eo.mode = mode == "extrap" ? fgsr::cli::EvalMode::extrap : fgsr::cli::EvalMode::interp;
+        eo.mode = mode == "extrap" ? fgsr::cli::EvalMode::extrap
+                  : mode == "sr"     ? fgsr::cli::EvalMode::sr
+                  : mode == "isr"    ? fgsr::cli::EvalMode::isr
+                  : mode == "esr"    ? fgsr::cli::EvalMode::esr
+                                     : fgsr::cli::EvalMode::interp;
         eo.methods = split_list(methods);
+        if (eo.mode == fgsr::cli::EvalMode::sr && !eval->count("--methods"))
+            eo.methods = {"fgsr", "fgsr-bilinear", "fgsr-bicubic", "bilinear", "bicubic"};
         if (!out_dir.empty()) eo.out = out_dir;
         eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;
         eo.params.fill_gaps = !no_gaps;
@@ -103,6 +119,7 @@ int main(int argc, char** argv) {
         std::printf("wrote %zu frames of '%s' to %s\n", c->inputs.size(), c->name.c_str(), conv_out.c_str());
         return 0;
     }
+    if (*lut_train) return fgsr::cli::lut_train_main(lut_opts, argc, argv);
     if (*devices) {
         auto list = fgsr::Engine::list_devices();
         if (!list) return fail(list.error());

@@ -1,4 +1,5 @@
 #include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
 
 #include "bindings.h"
@@ -17,11 +18,15 @@ namespace {
 constexpr uint32_t kMaxAlphas = 64;
 constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
 
-enum PassId : uint32_t { kIngest, kSplat, kRefine, kDisocc, kWarp, kBlend, kGenerate, kPassCount };
-constexpr std::array<const char*, kPassCount> kPassNames = {"ingest", "splat", "refine", "disocc",
-                                                            "warp",   "blend", "generate"};
-constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT, SPLAT_COUNT, REFINE_COUNT,  DISOCC_COUNT,
-                                                            WARP_COUNT,   BLEND_COUNT, GENERATE_COUNT};
+enum PassId : uint32_t { kIngest, kSplat, kRefine, kDisocc, kWarp, kBlend, kGenerate, kSr, kPassCount };
+constexpr std::array<const char*, kPassCount> kPassNames = {"ingest", "splat", "refine",   "disocc",
+                                                            "warp",   "blend", "generate", "sr"};
+constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT, SPLAT_COUNT, REFINE_COUNT,   DISOCC_COUNT,
+                                                            WARP_COUNT,   BLEND_COUNT, GENERATE_COUNT, SR_COUNT};
+constexpr std::array<uint32_t, kPassCount> kPassPush = {sizeof(gpu::IngestParams), sizeof(gpu::GenParams),
+                                                        sizeof(gpu::GenParams),    sizeof(gpu::GenParams),
+                                                        sizeof(gpu::GenParams),    sizeof(gpu::GenParams),
+                                                        sizeof(gpu::GenParams),    sizeof(gpu::SrParams)};
 
 uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
 
@@ -48,7 +53,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
         impl->ctx->props.limits.maxComputeWorkGroupSize[1] >= 32)
         impl->group = 32;
     for (uint32_t p = 0; p < kPassCount; ++p) {
-        uint32_t push = p == kIngest ? sizeof(gpu::IngestParams) : sizeof(gpu::GenParams);
+        const uint32_t push = kPassPush[p];
         const std::string shader = std::string(kPassNames[p]) + "_g" + std::to_string(impl->group);
         auto pipe = vk::Pipeline::create(*impl->ctx, shader, kPassBindings[p], push);
         if (!pipe) return pipe.error();
@@ -79,6 +84,15 @@ struct Session::Impl {
     int newest = 1; // index into frames of frame 1
     uint64_t submitted = 0;
     double ingest_ms = 0;
+    float jitter_x = 0, jitter_y = 0; // of the newest frame
+
+    // Super resolution: output size, ping-pong history (the newest output is hr[hr_newest]), LUT.
+    uint32_t out_w = 0, out_h = 0;
+    std::array<vk::Buffer, 2> hr;
+    int hr_newest = 0;
+    bool hr_valid = false;
+    vk::Buffer lut;
+    double sr_ms = 0;
 
     // Intermediates of one generated frame, reused by each alpha in turn.
     vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1, warped_depth1;
@@ -150,6 +164,20 @@ struct Session::Impl {
         FGSR_TRY(make(warped_depth0, px * 4, false));
         FGSR_TRY(make(warped_color1, px * 16, false));
         FGSR_TRY(make(warped_depth1, px * 4, false));
+        if (sr()) {
+            const VkDeviceSize hpx = VkDeviceSize(out_w) * out_h;
+            for (vk::Buffer& b : hr) FGSR_TRY(make(b, hpx * 16, false));
+            FGSR_TRY(make(lut, kLutSize * 4, true));
+            FGSR_TRY(upload_lut());
+        }
+        return {};
+    }
+
+    bool sr() const { return out_w != format.width || out_h != format.height; }
+
+    Result<void> upload_lut() {
+        const std::vector<float> weights = params.lut.size() == kLutSize ? params.lut : default_lut(params.scale).weights;
+        std::memcpy(lut.mapped(), weights.data(), kLutSize * 4);
         return {};
     }
 
@@ -197,7 +225,9 @@ struct Session::Impl {
         vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, queries, query);
     }
 
-    Result<void> dispatch(PassId pass, std::initializer_list<const vk::Buffer*> buffers, const void* push) {
+    // Dispatches one invocation per pixel of a width x height image (0: the session's frame size).
+    Result<void> dispatch(PassId pass, std::initializer_list<const vk::Buffer*> buffers, const void* push,
+                          uint32_t width = 0, uint32_t height = 0) {
         const vk::Pipeline& p = engine->pipelines[pass];
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
         ai.descriptorPool = desc_pool;
@@ -223,7 +253,8 @@ struct Session::Impl {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
         vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, p.push_size(), push);
-        vkCmdDispatch(cmd, groups(format.width, engine->group), groups(format.height, engine->group), 1);
+        vkCmdDispatch(cmd, groups(width ? width : format.width, engine->group),
+                      groups(height ? height : format.height, engine->group), 1);
         return {};
     }
 
@@ -272,6 +303,16 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     impl->format = format;
     impl->params = params;
     impl->n = n;
+    if (!(std::isfinite(params.scale) && params.scale >= 1.f && params.scale <= 4.f))
+        return make_error(Errc::invalid_argument, "scale factor " + std::to_string(params.scale) + " is outside [1, 4]");
+    impl->out_w = uint32_t(std::lround(double(format.width) * params.scale));
+    impl->out_h = uint32_t(std::lround(double(format.height) * params.scale));
+    if (impl->out_w > 16384 || impl->out_h > 16384)
+        return make_error(Errc::invalid_argument, "output size " + std::to_string(impl->out_w) + "x" +
+                                                      std::to_string(impl->out_h) + " exceeds 16384x16384");
+    if (!params.lut.empty() && params.lut.size() != kLutSize)
+        return make_error(Errc::invalid_argument, "LUT has " + std::to_string(params.lut.size()) + " weights, expected " +
+                                                      std::to_string(kLutSize));
     // A view with planes of exactly the right size validates conventions and limits.
     std::vector<std::byte> c(n * bytes_per_pixel(format.color_format)), d(n * 4);
     FGSR_TRY(ref::validate(format, FrameView{c, d, {}}));
@@ -283,12 +324,22 @@ Session::Session(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Session::~Session() = default;
 const FrameFormat& Session::format() const { return impl_->format; }
 const Params& Session::params() const { return impl_->params; }
-void Session::set_params(const Params& p) { impl_->params = p; }
+void Session::set_params(const Params& p) {
+    // The scale (and so every buffer size) is fixed at creation.
+    const float scale = impl_->params.scale;
+    const bool lut_changed = p.lut != impl_->params.lut;
+    impl_->params = p;
+    impl_->params.scale = scale;
+    if (lut_changed && impl_->sr()) (void)impl_->upload_lut();
+}
+uint32_t Session::output_width() const { return impl_->out_w; }
+uint32_t Session::output_height() const { return impl_->out_h; }
 uint64_t Session::frames_submitted() const { return impl_->submitted; }
 double Session::last_ingest_ms() const { return impl_->ingest_ms; }
 
 void Session::reset() {
     impl_->submitted = 0;
+    impl_->hr_valid = false;
     for (auto& f : impl_->frames) f.has_mv = false;
 }
 
@@ -299,21 +350,48 @@ Result<void> Session::submit(const FrameView& frame) {
     std::memcpy(s.depth_raw.mapped(), frame.depth.data(), frame.depth.size());
     const bool has_mv = !frame.mv.empty();
     if (has_mv) std::memcpy(s.mv_raw.mapped(), frame.mv.data(), frame.mv.size());
+    if (!std::isfinite(frame.jitter_x) || !std::isfinite(frame.jitter_y) || std::abs(frame.jitter_x) > 1.f ||
+        std::abs(frame.jitter_y) > 1.f)
+        return make_error(Errc::invalid_argument, "jitter (" + std::to_string(frame.jitter_x) + ", " +
+                                                      std::to_string(frame.jitter_y) + ") is outside [-1, 1] pixels");
+    const bool restart = frame.reset || s.submitted == 0;
     const int slot = 1 - s.newest;
     Impl::GpuFrame& f = s.frames[size_t(slot)];
+    const Impl::GpuFrame& prev = s.frames[size_t(s.newest)];
     gpu::IngestParams p = ref::ingest_params(s.format, has_mv);
+    if (s.params.mvs_contain_jitter && !restart) {
+        p.mv_offset_x = s.jitter_x - frame.jitter_x;
+        p.mv_offset_y = s.jitter_y - frame.jitter_y;
+    }
     FGSR_TRY(s.begin());
     s.timestamp(0);
     FGSR_TRY(s.dispatch(kIngest, {&s.color_raw, &s.depth_raw, &s.mv_raw, &f.color, &f.depth, &f.mv}, &p));
-    s.timestamp(1);
     s.barrier();
+    s.timestamp(1);
+    if (s.sr()) {
+        gpu::SrParams sp = ref::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x, frame.jitter_y,
+                                          !restart && s.hr_valid && has_mv);
+        const vk::Buffer& history = s.hr[size_t(s.hr_newest)];
+        const vk::Buffer& out = s.hr[size_t(1 - s.hr_newest)];
+        FGSR_TRY(s.dispatch(kSr, {&f.color, &f.depth, &f.mv, &prev.depth, &history, &s.lut, &out}, &sp, s.out_w, s.out_h));
+        s.barrier();
+        s.timestamp(2);
+    }
     FGSR_TRY(s.finish());
-    auto t = s.read_times(0, 1);
+    auto t = s.read_times(0, s.sr() ? 2 : 1);
     if (!t) return t.error();
     s.ingest_ms = (*t)[0];
     f.has_mv = has_mv;
     s.newest = slot;
+    s.jitter_x = frame.jitter_x;
+    s.jitter_y = frame.jitter_y;
+    if (restart) s.submitted = 0;
     ++s.submitted;
+    if (s.sr()) {
+        s.sr_ms = (*t)[1];
+        s.hr_newest = 1 - s.hr_newest;
+        s.hr_valid = true;
+    }
     return {};
 }
 
@@ -400,6 +478,21 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     last_separate = params.separate_passes;
     last_output = alphas.size() - 1;
     return result;
+}
+
+Result<GeneratedFrame> Session::super_resolved() {
+    Impl& s = *impl_;
+    if (!s.sr()) return make_error(Errc::invalid_argument, "the session does not upscale (Params::scale is 1)");
+    if (!s.hr_valid) return make_error(Errc::empty_input, "no frame submitted yet");
+    const size_t hpx = size_t(s.out_w) * s.out_h;
+    auto px = s.download<float>(s.hr[size_t(s.hr_newest)], hpx * 4);
+    if (!px) return px.error();
+    GeneratedFrame gf;
+    gf.time = 1.f;
+    gf.color = ImageRGBA{s.out_w, s.out_h, std::move(*px)};
+    gf.passes.push_back(PassTiming{"sr", s.sr_ms});
+    gf.gpu_ms = s.sr_ms;
+    return gf;
 }
 
 Result<std::vector<GeneratedFrame>> Session::interpolate(std::span<const float> alphas) {

@@ -87,7 +87,7 @@ Lut catmull_rom_lut(float scale) {
     lut.weights.resize(kLutSize);
     for (uint32_t by = 0; by < kLutLevels; ++by)
         for (uint32_t bx = 0; bx < kLutLevels; ++bx) {
-            const float fx = (float(bx) + 0.5f) / float(kLutLevels), fy = (float(by) + 0.5f) / float(kLutLevels);
+            const float fx = float(bx) / float(kLutLevels), fy = float(by) / float(kLutLevels);
             for (int j = 0; j < 4; ++j)
                 for (int i = 0; i < 4; ++i) lut.weights[(size_t(by) * kLutLevels + bx) * 16 + size_t(j * 4 + i)] = cr(fx, i) * cr(fy, j);
         }

@@ -93,6 +93,22 @@ struct ResampleCpu {
 #include "resample.h"
 };
 
+struct SrCpu {
+    const ref::InternalFrame* cur;
+    const std::vector<float>* prev_depth;
+    const std::vector<vec4>* history;
+    std::span<const float> lut;
+    uint lr_w, hr_w;
+    vec4 load_lr_color(ivec2 q) const { return cur->color[size_t(q.y) * lr_w + size_t(q.x)]; }
+    float load_lr_depth(ivec2 q) const { return cur->depth[size_t(q.y) * lr_w + size_t(q.x)]; }
+    vec2 load_lr_mv(ivec2 q) const { return cur->mv[size_t(q.y) * lr_w + size_t(q.x)]; }
+    float load_prev_depth(ivec2 q) const { return (*prev_depth)[size_t(q.y) * lr_w + size_t(q.x)]; }
+    vec4 load_src(ivec2 q) const { return (*history)[size_t(q.y) * hr_w + size_t(q.x)]; }
+    float load_lut(uint i) const { return lut[i]; }
+#include "resample.h"
+#include "sr.h"
+};
+
 #include "field.h" // FIELD_* for the static_assert in fgsr::ref
 
 template <class F> void for_each_pixel(uint32_t w, uint32_t h, F&& f) {
@@ -200,6 +216,35 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     return g;
 }
 
+SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width, uint32_t out_height,
+                   float jitter_x, float jitter_y, bool has_history) {
+    SrParams p{};
+    p.lr_width = format.width;
+    p.lr_height = format.height;
+    p.hr_width = out_width;
+    p.hr_height = out_height;
+    p.scale = float(out_width) / float(format.width);
+    p.jitter_x = jitter_x;
+    p.jitter_y = jitter_y;
+    p.a = params.sr_a;
+    p.b = params.sr_b;
+    p.t_depth = params.t_depth;
+    p.resample = uint32_t(params.resample);
+    p.has_history = has_history ? 1u : 0u;
+    p.dilate = params.dilate_mvs ? 1u : 0u;
+    return p;
+}
+
+std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector<float>& prev_depth,
+                                     const std::vector<glm::vec4>& history, const SrParams& p, std::span<const float> lut) {
+    std::vector<glm::vec4> out(size_t(p.hr_width) * p.hr_height);
+    gpu::SrCpu cpu{&cur, &prev_depth, &history, lut, p.lr_width, p.hr_width};
+    for (uint32_t y = 0; y < p.hr_height; ++y)
+        for (uint32_t x = 0; x < p.hr_width; ++x)
+            out[size_t(y) * p.hr_width + x] = cpu.super_resolve(glm::ivec2(int(x), int(y)), p);
+    return out;
+}
+
 Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g) {
     const size_t n = size_t(g.width) * g.height;
     Splat out{std::vector<uint64_t>(n, std::numeric_limits<uint64_t>::max()), std::vector<glm::vec4>(n)};
@@ -294,6 +339,13 @@ std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_
             out[size_t(y) * w + x] = cpu.resample(glm::vec2(float(x) + 0.5f, float(y) + 0.5f) + shift,
                                                   glm::ivec2(int(w), int(h)), uint32_t(kind));
     return out;
+}
+
+glm::vec4 resample_at(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h, glm::vec2 pos, Resample kind,
+                      std::span<const float> lut) {
+    if (kind == Resample::lut && lut.size() < kLutSize) return glm::vec4(0.f);
+    gpu::ResampleCpu cpu{&src, w, lut};
+    return cpu.resample(pos, glm::ivec2(int(w), int(h)), uint32_t(kind));
 }
 
 } // namespace fgsr::ref

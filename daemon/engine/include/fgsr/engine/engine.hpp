@@ -55,6 +55,18 @@ struct Params {
     // CPU devices several times faster). true: each pass on its own, with per-pass timings and
     // intermediates kept for read_intermediates(). Both give the same frames.
     bool separate_passes = false;
+
+    // Super resolution (paper 3.5). scale > 1 makes the session upscale every submitted frame to
+    // round(size * scale) (fixed at session creation); 1 disables it.
+    float scale = 1.f;
+    Resample resample = Resample::lut; // history resampling
+    std::vector<float> lut;            // kLutSize weights; empty: fgsr::default_lut(scale)
+    float sr_a = 0.34f;                // Eq. 2: weight of the current samples
+    float sr_b = 0.81f;                // Eq. 2: weight fall-off with sample distance (LR pixels)
+    bool dilate_mvs = false;           // vector of the frontmost 3x3 neighbour (QRISP 4.1)
+    // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
+    // the jitter: mv += jitter(previous) - jitter(current).
+    bool mvs_contain_jitter = false;
 };
 
 struct PassTiming {
@@ -115,6 +127,12 @@ class Session {
     uint64_t frames_submitted() const;
     // GPU time of the last submit's ingest pass.
     double last_ingest_ms() const;
+    // Output size: the frame size times Params::scale (the frame size without super resolution).
+    uint32_t output_width() const;
+    uint32_t output_height() const;
+    // The super-resolved (output-size) frame of the last submit, with the timing of its `sr` pass
+    // (time = 1). Needs Params::scale > 1 and a submitted frame.
+    Result<GeneratedFrame> super_resolved();
 
     // Frames between frame 0 and frame 1 at each alpha in (0, 1), in one GPU submission.
     Result<std::vector<GeneratedFrame>> interpolate(std::span<const float> alphas);

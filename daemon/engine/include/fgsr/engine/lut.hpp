@@ -30,9 +30,9 @@ Result<Lut> parse_lut(std::span<const std::byte> bytes, const std::string& what)
 
 // The LUT the engine uses by default for a scale factor: the shipped table trained for the
 // nearest scale (embedded at build time from daemon/engine/luts/*.lut), or, if none is shipped,
-// Catmull-Rom weights tabulated at the bin centres.
+// Catmull-Rom weights tabulated at the bins' phases.
 Lut default_lut(float scale);
-// Catmull-Rom weights tabulated at the bin centres (the untrained starting point).
+// Catmull-Rom weights tabulated at the bins' phases bin / 32 (the untrained starting point).
 Lut catmull_rom_lut(float scale);
 
 } // namespace fgsr

@@ -17,6 +17,7 @@ namespace fgsr::ref {
 
 using gpu::GenParams;
 using gpu::IngestParams;
+using gpu::SrParams;
 
 // One frame in the engine's internal convention (see types.hpp).
 struct InternalFrame {
@@ -65,6 +66,16 @@ InternalFrame ingest(const FrameFormat& format, const FrameView& frame);
 GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate, bool frame0_has_mv,
                      bool frame1_has_mv);
 
+// The push constants of the `sr` pass for a frame (has_history: a previous output exists and
+// the frame is no reset).
+SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width, uint32_t out_height,
+                   float jitter_x, float jitter_y, bool has_history);
+
+// One frame of super resolution on the CPU: `cur` the new LR frame, `prev_depth` the previous LR
+// depth, `history` the previous output (out_width x out_height), `lut` for Resample::lut.
+std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector<float>& prev_depth,
+                                     const std::vector<glm::vec4>& history, const SrParams& p, std::span<const float> lut);
+
 // Passes of frame generation; f0 is the older frame, f1 the newer one.
 Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
 Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
@@ -86,5 +97,9 @@ std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1
 // `lut` (kLutSize weights) is read only for Resample::lut.
 std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h, glm::vec2 shift,
                                       Resample kind, std::span<const float> lut = {});
+
+// One resampled value of `src` (w x h) at `pos` (pixels, centres at +0.5); for spatial upscaling.
+glm::vec4 resample_at(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h, glm::vec2 pos, Resample kind,
+                      std::span<const float> lut = {});
 
 } // namespace fgsr::ref

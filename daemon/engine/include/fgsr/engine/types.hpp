@@ -73,6 +73,12 @@ struct FrameView {
     std::span<const std::byte> color; // width*height*bytes_per_pixel(color_format)
     std::span<const std::byte> depth; // width*height*4 (32-bit float)
     std::span<const std::byte> mv;    // width*height*bytes_per_pixel(mv_format), or empty = unknown
+    // Camera jitter of this frame: where, relative to each pixel centre, the frame sampled the
+    // scene, in pixels (x right, y down), e.g. a Halton(2,3) sequence in [-0.5, 0.5).
+    float jitter_x = 0.f;
+    float jitter_y = 0.f;
+    // Start super-resolution history afresh with this frame (scene cut, camera teleport).
+    bool reset = false;
 };
 
 // A linear RGBA float image on the host (engine outputs, ground truth, metrics).

@@ -1,0 +1,81 @@
+// Pass `sr` (paper 3.5, Eq. 2): temporal super resolution of one rendered low-resolution frame.
+// One invocation per output (HR) pixel q, centre qc; p = qc / scale is its position in LR pixels.
+//   1. Motion: the LR vector at p's pixel t (or, with dilation, of the frontmost pixel of t's 3x3
+//      neighbourhood, QRISP 4.1), scaled to HR: the history position is h = qc + mv * scale.
+//   2. Rejection: no history (first frame, reset), h off screen, or a disocclusion: the previous
+//      frame's depth at p + mv differs from the current depth at t by more than T_D (relative).
+//   3. History: resampled at h (bilinear, Catmull-Rom or the learned LUT, resample.h), then
+//      clamped to the colour box (min/max) of the current 3x3 LR neighbourhood (shading changes).
+//   4. Current samples: LR pixel (i, j) sampled the scene at (i + 0.5 + jitter) LR pixels; the
+//      samples within one LR pixel of p get weight w = 1 - b * d (d: distance in LR pixels).
+//   5. Eq. 2 with its weights normalised: q = (a * sum(w s) / n + (1 - a) * history) /
+//      (a * sum(w) / n + (1 - a)), n the number of samples in reach; read literally (dividing by
+//      n only) the equation would darken the image by a * mean(w) + (1 - a) every frame.
+//      Rejected pixels (and pixels no sample reaches) take the spatial upsample: Catmull-Rom of the
+//      LR frame at p - jitter.
+//
+// Entry provides:
+//   vec4  load_lr_color(ivec2 lr_pixel), float load_lr_depth(ivec2), vec2 load_lr_mv(ivec2)
+//   float load_prev_depth(ivec2 lr_pixel)     previous frame's LR depth
+//   vec4  load_src(ivec2 hr_pixel)            the previous HR output (history), for resample.h
+//   float load_lut(uint index)
+//   void  store_sr(uint hr_index, vec4 color)
+
+FGSR_INLINE ivec2 clamp_lr(ivec2 q, SrParams p) { return clamp(q, ivec2(0), ivec2(int(p.lr_width) - 1, int(p.lr_height) - 1)); }
+
+// Catmull-Rom of the LR frame at an LR position (the spatial upsample).
+FGSR_INLINE vec4 lr_upsample(vec2 pos, SrParams p) {
+    vec2 x = pos - vec2(0.5f);
+    vec2 b = floor(x);
+    vec2 f = x - b;
+    ivec2 base = ivec2(b);
+    vec4 wx = catmull_rom_weights(f.x), wy = catmull_rom_weights(f.y);
+    vec4 sum = vec4(0.0f);
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) sum += wx[i] * wy[j] * load_lr_color(clamp_lr(base + ivec2(i - 1, j - 1), p));
+    return max(sum, vec4(0.0f));
+}
+
+FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
+    vec2 qc = vec2(q) + vec2(0.5f);
+    vec2 pos = qc / p.scale;
+    ivec2 t = clamp_lr(ivec2(floor(pos)), p);
+    vec2 jitter = vec2(p.jitter_x, p.jitter_y);
+
+    // Current samples, their colour box and the Eq. 2 weights.
+    vec4 lo = vec4(1.0e30f), hi = vec4(-1.0e30f), sum = vec4(0.0f);
+    float wsum = 0.0f, n = 0.0f, nearest_depth = FGSR_FAR_DEPTH;
+    ivec2 front = t;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) {
+            ivec2 s = clamp_lr(t + ivec2(x, y), p);
+            vec4 c = load_lr_color(s);
+            lo = min(lo, c);
+            hi = max(hi, c);
+            float d = length(vec2(s) + vec2(0.5f) + jitter - pos);
+            if (d < 1.0f) {
+                float w = max(1.0f - p.b * d * p.scale, 0.0f);
+                sum += w * c;
+                wsum += w;
+                n += 1.0f;
+            }
+            float z = load_lr_depth(s);
+            if (p.dilate != 0u && z < nearest_depth) {
+                nearest_depth = z;
+                front = s;
+            }
+        }
+    vec4 spatial = lr_upsample(pos - jitter, p);
+    if (p.has_history == 0u || n == 0.0f) return spatial;
+
+    vec2 mv = load_lr_mv(p.dilate != 0u ? front : t);
+    vec2 h = qc + mv * p.scale;
+    bool on = h.x >= 0.0f && h.y >= 0.0f && h.x <= float(p.hr_width) && h.y <= float(p.hr_height);
+    float d_now = load_lr_depth(t);
+    float d_prev = load_prev_depth(clamp_lr(ivec2(floor(pos + mv)), p));
+    if (!on || relative_depth_difference(d_now, d_prev) > p.t_depth) return spatial;
+
+    vec4 hist = clamp(resample(h, ivec2(int(p.hr_width), int(p.hr_height)), p.resample), lo, hi);
+    float wc = p.a * wsum / n;
+    return (p.a * sum / n + (1.0f - p.a) * hist) / (wc + (1.0f - p.a));
+}
