@@ -10,8 +10,8 @@ layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
 layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; };
-layout(std430, binding = GENERATE_COLOR0) readonly buffer Color0 { vec4 color0[]; };
-layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { vec4 color1[]; };
+layout(std430, binding = GENERATE_COLOR0) readonly buffer Color0 { uvec2 color0[]; }; // pack_color
+layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { uvec2 color1[]; }; // pack_color
 layout(std430, binding = GENERATE_OUTPUT) writeonly buffer Output { vec4 outp[]; };
 
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
@@ -20,8 +20,8 @@ float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
 vec4 load_motion(uint src) { return motion[src]; }
-vec4 load_color0(ivec2 q) { return color0[q.y * int(pc.g.width) + q.x]; }
-vec4 load_color1(ivec2 q) { return color1[q.y * int(pc.g.width) + q.x]; }
+vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
+vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
 void store_output(uint i, vec4 c) { outp[i] = c; }
 
 #include "field.h"

@@ -5,7 +5,7 @@
 //   uint  load_color_word(uint word)      raw colour plane as 32-bit words
 //   uint  load_depth_word(uint pixel)     raw depth plane (one float per pixel)
 //   uint  load_mv_word(uint word)         raw vector plane as 32-bit words
-//   void  store_frame(uint pixel, vec4 color, float depth, vec2 mv)
+//   void  store_frame(uint pixel, uvec2 color, float depth, vec2 mv)   colour packed by pack_color
 
 FGSR_INLINE bool is_finite(float v) { return !(isnan(v) || isinf(v)); }
 
@@ -59,5 +59,5 @@ FGSR_INLINE vec2 decode_mv(uint pixel, IngestParams p) {
 FGSR_INLINE void ingest_pixel(uvec2 pix, IngestParams p) {
     if (pix.x >= p.width || pix.y >= p.height) return;
     uint i = pix.y * p.width + pix.x;
-    store_frame(i, decode_color(i, p), linear_depth(uintBitsToFloat(load_depth_word(i)), p), decode_mv(i, p));
+    store_frame(i, pack_color(decode_color(i, p)), linear_depth(uintBitsToFloat(load_depth_word(i)), p), decode_mv(i, p));
 }

@@ -6,9 +6,11 @@
 //
 // m0 must belong to the same surface: where p0 lies on another surface in frame 0 (the point was
 // hidden then, or sits on an edge) its vector would describe the occluder. So m0 is read from the
-// pixel of the 3x3 neighbourhood of p0 whose frame-0 depth is closest to the point's frame-1
-// depth, and only if that depth agrees within 4 T_D (relative); otherwise the motion falls back to
-// uniform velocity for that pixel.
+// pixel under p0 if its frame-0 depth agrees with the point's frame-1 depth within 4 T_D
+// (relative), else from the one of its 4 edge neighbours whose depth is closest and agrees;
+// otherwise the motion falls back to uniform velocity for that pixel. (A full 3x3 search was
+// measured on lavapipe: ~25% more splat time, where SIMD groups with any miss pay for it, for no
+// PSNR gain beyond 0.01 dB on the captures.)
 //
 // Entry provides:
 //   vec2  load_mv1(ivec2 pixel)     frame 1 vectors
@@ -32,18 +34,18 @@ FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
         if (inside(q, g) && relative_depth_difference(load_depth0(q), d1) < tolerance) {
             m0 = -load_mv0(q);
         } else {
+            // The centre missed: the 4 edge neighbours, closest depth wins (first on ties).
             float best = tolerance;
-            for (int y = -1; y <= 1; ++y)
-                for (int x = -1; x <= 1; ++x) {
-                    ivec2 qq = q + ivec2(x, y);
-                    if (inside(qq, g)) {
-                        float rel = relative_depth_difference(load_depth0(qq), d1);
-                        if (rel < best) {
-                            best = rel;
-                            m0 = -load_mv0(qq);
-                        }
+            for (int k = 0; k < 4; ++k) {
+                ivec2 qq = q + (k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5));
+                if (inside(qq, g)) {
+                    float rel = relative_depth_difference(load_depth0(qq), d1);
+                    if (rel < best) {
+                        best = rel;
+                        m0 = -load_mv0(qq);
                     }
                 }
+            }
         }
     }
     float a = g.alpha;

@@ -5,8 +5,8 @@
 layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
 layout(push_constant) uniform Push { GenParams g; } pc;
 layout(std430, binding = WARP_FIELD) readonly buffer Field { vec4 field[]; };
-layout(std430, binding = WARP_COLOR0) readonly buffer Color0 { vec4 color0[]; };
-layout(std430, binding = WARP_COLOR1) readonly buffer Color1 { vec4 color1[]; };
+layout(std430, binding = WARP_COLOR0) readonly buffer Color0 { uvec2 color0[]; }; // pack_color
+layout(std430, binding = WARP_COLOR1) readonly buffer Color1 { uvec2 color1[]; }; // pack_color
 layout(std430, binding = WARP_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = WARP_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = WARP_OUT_COLOR0) writeonly buffer OutColor0 { vec4 out_color0[]; };
@@ -14,8 +14,8 @@ layout(std430, binding = WARP_OUT_DEPTH0) writeonly buffer OutDepth0 { float out
 layout(std430, binding = WARP_OUT_COLOR1) writeonly buffer OutColor1 { vec4 out_color1[]; };
 layout(std430, binding = WARP_OUT_DEPTH1) writeonly buffer OutDepth1 { float out_depth1[]; };
 
-vec4 load_color0(ivec2 q) { return color0[q.y * int(pc.g.width) + q.x]; }
-vec4 load_color1(ivec2 q) { return color1[q.y * int(pc.g.width) + q.x]; }
+vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
+vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 

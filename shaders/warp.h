@@ -4,7 +4,7 @@
 // depth. A sample position outside the image is reported by a negative depth.
 //
 // Entry provides:
-//   vec4  load_color0(ivec2 pixel), load_color1(ivec2 pixel)
+//   vec4  load_color0(ivec2 pixel), load_color1(ivec2 pixel)   internal colour (unpack_color)
 //   float load_depth0(ivec2 pixel), load_depth1(ivec2 pixel)
 
 FGSR_INLINE ivec2 clamp_pixel(ivec2 q, GenParams g) {

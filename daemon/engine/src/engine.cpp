@@ -151,7 +151,7 @@ struct Session::Impl {
         FGSR_TRY(make(depth_raw, px * 4, true));
         FGSR_TRY(make(mv_raw, px * bytes_per_pixel(format.mv_format), true));
         for (GpuFrame& f : frames) {
-            FGSR_TRY(make(f.color, px * 16, false));
+            FGSR_TRY(make(f.color, px * 8, false)); // pack_color: 4 halves
             FGSR_TRY(make(f.depth, px * 4, false));
             FGSR_TRY(make(f.mv, px * 8, false));
         }
@@ -536,13 +536,17 @@ Result<Session::InternalFrameData> Session::read_frame(int which) const {
     if (which != 0 && which != 1) return make_error(Errc::invalid_argument, "frame index must be 0 or 1");
     const Impl::GpuFrame& f = s.frames[size_t(which == 1 ? s.newest : 1 - s.newest)];
     InternalFrameData out;
-    auto c = s.download<float>(f.color, s.n * 4);
+    auto c = s.download<uint32_t>(f.color, s.n * 2); // pack_color
     if (!c) return c.error();
     auto d = s.download<float>(f.depth, s.n);
     if (!d) return d.error();
     auto m = s.download<float>(f.mv, s.n * 2);
     if (!m) return m.error();
-    out.color = std::move(*c);
+    out.color.resize(s.n * 4);
+    for (size_t i = 0; i < s.n; ++i) {
+        const glm::vec4 v = gpu::unpack_color(glm::uvec2((*c)[2 * i], (*c)[2 * i + 1]));
+        for (int k = 0; k < 4; ++k) out.color[4 * i + size_t(k)] = v[k];
+    }
     out.depth = std::move(*d);
     out.mv = std::move(*m);
     out.has_mv = f.has_mv;

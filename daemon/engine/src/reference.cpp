@@ -27,8 +27,8 @@ struct IngestCpu {
     uint load_color_word(uint w) const { return word_at(color, w); }
     uint load_depth_word(uint i) const { return word_at(depth, i); }
     uint load_mv_word(uint w) const { return word_at(mv, w); }
-    void store_frame(uint i, vec4 c, float d, vec2 m) {
-        out->color[i] = c;
+    void store_frame(uint i, uvec2 c, float d, vec2 m) {
+        out->color[i] = unpack_color(c); // exactly the values the GPU passes unpack
         out->depth[i] = d;
         out->mv[i] = m;
     }

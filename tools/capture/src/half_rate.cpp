@@ -132,12 +132,14 @@ Result<Capture> make_half_rate(const Capture& c) {
         // but its vectors are still needed by the next even frame (none follows, so skip it).
         if (!input && k + 1 >= n) break;
         ref::InternalFrame cur = ref::ingest(c.format, c.inputs[k].view());
+        // Colour from decode_color, not ingest: ingest stores halves, the originals are exact floats.
+        const ImageRGBA color = decode_color(c.format, c.inputs[k]);
         if (input) {
             Frame f;
             f.jitter_x = c.inputs[k].jitter_x;
             f.jitter_y = c.inputs[k].jitter_y;
             f.color.resize(px * 16);
-            std::memcpy(f.color.data(), cur.color.data(), px * 16);
+            std::memcpy(f.color.data(), color.rgba.data(), px * 16);
             f.depth = detail::floats_to_bytes(cur.depth);
             if (k >= 2 && cur.has_mv && prev.has_mv) {
                 const std::vector<glm::vec2> mv = detail::compose_vectors(cur, prev, detail::ComposeParams{});
@@ -150,8 +152,7 @@ Result<Capture> make_half_rate(const Capture& c) {
             ImageRGBA gt;
             gt.width = cur.width;
             gt.height = cur.height;
-            gt.rgba.resize(px * 4);
-            std::memcpy(gt.rgba.data(), cur.color.data(), px * 16);
+            gt.rgba = color.rgba;
             out.ground_truth.push_back(std::move(gt));
             if (split_hr) out.hr_ground_truth.push_back(c.hr_reference[k]);
         }

@@ -153,7 +153,7 @@ class Session {
     };
     Result<Intermediates> read_intermediates() const;
     struct InternalFrameData {
-        std::vector<float> color; // 4 per pixel
+        std::vector<float> color; // 4 per pixel (the stored halves, unpacked)
         std::vector<float> depth;
         std::vector<float> mv; // 2 per pixel
         bool has_mv = false;

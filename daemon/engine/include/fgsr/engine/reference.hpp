@@ -23,7 +23,7 @@ using gpu::SrParams;
 struct InternalFrame {
     uint32_t width = 0;
     uint32_t height = 0;
-    std::vector<glm::vec4> color; // linear RGBA
+    std::vector<glm::vec4> color; // linear RGBA, values representable as half (pack_color)
     std::vector<float> depth;     // linear view depth, larger is farther
     std::vector<glm::vec2> mv;    // pixels, y down, to previous; all zero when !has_mv
     bool has_mv = false;

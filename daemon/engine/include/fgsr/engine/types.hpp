@@ -1,7 +1,8 @@
 // Frame formats, conventions and the engine's single internal convention.
 //
 // Internal convention (what every pass after `ingest` sees):
-//   colour : linear scene-referred RGBA, 32-bit float per channel (HDR allowed; NaN/Inf replaced by 0).
+//   colour : linear scene-referred RGBA in [0, 65504], stored as 16-bit half float per channel
+//            (shaders/common.h pack_color; passes compute in float; NaN/Inf replaced by 0).
 //   depth  : linear view depth, positive, larger is farther, in the session's scene units.
 //            Non-finite or non-positive depths are replaced by kFarDepth.
 //   motion : pixels of the session's resolution, x right, y down, pointing from the pixel centre in
