@@ -54,7 +54,7 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
             hi = max(hi, c);
             float d = length(vec2(s) + vec2(0.5f) + jitter - pos);
             if (d < 1.0f) {
-                float w = max(1.0f - p.b * d * p.scale, 0.0f);
+                float w = max(1.0f - p.b * d, 0.0f);
                 sum += w * c;
                 wsum += w;
                 n += 1.0f;

@@ -32,8 +32,9 @@ struct RgbImage {
 };
 
 // Per-axis sampling geometry of one resampling step at a global shift, computed with the exact
-// float operations of shaders/resample.h: pos = (x + 0.5) + shift; t = pos - 0.5; b = floor(t);
-// f = t - b; bin = min(int(f * L), L - 1); taps b - 1 .. b + 2 clamped to [0, n - 1].
+// float operations of shaders/resample.h (RESAMPLE_LUT): pos = (x + 0.5) + shift; t = pos - 0.5;
+// k = floor(t * L + 0.5); base = floor(k / L); bin = k - base * L (the phase rounded to the
+// nearest 1/L, phase of the bin = bin / L); taps base - 1 .. base + 2 clamped to [0, n - 1].
 struct AxisTaps {
     std::vector<int> bin;                // per output coordinate
     std::vector<std::array<int, 4>> tap; // per output coordinate, clamped source coordinates
@@ -44,13 +45,13 @@ inline AxisTaps axis_taps(uint32_t n, float shift) {
     a.bin.resize(n);
     a.tap.resize(n);
     const int hi = int(n) - 1;
+    const float levels = float(kLutLevels);
     for (uint32_t x = 0; x < n; ++x) {
         const float pos = (float(x) + 0.5f) + shift;
         const float t = pos - 0.5f;
-        const float b = std::floor(t);
-        const float f = t - b;
-        const int base = int(b);
-        a.bin[x] = std::min(int(f * float(kLutLevels)), int(kLutLevels) - 1);
+        const int k = int(std::floor(t * levels + 0.5f));
+        const int base = int(std::floor(float(k) / levels));
+        a.bin[x] = k - base * int(kLutLevels);
         for (int i = 0; i < 4; ++i) a.tap[x][size_t(i)] = std::clamp(base + i - 1, 0, hi);
     }
     return a;
@@ -274,7 +275,8 @@ struct ShiftSequence {
 };
 
 // Border whose final results may have read clamped taps: each step reads offsets
-// floor(s) - 1 .. floor(s) + 2 (+1 for float rounding); the reach accumulates.
+// floor(s) - 1 .. floor(s) + 3 (the phase may round up to the next base; +1 spare); the reach
+// accumulates.
 inline int sequence_margin(const std::array<glm::vec2, kSteps>& s) {
     glm::dvec2 lo(0.0), hi(0.0);
     double reach = 0;

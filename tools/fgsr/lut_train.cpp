@@ -51,12 +51,12 @@ void parallel_for(size_t n, int threads, const std::function<void(size_t)>& f) {
     for (auto& t : pool) t.join();
 }
 
-// Uniform cubic B-spline basis on [0, 1] (kSegments segments) at the LUT bin centres:
-// phi[bin * kBasis + a]. Symmetric: phi(1 - f)[a] = phi(f)[kBasis - 1 - a].
+// Uniform cubic B-spline basis on [0, 1] (kSegments segments) at the LUT bin phases bin / L:
+// phi[bin * kBasis + a].
 std::vector<double> bspline_basis() {
     std::vector<double> phi(size_t(kLutLevels) * kBasis, 0.0);
     for (uint32_t b = 0; b < kLutLevels; ++b) {
-        const double u = (b + 0.5) / kLutLevels * kSegments;
+        const double u = double(b) / kLutLevels * kSegments;
         const int s = std::min(int(u), kSegments - 1);
         const double t = u - s;
         const double w[4] = {(1 - t) * (1 - t) * (1 - t) / 6, (3 * t * t * t - 6 * t * t + 4) / 6,
@@ -345,21 +345,42 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
     std::vector<double> c(np, 0.0), m1(np, 0.0), m2(np, 0.0);
     std::vector<float> lut = lut_of(w0, c, phi);
     constexpr double kLr = 2e-3, kBeta1 = 0.9, kBeta2 = 0.999, kEps = 1e-8;
+    // One sequence (crop of a training image + shift sequence) drawn from (seed, step, slot) only.
+    auto draw = [&](uint32_t seed, uint32_t step, uint32_t slot, ShiftSequence& q) {
+        std::seed_seq ss{seed, step, slot};
+        std::mt19937_64 rng(ss);
+        const RgbImage& im = train_images[std::uniform_int_distribution<size_t>(0, train_images.size() - 1)(rng)];
+        const uint32_t cw = std::min(kCrop, im.width), ch = std::min(kCrop, im.height);
+        const uint32_t x0 = std::uniform_int_distribution<uint32_t>(0, im.width - cw)(rng);
+        const uint32_t y0 = std::uniform_int_distribution<uint32_t>(0, im.height - ch)(rng);
+        q = random_sequence(rng, kHalfProb);
+        return sub_image(im, x0, y0, cw, ch);
+    };
+    // Fixed validation batch (training images, other crops and shifts): the loss reported.
+    constexpr size_t kValidation = 32;
+    auto validation_loss = [&](const std::vector<float>& table) {
+        std::vector<double> l(kValidation);
+        parallel_for(kValidation, o.threads, [&](size_t b) {
+            ShiftSequence q;
+            const RgbImage img = draw(o.seed ^ 0x5eedu, 0xffffffffu, uint32_t(b), q);
+            std::vector<double> unused(kLutSize, 0.0);
+            l[b] = sequence_loss(img, q, table, unused);
+        });
+        double sum = 0;
+        for (double v : l) sum += v / kValidation;
+        return sum;
+    };
+    rep.initial_loss = validation_loss(lut);
+    say(fmt::format("validation loss (1-SSIM) of the Catmull-Rom start {:.5f}", rep.initial_loss));
     std::vector<double> losses;
     for (int it = 0; it < o.iterations; ++it) {
         std::vector<std::vector<double>> gws(size_t(o.batch));
         std::vector<double> loss(size_t(o.batch));
         parallel_for(size_t(o.batch), o.threads, [&](size_t b) {
-            // Everything a sequence draws depends on (seed, iteration, slot) only.
-            std::seed_seq ss{o.seed, uint32_t(it), uint32_t(b)};
-            std::mt19937_64 rng(ss);
-            const RgbImage& im = train_images[std::uniform_int_distribution<size_t>(0, train_images.size() - 1)(rng)];
-            const uint32_t cw = std::min(kCrop, im.width), ch = std::min(kCrop, im.height);
-            const uint32_t x0 = std::uniform_int_distribution<uint32_t>(0, im.width - cw)(rng);
-            const uint32_t y0 = std::uniform_int_distribution<uint32_t>(0, im.height - ch)(rng);
-            const ShiftSequence q = random_sequence(rng, kHalfProb);
+            ShiftSequence q;
+            const RgbImage img = draw(o.seed, uint32_t(it), uint32_t(b), q);
             gws[b].assign(kLutSize, 0.0);
-            loss[b] = sequence_loss(sub_image(im, x0, y0, cw, ch), q, lut, gws[b]);
+            loss[b] = sequence_loss(img, q, lut, gws[b]);
         });
         std::vector<double> gw(kLutSize, 0.0);
         double l = 0;
@@ -382,18 +403,13 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
             const size_t n = std::min<size_t>(50, losses.size());
             double recent = 0;
             for (size_t i = losses.size() - n; i < losses.size(); ++i) recent += losses[i] / double(n);
-            std::fprintf(stderr, "[lut-train] step %d/%d  loss (1-SSIM, last %zu) %.5f  lr %.2e  %.1f s\n", it + 1,
-                         o.iterations, n, recent, lr, elapsed());
+            const bool val = (it + 1) % 200 == 0 || it + 1 == o.iterations;
+            std::fprintf(stderr, "[lut-train] step %d/%d  batch loss (1-SSIM, last %zu) %.5f%s  lr %.2e  %.1f s\n",
+                         it + 1, o.iterations, n, recent,
+                         val ? fmt::format("  validation {:.5f}", validation_loss(lut)).c_str() : "", lr, elapsed());
         }
     }
-    auto mean_of = [&](size_t from, size_t to) {
-        double s = 0;
-        for (size_t i = from; i < to; ++i) s += losses[i];
-        return to > from ? s / double(to - from) : 0.0;
-    };
-    const size_t nl = losses.size(), w = std::min<size_t>(50, nl);
-    rep.initial_loss = mean_of(0, w);
-    rep.final_loss = mean_of(nl - w, nl);
+    rep.final_loss = validation_loss(lut);
     rep.lut.scale = o.scale;
     rep.lut.weights = lut;
 
@@ -433,8 +449,8 @@ std::string lut_train_json(const LutTrainOptions& o, const LutTrainReport& r) {
                              kBasis, kCrop, int(kHalfProb * 100));
     j["loss"] = "1 - SSIM (display sRGB values, 11x11 Gaussian sigma 1.5, RGB mean) of six-fold repeated resampling "
                 "with sub-pixel shifts summing to whole pixels, against the first image translated by that sum";
-    j["initial_loss"] = r.initial_loss;
-    j["final_loss"] = r.final_loss;
+    j["validation_loss_start"] = r.initial_loss; // Catmull-Rom LUT
+    j["validation_loss_final"] = r.final_loss;
     j["seconds"] = r.seconds;
     nlohmann::ordered_json fig = nlohmann::ordered_json::object();
     for (const auto& [proto, ms] : r.figures)
@@ -468,7 +484,7 @@ int lut_train_main(LutTrainOptions& o, int argc, char** argv) {
         std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(r.error().code), r.error().message.c_str());
         return 1;
     }
-    std::printf("scale %g: training loss %.5f -> %.5f in %.1f s\n", double(o.scale), r->initial_loss, r->final_loss,
+    std::printf("scale %g: validation loss (1-SSIM) %.5f -> %.5f in %.1f s\n", double(o.scale), r->initial_loss, r->final_loss,
                 r->seconds);
     for (const auto& [proto, ms] : r->figures) {
         std::printf("six-fold, %s shifts (held back):\n", proto.c_str());

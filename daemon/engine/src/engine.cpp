@@ -176,7 +176,9 @@ struct Session::Impl {
     bool sr() const { return out_w != format.width || out_h != format.height; }
 
     Result<void> upload_lut() {
-        const std::vector<float> weights = params.lut.size() == kLutSize ? params.lut : default_lut(params.scale).weights;
+        Lut l = params.lut.size() == kLutSize ? Lut{params.scale, params.lut} : default_lut(params.scale);
+        force_identity_phase(l);
+        const std::vector<float>& weights = l.weights;
         std::memcpy(lut.mapped(), weights.data(), kLutSize * 4);
         return {};
     }

@@ -22,6 +22,11 @@ constexpr char kMagic[8] = {'F', 'G', 'S', 'R', 'L', 'U', 'T', '1'};
 constexpr size_t kHeader = 8 + 4 * 4;
 } // namespace
 
+void force_identity_phase(Lut& lut) {
+    if (lut.weights.size() != kLutSize) return;
+    for (uint32_t k = 0; k < kLutTaps; ++k) lut.weights[k] = k == 5 ? 1.f : 0.f; // tap (1, 1): the base pixel
+}
+
 Result<Lut> parse_lut(std::span<const std::byte> bytes, const std::string& what) {
     if (bytes.size() < kHeader || std::memcmp(bytes.data(), kMagic, 8) != 0)
         return make_error(Errc::io, what + ": not an fgsr LUT (magic FGSRLUT1 missing)");
@@ -45,6 +50,7 @@ Result<Lut> parse_lut(std::span<const std::byte> bytes, const std::string& what)
     std::memcpy(lut.weights.data(), bytes.data() + kHeader, kLutSize * 4);
     for (float w : lut.weights)
         if (!std::isfinite(w) || std::abs(w) > 16.f) return make_error(Errc::io, what + ": non-finite or huge weight");
+    force_identity_phase(lut);
     return lut;
 }
 

@@ -4,6 +4,7 @@
 // Lifetime: sessions must be destroyed before their engine.
 #pragma once
 
+#include <fgsr/engine/defaults.hpp>
 #include <fgsr/engine/result.hpp>
 #include <fgsr/engine/types.hpp>
 
@@ -47,8 +48,8 @@ enum class Resample : uint32_t {
 struct Params {
     MotionModel motion = MotionModel::quadratic;
     BlendMode blend = BlendMode::mix;
-    float t_depth = 0.05f;
-    float t_bright = 0.13f;
+    float t_depth = defaults::t_depth;
+    float t_bright = defaults::t_bright;
     bool fill_gaps = true;  // refine: fill the grid-like gaps of splatting
     bool fill_holes = true; // disocc: give holes a vector (skipped pass when false)
     // false: splat, then one fused pass (refine, disocc, warp, blend per pixel; the default, and on
@@ -61,8 +62,8 @@ struct Params {
     float scale = 1.f;
     Resample resample = Resample::lut; // history resampling
     std::vector<float> lut;            // kLutSize weights; empty: fgsr::default_lut(scale)
-    float sr_a = 0.34f;                // Eq. 2: weight of the current samples
-    float sr_b = 0.81f;                // Eq. 2: weight fall-off with sample distance (LR pixels)
+    float sr_a = defaults::sr_a;       // Eq. 2: weight of the current samples
+    float sr_b = defaults::sr_b;       // Eq. 2: weight fall-off with sample distance (LR pixels)
     bool dilate_mvs = false;           // vector of the frontmost 3x3 neighbour (QRISP 4.1)
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).

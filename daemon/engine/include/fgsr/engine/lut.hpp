@@ -23,6 +23,11 @@ struct Lut {
     std::vector<float> weights; // kLutSize values
 };
 
+// Sets the weights of phase (0, 0) to the identity (tap (1, 1) = 1). A history that is resampled
+// at whole-pixel positions every frame (static content) must not drift; any other weights there
+// would compound frame after frame. parse_lut (and so load_lut and the shipped tables) applies it.
+void force_identity_phase(Lut& lut);
+
 Result<Lut> load_lut(const std::filesystem::path& path);
 Result<void> save_lut(const std::filesystem::path& path, const Lut& lut);
 // Parses the bytes of a .lut file (load_lut and the embedded defaults use it).
