@@ -64,4 +64,11 @@
 #define SR_OUTPUT 6
 #define SR_COUNT 7
 
+#define GENSR_COLOR0 6
+#define GENSR_COLOR1 7
+#define GENSR_SRC 8
+#define GENSR_LUT 9
+#define GENSR_OUTPUT 10
+#define GENSR_COUNT 11
+
 #endif

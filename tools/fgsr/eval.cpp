@@ -15,7 +15,7 @@ namespace fgsr::cli {
 namespace {
 
 // Engine passes in pipeline order: fused ("generate") or separate.
-constexpr const char* kPassOrder[] = {"sr", "splat", "generate", "refine", "disocc", "warp", "blend"};
+constexpr const char* kPassOrder[] = {"sr", "splat", "generate", "generate_sr", "refine", "disocc", "warp", "blend"};
 
 ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
     ImageRGBA out = a;
@@ -42,8 +42,12 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         if (!loaded) return loaded.error();
         return run_eval_sr(o, std::move(*loaded));
     }
-    if (o.mode == EvalMode::isr || o.mode == EvalMode::esr)
-        return make_error(Errc::unsupported, "modes isr and esr are not implemented yet");
+    if (o.mode == EvalMode::isr || o.mode == EvalMode::esr) {
+        if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
+        auto loaded = load_capture(o);
+        if (!loaded) return loaded.error();
+        return run_eval_joint(o, std::move(*loaded));
+    }
     for (const std::string& m : o.methods)
         if (m != "fgsr" && m != "linear" && m != "blend" && m != "repeat")
             return make_error(Errc::invalid_argument, "unknown method '" + m + "' (methods: fgsr, linear, blend, repeat)");

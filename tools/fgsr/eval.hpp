@@ -51,6 +51,8 @@ struct EvalReport {
 Result<EvalReport> run_eval(const EvalOptions& options);
 // Mode sr on a loaded capture (eval_sr.cpp).
 Result<EvalReport> run_eval_sr(const EvalOptions& options, capture::Capture capture);
+// Modes isr / esr on a loaded capture (eval_sr.cpp).
+Result<EvalReport> run_eval_joint(const EvalOptions& options, capture::Capture capture);
 // Spatial upscale of an LR frame that sampled the scene at pixel centres + jitter (LR pixels).
 ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, Resample kind, float jitter_x,
                           float jitter_y);

@@ -67,7 +67,8 @@ std::vector<double> bspline_basis() {
 }
 
 // LUT of the parameters: w = w0 + sum_{a,b} c[tap][b][a] phi(fy)[b] phi(fx)[a], then each phase's
-// 16 weights shifted equally so that they sum to exactly 1 (up to float rounding).
+// 16 weights shifted equally so that they sum to exactly 1 (up to float rounding), and phase (0, 0)
+// set to the identity as the engine does on loading.
 std::vector<float> lut_of(const std::vector<float>& w0, const std::vector<double>& c, const std::vector<double>& phi) {
     std::vector<float> w(kLutSize);
     for (uint32_t by = 0; by < kLutLevels; ++by)
@@ -86,14 +87,17 @@ std::vector<float> lut_of(const std::vector<float>& w0, const std::vector<double
             }
             for (size_t k = 0; k < 16; ++k) w[(size_t(by) * kLutLevels + bx) * 16 + k] = float(v[k] - (sum - 1) / 16);
         }
-    return w;
+    // Phase (0, 0) is the identity in every table the engine loads (fgsr::force_identity_phase).
+    Lut l{1.f, std::move(w)};
+    force_identity_phase(l);
+    return std::move(l.weights);
 }
 
 // Gradient of the parameters from the gradient of the LUT: through the sum-to-one projection,
 // symmetrised under transposition of the phase (fx, fy, i, j) -> (fy, fx, j, i), through the basis.
 std::vector<double> param_grad(const std::vector<double>& gw, const std::vector<double>& phi) {
-    std::vector<double> g(kLutSize);
-    for (size_t bin = 0; bin < size_t(kLutLevels) * kLutLevels; ++bin) {
+    std::vector<double> g(kLutSize, 0.0);
+    for (size_t bin = 1; bin < size_t(kLutLevels) * kLutLevels; ++bin) { // bin 0 is fixed (identity)
         double mean = 0;
         for (size_t k = 0; k < 16; ++k) mean += gw[bin * 16 + k];
         mean /= 16;

@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
                   : mode == "esr"    ? fgsr::cli::EvalMode::esr
                                      : fgsr::cli::EvalMode::interp;
         eo.methods = split_list(methods);
-        if (eo.mode == fgsr::cli::EvalMode::sr && !eval->count("--methods"))
+        if (eo.mode != fgsr::cli::EvalMode::interp && eo.mode != fgsr::cli::EvalMode::extrap && !eval->count("--methods"))
             eo.methods = {"fgsr", "fgsr-bilinear", "fgsr-bicubic", "bilinear", "bicubic"};
         if (!out_dir.empty()) eo.out = out_dir;
         eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;

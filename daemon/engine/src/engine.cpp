@@ -18,15 +18,21 @@ namespace {
 constexpr uint32_t kMaxAlphas = 64;
 constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
 
-enum PassId : uint32_t { kIngest, kSplat, kRefine, kDisocc, kWarp, kBlend, kGenerate, kSr, kPassCount };
-constexpr std::array<const char*, kPassCount> kPassNames = {"ingest", "splat", "refine",   "disocc",
-                                                            "warp",   "blend", "generate", "sr"};
-constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT, SPLAT_COUNT, REFINE_COUNT,   DISOCC_COUNT,
-                                                            WARP_COUNT,   BLEND_COUNT, GENERATE_COUNT, SR_COUNT};
-constexpr std::array<uint32_t, kPassCount> kPassPush = {sizeof(gpu::IngestParams), sizeof(gpu::GenParams),
-                                                        sizeof(gpu::GenParams),    sizeof(gpu::GenParams),
-                                                        sizeof(gpu::GenParams),    sizeof(gpu::GenParams),
-                                                        sizeof(gpu::GenParams),    sizeof(gpu::SrParams)};
+enum PassId : uint32_t { kIngest, kSplat, kRefine, kDisocc, kWarp, kBlend, kGenerate, kSr, kGenerateSr, kPassCount };
+constexpr std::array<const char*, kPassCount> kPassNames = {"ingest", "splat", "refine", "disocc",     "warp",
+                                                            "blend",  "generate", "sr", "generate_sr"};
+constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT, SPLAT_COUNT,    REFINE_COUNT,
+                                                            DISOCC_COUNT, WARP_COUNT,     BLEND_COUNT,
+                                                            GENERATE_COUNT, SR_COUNT,     GENSR_COUNT};
+// generate_sr's push block is GenParams followed by SrParams.
+struct GenSrPush {
+    gpu::GenParams g;
+    gpu::SrParams s;
+};
+static_assert(offsetof(GenSrPush, s) == sizeof(gpu::GenParams) && sizeof(GenSrPush) <= 128);
+constexpr std::array<uint32_t, kPassCount> kPassPush = {
+    sizeof(gpu::IngestParams), sizeof(gpu::GenParams), sizeof(gpu::GenParams), sizeof(gpu::GenParams), sizeof(gpu::GenParams),
+    sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::SrParams),  sizeof(GenSrPush)};
 
 uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
 
@@ -185,7 +191,7 @@ struct Session::Impl {
 
     Result<void> ensure_outputs(size_t count) {
         while (outputs.size() < count) {
-            auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * 16, true);
+            auto r = vk::Buffer::create(*ctx, VkDeviceSize(out_w) * out_h * 16, true);
             if (!r) return r.error();
             outputs.push_back(std::move(*r));
         }
@@ -428,6 +434,17 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion}, &g));
         barrier();
         timestamp(q++);
+        if (sr()) { // joint ISR / ESR at output resolution (always fused)
+            GenSrPush push{g, ref::sr_params(format, params, out_w, out_h, jitter_x, jitter_y, true)};
+            const vk::Buffer& src = hr[size_t(extrapolate ? hr_newest : 1 - hr_newest)];
+            FGSR_TRY(dispatch(kGenerateSr, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color, &f1.color, &src,
+                                            &lut, &out},
+                              &push, out_w, out_h));
+            barrier();
+            timestamp(q++);
+            timings[k] = {kSplat, kGenerateSr};
+            continue;
+        }
         if (!params.separate_passes) {
             FGSR_TRY(dispatch(kGenerate, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color, &f1.color, &out}, &g));
             barrier();
@@ -471,13 +488,14 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             gf.passes.push_back(PassTiming{kPassNames[timings[k][p]], (*t)[p]});
             gf.gpu_ms += (*t)[p];
         }
-        gf.color.width = format.width;
-        gf.color.height = format.height;
-        gf.color.rgba.resize(n * 4);
-        std::memcpy(gf.color.rgba.data(), outputs[k].mapped(), n * 16);
+        const size_t out_n = size_t(out_w) * out_h;
+        gf.color.width = out_w;
+        gf.color.height = out_h;
+        gf.color.rgba.resize(out_n * 4);
+        std::memcpy(gf.color.rgba.data(), outputs[k].mapped(), out_n * 16);
     }
     last_extrapolate = extrapolate;
-    last_separate = params.separate_passes;
+    last_separate = params.separate_passes && !sr();
     last_output = alphas.size() - 1;
     return result;
 }

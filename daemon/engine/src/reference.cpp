@@ -109,6 +109,18 @@ struct SrCpu {
 #include "sr.h"
 };
 
+struct GenerateSrCpu : KeysCpu {
+    const std::vector<vec4>* src;
+    std::span<const float> lut;
+    uint hr_w;
+    vec4 load_src(ivec2 q) const { return (*src)[size_t(q.y) * hr_w + size_t(q.x)]; }
+    float load_lut(uint i) const { return lut[i]; }
+#include "warp.h"
+#include "blend.h"
+#include "resample.h"
+#include "generate_sr.h"
+};
+
 #include "field.h" // FIELD_* for the static_assert in fgsr::ref
 
 template <class F> void for_each_pixel(uint32_t w, uint32_t h, F&& f) {
@@ -214,6 +226,17 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     g.fill_gaps = params.fill_gaps ? 1u : 0u;
     g.fill_holes = params.fill_holes ? 1u : 0u;
     return g;
+}
+
+std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame& f1, const Splat& sp,
+                                   const std::vector<glm::vec4>& src, const GenParams& g, const SrParams& s,
+                                   std::span<const float> lut) {
+    std::vector<glm::vec4> out(size_t(s.hr_width) * s.hr_height);
+    gpu::GenerateSrCpu cpu{{{&f0, &f1}, &sp}, &src, lut, s.hr_width};
+    for (uint32_t y = 0; y < s.hr_height; ++y)
+        for (uint32_t x = 0; x < s.hr_width; ++x)
+            out[size_t(y) * s.hr_width + x] = cpu.generate_sr_pixel(glm::ivec2(int(x), int(y)), g, s);
+    return out;
 }
 
 SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width, uint32_t out_height,

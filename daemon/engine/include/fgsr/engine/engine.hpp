@@ -135,7 +135,8 @@ class Session {
     // (time = 1). Needs Params::scale > 1 and a submitted frame.
     Result<GeneratedFrame> super_resolved();
 
-    // Frames between frame 0 and frame 1 at each alpha in (0, 1), in one GPU submission.
+    // Frames between frame 0 and frame 1 at each alpha in (0, 1), in one GPU submission. With
+    // super resolution they are output-sized (Ours-ISR / Ours-ESR, always the fused pass).
     Result<std::vector<GeneratedFrame>> interpolate(std::span<const float> alphas);
     // Frames after frame 1 at 1 + alpha for each alpha in (0, 1].
     Result<std::vector<GeneratedFrame>> extrapolate(std::span<const float> alphas);

@@ -76,6 +76,12 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
 std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector<float>& prev_depth,
                                      const std::vector<glm::vec4>& history, const SrParams& p, std::span<const float> lut);
 
+// The joint pass: interpolation (ISR) or extrapolation (ESR) at output resolution from the
+// motion field of `splat`; `src` is the previous SR output (ISR) or the newest one (ESR).
+std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
+                                   const std::vector<glm::vec4>& src, const GenParams& g, const SrParams& s,
+                                   std::span<const float> lut);
+
 // Passes of frame generation; f0 is the older frame, f1 the newer one.
 Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
 Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,

@@ -1,0 +1,44 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.h"
+#include "bindings.h"
+layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
+layout(push_constant) uniform Push {
+    GenParams g;
+    SrParams s;
+} pc;
+layout(std430, binding = GEN_MV1) readonly buffer Mv1 { vec2 mv1[]; };
+layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
+layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
+layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
+layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
+layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; };
+layout(std430, binding = GENSR_COLOR0) readonly buffer Color0 { uvec2 color0[]; }; // pack_color
+layout(std430, binding = GENSR_COLOR1) readonly buffer Color1 { uvec2 color1[]; };
+layout(std430, binding = GENSR_SRC) readonly buffer Src { vec4 src[]; };
+layout(std430, binding = GENSR_LUT) readonly buffer Lut { float lut[]; };
+layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { vec4 outp[]; };
+
+vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
+float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
+float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
+vec4 load_motion(uint i) { return motion[i]; }
+vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
+vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
+vec4 load_src(ivec2 q) { return src[q.y * int(pc.s.hr_width) + q.x]; }
+float load_lut(uint i) { return lut[i]; }
+
+#include "field.h"
+#include "refine.h"
+#include "disocc.h"
+#include "warp.h"
+#include "blend.h"
+#include "resample.h"
+#include "generate_sr.h"
+
+void main() {
+    ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+    if (q.x >= int(pc.s.hr_width) || q.y >= int(pc.s.hr_height)) return;
+    outp[q.y * int(pc.s.hr_width) + q.x] = generate_sr_pixel(q, pc.g, pc.s);
+}
