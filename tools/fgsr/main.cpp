@@ -1,4 +1,5 @@
 // build/bin/fgsr: command-line front end of the fgsr engine.
+#include "calibrate.hpp"
 #include "eval.hpp"
 #include "lut_train.hpp"
 
@@ -81,6 +82,10 @@ int main(int argc, char** argv) {
     fgsr::cli::LutTrainOptions lut_opts;
     auto* lut_train = fgsr::cli::add_lut_train_command(app, lut_opts);
 
+    // fgsr calibrate
+    fgsr::cli::CalibrateCli cal;
+    auto* calibrate = fgsr::cli::add_calibrate_command(app, cal);
+
     // fgsr devices
     auto* devices = app.add_subcommand("devices", "List Vulkan devices");
 
@@ -119,6 +124,7 @@ int main(int argc, char** argv) {
         std::printf("wrote %zu frames of '%s' to %s\n", c->inputs.size(), c->name.c_str(), conv_out.c_str());
         return 0;
     }
+    if (*calibrate) return fgsr::cli::calibrate_main(cal, calibrate, argc, argv);
     if (*lut_train) return fgsr::cli::lut_train_main(lut_opts, argc, argv);
     if (*devices) {
         auto list = fgsr::Engine::list_devices();
