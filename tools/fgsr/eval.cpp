@@ -35,6 +35,51 @@ Result<capture::Capture> load_capture(const EvalOptions& o) {
 
 } // namespace
 
+Result<void> score_image(MethodScore& score, const ImageRGBA& image, const ImageRGBA& reference) {
+    auto p = capture::psnr(image, reference);
+    if (!p) return p.error();
+    auto s = capture::ssim(image, reference);
+    if (!s) return s.error();
+    score.psnr.push_back(*p);
+    score.ssim.push_back(*s);
+    return {};
+}
+
+void add_timing(MethodScore& score, const GeneratedFrame& frame) {
+    score.mean_ms += frame.gpu_ms;
+    for (const PassTiming& p : frame.passes) score.pass_ms[p.name] += p.ms;
+}
+
+void finish_means(EvalReport& report) {
+    for (auto& [name, s] : report.methods) {
+        const double n = double(s.psnr.size());
+        for (double v : s.psnr) s.mean_psnr += v / n;
+        for (double v : s.ssim) s.mean_ssim += v / n;
+        s.mean_ms /= n;
+        for (auto& [pass, ms] : s.pass_ms) ms /= n;
+    }
+}
+
+Result<std::map<std::string, std::unique_ptr<Session>>> make_sessions(const EvalOptions& o, const FrameFormat& format,
+                                                                       const SessionParams& params_for,
+                                                                       std::unique_ptr<Engine>& engine, EvalReport& report) {
+    std::map<std::string, std::unique_ptr<Session>> sessions;
+    for (const std::string& m : o.methods) {
+        std::optional<Params> p = params_for(m);
+        if (!p) continue;
+        if (!engine) {
+            auto e = Engine::create(o.device);
+            if (!e) return e.error();
+            engine = std::move(*e);
+            report.device = engine->device_name();
+        }
+        auto s = engine->create_session(format, *p);
+        if (!s) return s.error();
+        sessions[m] = std::move(*s);
+    }
+    return sessions;
+}
+
 Result<EvalReport> run_eval(const EvalOptions& o) {
     if (o.mode == EvalMode::sr) {
         if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
@@ -88,21 +133,17 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
     rep.method_order = o.methods;
 
     std::unique_ptr<Engine> engine;
-    std::map<std::string, std::unique_ptr<Session>> sessions;
-    for (const std::string& m : o.methods) {
-        if (!is_engine_method(m)) continue;
-        if (!engine) {
-            auto e = Engine::create(o.device);
-            if (!e) return e.error();
-            engine = std::move(*e);
-            rep.device = engine->device_name();
-        }
-        Params p = o.params;
-        p.motion = m == "fgsr" ? MotionModel::quadratic : MotionModel::linear;
-        auto s = engine->create_session(cap.format, p);
-        if (!s) return s.error();
-        sessions[m] = std::move(*s);
-    }
+    auto made = make_sessions(
+        o, cap.format,
+        [&](const std::string& m) -> std::optional<Params> {
+            if (!is_engine_method(m)) return std::nullopt;
+            Params p = o.params;
+            p.motion = m == "fgsr" ? MotionModel::quadratic : MotionModel::linear;
+            return p;
+        },
+        engine, rep);
+    if (!made) return made.error();
+    auto& sessions = *made;
 
     if (o.out) {
         std::error_code ec;
@@ -139,21 +180,14 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
                 const float a[] = {o.alpha};
                 auto out = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
                 if (!out) return out.error();
-                GeneratedFrame& gf = (*out)[0];
-                score.mean_ms += gf.gpu_ms;
-                for (const PassTiming& p : gf.passes) score.pass_ms[p.name] += p.ms;
-                img = std::move(gf.color);
+                add_timing(score, (*out)[0]);
+                img = std::move((*out)[0].color);
             } else if (m == "blend") {
                 img = extrap ? i1 : lerp(i0, i1, o.alpha);
             } else { // repeat: the nearest input in time
                 img = extrap || o.alpha > 0.5f ? i1 : i0;
             }
-            auto p = capture::psnr(img, gt);
-            if (!p) return p.error();
-            auto s = capture::ssim(img, gt);
-            if (!s) return s.error();
-            score.psnr.push_back(*p);
-            score.ssim.push_back(*s);
+            FGSR_TRY(score_image(score, img, gt));
             if (o.out) {
                 const std::string stem = fmt::format("{:04d}", k + 1);
                 FGSR_TRY(capture::write_png(*o.out / m / (stem + ".png"), img));
@@ -163,13 +197,7 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         if (o.out) FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1), gt));
     }
     rep.ingest_ms = ingest_count ? ingest_sum / double(ingest_count) : 0;
-    for (auto& [name, s] : rep.methods) {
-        const double n = double(s.psnr.size());
-        for (double v : s.psnr) s.mean_psnr += v / n;
-        for (double v : s.ssim) s.mean_ssim += v / n;
-        s.mean_ms /= n;
-        for (auto& [pass, ms] : s.pass_ms) ms /= n;
-    }
+    finish_means(rep);
     if (o.out) {
         FILE* f = std::fopen((*o.out / "metrics.json").c_str(), "w");
         if (!f) return make_error(Errc::io, "cannot write " + (*o.out / "metrics.json").string());

@@ -5,6 +5,7 @@
 #include <fgsr/engine/engine.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -49,6 +50,17 @@ struct EvalReport {
 };
 
 Result<EvalReport> run_eval(const EvalOptions& options);
+
+// Shared by every mode: scores one generated image against its reference (PSNR and SSIM appended
+// to `score`), adds a generated frame's engine timings, and turns the sums into means.
+Result<void> score_image(MethodScore& score, const ImageRGBA& image, const ImageRGBA& reference);
+void add_timing(MethodScore& score, const GeneratedFrame& frame);
+void finish_means(EvalReport& report);
+// One engine session per engine method of `methods` (those `params_for` returns a value for).
+using SessionParams = std::function<std::optional<Params>(const std::string& method)>;
+Result<std::map<std::string, std::unique_ptr<Session>>> make_sessions(const EvalOptions& o, const FrameFormat& format,
+                                                                       const SessionParams& params_for,
+                                                                       std::unique_ptr<Engine>& engine, EvalReport& report);
 // Mode sr on a loaded capture (eval_sr.cpp).
 Result<EvalReport> run_eval_sr(const EvalOptions& options, capture::Capture capture);
 // Modes isr / esr on a loaded capture (eval_sr.cpp).

@@ -25,6 +25,17 @@ Resample resample_of(const std::string& m) {
     return Resample::lut;
 }
 
+// Sessions of the engine methods: the same pipeline with the method's history resampling.
+SessionParams sr_params_for(const EvalOptions& o, float scale) {
+    return [&o, scale](const std::string& m) -> std::optional<Params> {
+        if (!is_engine_sr(m)) return std::nullopt;
+        Params p = o.params;
+        p.scale = scale;
+        p.resample = resample_of(m);
+        return p;
+    };
+}
+
 } // namespace
 
 ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, Resample kind, float jitter_x, float jitter_y) {
@@ -71,22 +82,9 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
     rep.frames = frames;
 
     std::unique_ptr<Engine> engine;
-    std::map<std::string, std::unique_ptr<Session>> sessions;
-    for (const std::string& m : o.methods) {
-        if (!is_engine_sr(m)) continue;
-        if (!engine) {
-            auto e = Engine::create(o.device);
-            if (!e) return e.error();
-            engine = std::move(*e);
-            rep.device = engine->device_name();
-        }
-        Params p = o.params;
-        p.scale = scale;
-        p.resample = resample_of(m);
-        auto s = engine->create_session(cap.format, p);
-        if (!s) return s.error();
-        sessions[m] = std::move(*s);
-    }
+    auto made = make_sessions(o, cap.format, sr_params_for(o, scale), engine, rep);
+    if (!made) return made.error();
+    auto& sessions = *made;
     if (o.out) {
         std::error_code ec;
         for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
@@ -103,28 +101,16 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
                 FGSR_TRY(sessions[m]->submit(view));
                 auto out = sessions[m]->super_resolved();
                 if (!out) return out.error();
-                score.mean_ms += out->gpu_ms;
-                for (const PassTiming& p : out->passes) score.pass_ms[p.name] += p.ms;
+                add_timing(score, *out);
                 img = std::move(out->color);
             } else {
                 img = spatial_upscale(lr, out_w, out_h, resample_of(m), view.jitter_x, view.jitter_y);
             }
-            auto p = capture::psnr(img, cap.hr_reference[k]);
-            if (!p) return p.error();
-            auto s = capture::ssim(img, cap.hr_reference[k]);
-            if (!s) return s.error();
-            score.psnr.push_back(*p);
-            score.ssim.push_back(*s);
+            FGSR_TRY(score_image(score, img, cap.hr_reference[k]));
             if (o.out) FGSR_TRY(capture::write_png(*o.out / m / fmt::format("{:04d}.png", k + 1), img));
         }
     }
-    for (auto& [name, s] : rep.methods) {
-        const double n = double(s.psnr.size());
-        for (double v : s.psnr) s.mean_psnr += v / n;
-        for (double v : s.ssim) s.mean_ssim += v / n;
-        s.mean_ms /= n;
-        for (auto& [pass, ms] : s.pass_ms) ms /= n;
-    }
+    finish_means(rep);
     return rep;
 }
 
@@ -169,19 +155,15 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
     rep.height = out_h;
     rep.method_order = o.methods;
 
-    auto e = Engine::create(o.device);
-    if (!e) return e.error();
-    std::unique_ptr<Engine> engine = std::move(*e);
-    rep.device = engine->device_name();
-    std::map<std::string, std::unique_ptr<Session>> sessions;
-    for (const std::string& m : o.methods) {
-        if (!is_engine_sr(m)) continue;
-        Params p = o.params;
-        p.scale = scale;
-        p.resample = resample_of(m);
-        auto s = engine->create_session(cap.format, p);
-        if (!s) return s.error();
-        sessions[m] = std::move(*s);
+    std::unique_ptr<Engine> engine;
+    auto made = make_sessions(o, cap.format, sr_params_for(o, scale), engine, rep);
+    if (!made) return made.error();
+    auto& sessions = *made;
+    if (!engine) {
+        auto e = Engine::create(o.device);
+        if (!e) return e.error();
+        engine = std::move(*e);
+        rep.device = engine->device_name();
     }
     auto lr_session = engine->create_session(cap.format, o.params); // for the spatial baselines
     if (!lr_session) return lr_session.error();
@@ -203,8 +185,7 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
             if (is_engine_sr(m)) {
                 auto out = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
                 if (!out) return out.error();
-                score.mean_ms += (*out)[0].gpu_ms;
-                for (const PassTiming& p : (*out)[0].passes) score.pass_ms[p.name] += p.ms;
+                add_timing(score, (*out)[0]);
                 img = std::move((*out)[0].color);
             } else {
                 if (!lr_frame) {
@@ -214,21 +195,10 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
                 }
                 img = spatial_upscale(*lr_frame, out_w, out_h, resample_of(m), 0.f, 0.f);
             }
-            auto p = capture::psnr(img, cap.hr_ground_truth[k]);
-            if (!p) return p.error();
-            auto s = capture::ssim(img, cap.hr_ground_truth[k]);
-            if (!s) return s.error();
-            score.psnr.push_back(*p);
-            score.ssim.push_back(*s);
+            FGSR_TRY(score_image(score, img, cap.hr_ground_truth[k]));
         }
     }
-    for (auto& [name, s] : rep.methods) {
-        const double n = double(s.psnr.size());
-        for (double v : s.psnr) s.mean_psnr += v / n;
-        for (double v : s.ssim) s.mean_ssim += v / n;
-        s.mean_ms /= n;
-        for (auto& [pass, ms] : s.pass_ms) ms /= n;
-    }
+    finish_means(rep);
     return rep;
 }
 
