@@ -135,6 +135,7 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
 
     CalibrateReport rep;
     rep.metric = o.metric == CalMetric::psnr ? "psnr" : "ssim";
+    rep.blend_select = o.start.blend == BlendMode::select;
     Params start = o.start;
     for (const char* n : kParamNames) {
         const SearchDim d = dim_of(n);
@@ -289,7 +290,7 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
         std::vector<double> x0;
         for (const std::string& w : which) {
             dims.push_back(dim_of(w));
-            x0.push_back(double(param_ref(current, w)));
+            x0.push_back(round4(double(param_ref(current, w)))); // as the search quantises
         }
         if (!known_at_current.empty()) seen[x0] = known_at_current;
         auto at = [&](const std::vector<double>& x) {
@@ -441,6 +442,7 @@ Result<std::string> defaults_header(const CalibrateOptions& o, const CalibrateRe
     // The calibration record.
     std::vector<std::string> block;
     block.push_back("// Calibration (" + today_utc() + "): " + (o.command_line.empty() ? "fgsr calibrate" : o.command_line));
+    if (r.blend_select) block.push_back("//   frame generation scored with blend mode 'select'");
     {
         std::string caps;
         for (const CalMode& m : r.modes)
@@ -500,7 +502,10 @@ std::string calibrate_table(const CalibrateReport& r) {
     std::string s = fmt::format("{:<10} {:>10} {:>10}\n", "parameter", "start", "fitted");
     for (const CalParam& p : r.params)
         s += fmt::format("{:<10} {:>10.4g} {:>10.4g}{}\n", p.name, p.start, p.fitted,
-                         !p.searched ? "   (not fitted)" : p.flat ? "   (no effect on the metric)" : "");
+                         !p.searched ? "   (not fitted)"
+                         : !p.flat ? ""
+                         : p.name == "t_bright" && !r.blend_select ? "   (no effect on the metric: T_B acts only with --blend select)"
+                                                                   : "   (no effect on the metric)");
     s += fmt::format("\n{:<8} {:>10} {:>10}  {}\n", "mode", r.metric + " start", r.metric + " fit", "captures (start -> fitted)");
     const char* f = r.metric == "psnr" ? "{:.3f}" : "{:.4f}";
     for (const CalMode& m : r.modes) {
@@ -521,6 +526,7 @@ std::string calibrate_table(const CalibrateReport& r) {
 std::string calibrate_json(const CalibrateReport& r) {
     nlohmann::json j;
     j["metric"] = r.metric;
+    j["blend"] = r.blend_select ? "select" : "mix";
     for (const CalParam& p : r.params)
         j["params"][p.name] = {{"start", p.start}, {"fitted", p.fitted}, {"searched", p.searched}, {"flat", p.flat}};
     j["modes"] = nlohmann::json::object();
@@ -554,6 +560,10 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCli& c) {
     cmd->add_option("--device", o.device.device, "Vulkan device index or name substring");
     cmd->add_option("--fit", c.fit, "Parameters to fit, comma-separated (default: t_depth,t_bright,sr_a,sr_b)");
     cmd->add_option("--modes", c.modes, "Modes to score, comma-separated (default: interp,extrap,sr)");
+    cmd->add_option("--blend", c.blend, "Blend mode the frame-generation metric is taken with ('mix', the engine "
+                                        "default, or 'select': paper Eq. 1; T_B acts only with select)")
+        ->check(CLI::IsMember({"mix", "select"}))
+        ->capture_default_str();
     cmd->add_option("--t-depth", c.t_depth, "Start value of T_D (default: the current default)");
     cmd->add_option("--t-bright", c.t_bright, "Start value of T_B");
     cmd->add_option("--sr-a", c.sr_a, "Start value of a");
@@ -583,6 +593,7 @@ int calibrate_main(CalibrateCli& c, CLI::App* cmd, int argc, char** argv) {
     o.metric = c.metric == "ssim" ? CalMetric::ssim : CalMetric::psnr;
     if (!c.fit.empty()) o.fit = split(c.fit);
     if (!c.modes.empty()) o.modes = split(c.modes);
+    o.start.blend = c.blend == "select" ? BlendMode::select : BlendMode::mix;
     if (cmd->count("--t-depth")) o.start.t_depth = c.t_depth;
     if (cmd->count("--t-bright")) o.start.t_bright = c.t_bright;
     if (cmd->count("--sr-a")) o.start.sr_a = c.sr_a;

@@ -47,7 +47,7 @@ struct SearchResult {
     double value = 0;      // f(x)
     double start_value = 0;
     int evaluations = 0;     // calls of f (distinct points)
-    std::vector<bool> flat; // per dimension: every value tried scored the same (no effect)
+    std::vector<bool> flat; // per dimension: every grid value of round 1 scored the same (no effect)
 };
 
 namespace detail {
@@ -131,6 +131,10 @@ inline SearchResult maximise_coordinates(const std::function<double(const std::v
                     best_u = u;
                 }
             }
+            if (round == 0 && hi_v - lo_v <= 1e-12 * std::max(1.0, std::abs(hi_v))) {
+                r.flat[i] = true; // no grid value changed f: leave this coordinate alone
+                continue;
+            }
             // Golden-section search in the bracket around the best grid point.
             double lo = std::max(0.0, best_u - step), hi = std::min(1.0, best_u + step);
             const double g = (std::sqrt(5.0) - 1.0) / 2.0;
@@ -151,7 +155,6 @@ inline SearchResult maximise_coordinates(const std::function<double(const std::v
                     fe = try_u(e);
                 }
             }
-            if (round == 0 && hi_v - lo_v <= 1e-12 * std::max(1.0, std::abs(hi_v))) r.flat[i] = true;
         }
         window = round == 0 ? 2.0 / double(std::max(opt.grid, 2) - 1) : window / 2.0;
         if (round > 0 && r.value - round_start < opt.min_gain) break;
@@ -169,7 +172,7 @@ struct CalibrateOptions {
     int max_frames = 8;                                       // per capture and mode (0: all)
     std::vector<std::string> fit{"t_depth", "t_bright", "sr_a", "sr_b"};
     std::vector<std::string> modes{"interp", "extrap", "sr"};
-    Params start;                                             // starting point (the defaults)
+    Params start; // starting point (the defaults); also the other parameters of every evaluation (blend, ...)
     SearchOptions search;
     std::optional<std::filesystem::path> write_defaults;      // header to rewrite
     DeviceOptions device;
@@ -193,6 +196,7 @@ struct CalMode {
 
 struct CalibrateReport {
     std::string metric;
+    bool blend_select = false;    // frame generation scored with BlendMode::select
     std::vector<CalParam> params; // t_depth, t_bright, sr_a, sr_b
     std::vector<CalMode> modes;   // modes with at least one capture
     std::vector<std::string> skipped; // "capture: mode: reason"
@@ -215,7 +219,7 @@ std::string calibrate_json(const CalibrateReport& r);
 // CLI glue (like lut-train): registers `calibrate` and runs it; returns the exit code.
 struct CalibrateCli {
     CalibrateOptions options;
-    std::string metric = "psnr", fit, modes, write_defaults;
+    std::string metric = "psnr", fit, modes, write_defaults, blend = "mix";
     bool quiet = false, json = false;
     float t_depth = 0, t_bright = 0, sr_a = 0, sr_b = 0;
 };
