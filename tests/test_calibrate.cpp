@@ -1,6 +1,7 @@
 // `fgsr calibrate`: the search on known functions (header-only, called directly), and the real
 // binary on the built-in capture (few frames, small searches) for the never-worse guarantee and
 // --write-defaults.
+#include "run_process.hpp"
 #include "../tools/fgsr/calibrate.hpp" // maximise_coordinates is header-only
 
 #include <gtest/gtest.h>
@@ -20,24 +21,10 @@ using fgsr::cli::maximise_coordinates;
 using fgsr::cli::SearchDim;
 using fgsr::cli::SearchOptions;
 
-struct Run {
-    int status = -1;
-    std::string out; // stdout (stderr goes to the test log)
-};
-
-Run run_cmd(const std::string& cmd) {
-    Run r;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-    r.status = pclose(p);
-    return r;
-}
+using fgsr::test::run_process;
 
 nlohmann::json calibrate_json(const std::string& args) {
-    Run r = run_cmd(std::string(FGSR_BIN_DIR) + "/fgsr calibrate --quiet --json " + args);
+    fgsr::test::ProcessRun r = run_process(std::string(FGSR_BIN_DIR) + "/fgsr calibrate --quiet --json " + args);
     EXPECT_EQ(r.status, 0) << args;
     return nlohmann::json::parse(r.out, nullptr, false);
 }
@@ -175,11 +162,11 @@ TEST(Calibrate, WriteDefaultsWritesTheFittedConstants) {
     EXPECT_LT(e.find("// Calibration ("), e.find("#pragma once"));
 
     // Compiles: a translation unit including it checks the value (skipped without a compiler).
-    if (run_cmd("command -v c++ >/dev/null 2>&1").status == 0) {
+    if (run_process("command -v c++ >/dev/null 2>&1").status == 0) {
         const std::filesystem::path tu = dir / "check.cpp";
         std::ofstream(tu) << "#include \"" << edited.string() << "\"\nstatic_assert(fgsr::defaults::t_depth == "
                           << literal(k["params"]["t_depth"]["fitted"]) << ");\nstatic_assert(fgsr::defaults::sr_b > 0.f);\n";
-        EXPECT_EQ(run_cmd("c++ -std=c++20 -fsyntax-only " + tu.string() + " 2>&1").status, 0);
+        EXPECT_EQ(run_process("c++ -std=c++20 -fsyntax-only " + tu.string() + " 2>&1").status, 0);
     }
     std::filesystem::remove_all(dir);
 }

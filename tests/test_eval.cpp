@@ -1,5 +1,7 @@
 // `fgsr eval` end to end: the real binary on the built-in capture and, where ../shared/captures
 // exists (CI), on the captures the issue names, with the relations the project promises.
+#include "run_process.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -10,25 +12,12 @@
 
 namespace {
 
-struct Run {
-    int status = -1;
-    std::string out; // stdout (stderr goes to the test log)
-};
+using fgsr::test::run_process;
 
-Run run_fgsr(const std::string& args) {
-    Run r;
-    const std::string cmd = std::string(FGSR_BIN_DIR) + "/fgsr " + args;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (!p) return r;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-    r.status = pclose(p);
-    return r;
-}
+fgsr::test::ProcessRun run_fgsr(const std::string& args) { return run_process(std::string(FGSR_BIN_DIR) + "/fgsr " + args); }
 
 nlohmann::json eval_json(const std::string& args) {
-    Run r = run_fgsr("eval --quiet --json " + args);
+    fgsr::test::ProcessRun r = run_fgsr("eval --quiet --json " + args);
     EXPECT_EQ(r.status, 0) << args;
     return nlohmann::json::parse(r.out, nullptr, false);
 }

@@ -1,4 +1,5 @@
 #include "calibrate.hpp"
+#include "cli_util.hpp"
 
 #include <fgsr/capture/synthetic.hpp>
 
@@ -582,14 +583,7 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCli& c) {
 
 int calibrate_main(CalibrateCli& c, CLI::App* cmd, int argc, char** argv) {
     CalibrateOptions& o = c.options;
-    auto split = [](const std::string& s) {
-        std::vector<std::string> out;
-        std::stringstream ss(s);
-        std::string item;
-        while (std::getline(ss, item, ','))
-            if (!item.empty()) out.push_back(item);
-        return out;
-    };
+    const auto& split = split_list;
     o.metric = c.metric == "ssim" ? CalMetric::ssim : CalMetric::psnr;
     if (!c.fit.empty()) o.fit = split(c.fit);
     if (!c.modes.empty()) o.modes = split(c.modes);

@@ -1,5 +1,6 @@
 // build/bin/fgsr: command-line front end of the fgsr engine.
 #include "calibrate.hpp"
+#include "cli_util.hpp"
 #include "eval.hpp"
 #include "lut_train.hpp"
 
@@ -14,14 +15,7 @@
 
 namespace {
 
-std::vector<std::string> split_list(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ','))
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
+using fgsr::cli::split_list;
 
 int fail(const fgsr::Error& e) {
     std::fprintf(stderr, "fgsr: %s: %s\n", fgsr::errc_name(e.code), e.message.c_str());

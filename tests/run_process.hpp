@@ -1,0 +1,27 @@
+// Runs a command line and collects its stdout (stderr goes to the test log); for end-to-end tests
+// of the fgsr binary.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <string>
+
+namespace fgsr::test {
+
+struct ProcessRun {
+    int status = -1; // pclose() status; 0 = success
+    std::string out;
+};
+
+inline ProcessRun run_process(const std::string& command) {
+    ProcessRun r;
+    FILE* p = popen(command.c_str(), "r");
+    if (!p) return r;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+    r.status = pclose(p);
+    return r;
+}
+
+} // namespace fgsr::test
