@@ -65,15 +65,15 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
                 front = s;
             }
         }
-    vec4 spatial = lr_upsample(pos - jitter, p);
-    if (p.has_history == 0u || n == 0.0f) return spatial;
+    // The spatial upsample (16 taps) is computed only where it is the answer.
+    if (p.has_history == 0u || n == 0.0f) return lr_upsample(pos - jitter, p);
 
     vec2 mv = load_lr_mv(p.dilate != 0u ? front : t);
     vec2 h = qc + mv * p.scale;
     bool on = h.x >= 0.0f && h.y >= 0.0f && h.x <= float(p.hr_width) && h.y <= float(p.hr_height);
     float d_now = load_lr_depth(t);
     float d_prev = load_prev_depth(clamp_lr(ivec2(floor(pos + mv)), p));
-    if (!on || relative_depth_difference(d_now, d_prev) > p.t_depth) return spatial;
+    if (!on || relative_depth_difference(d_now, d_prev) > p.t_depth) return lr_upsample(pos - jitter, p);
 
     vec4 hist = clamp(resample(h, ivec2(int(p.hr_width), int(p.hr_height)), p.resample), lo, hi);
     float wc = p.a * wsum / n;
