@@ -1,8 +1,8 @@
 // `fgsr calibrate`: the search on known functions (header-only, called directly), and the real
 // binary on the built-in capture (few frames, small searches) for the never-worse guarantee and
 // --write-defaults.
-#include "run_process.hpp"
 #include "../tools/fgsr/calibrate.hpp" // maximise_coordinates is header-only
+#include "run_process.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -24,7 +24,8 @@ using fgsr::cli::SearchOptions;
 using fgsr::test::run_process;
 
 nlohmann::json calibrate_json(const std::string& args) {
-    fgsr::test::ProcessRun r = run_process(std::string(FGSR_BIN_DIR) + "/fgsr calibrate --quiet --json " + args);
+    fgsr::test::ProcessRun r =
+        run_process(std::string(FGSR_BIN_DIR) + "/fgsr calibrate --quiet --json " + args);
     EXPECT_EQ(r.status, 0) << args;
     return nlohmann::json::parse(r.out, nullptr, false);
 }
@@ -80,7 +81,9 @@ TEST(Calibrate, SearchFindsMaximumOfCoupled2D) {
 
 TEST(Calibrate, SearchNeverLeavesABetterStartAndDetectsFlatParameters) {
     // Start at the maximum of a function with plateaus: the result stays there.
-    auto step = [](const std::vector<double>& x) { return std::abs(x[0] - 0.4) < 0.01 ? 1.0 : (x[0] < 0.4 ? 0.0 : 0.5); };
+    auto step = [](const std::vector<double>& x) {
+        return std::abs(x[0] - 0.4) < 0.01 ? 1.0 : (x[0] < 0.4 ? 0.0 : 0.5);
+    };
     auto r = maximise_coordinates(step, {{"s", 0.0, 1.0, false}}, {0.4});
     EXPECT_DOUBLE_EQ(r.x[0], 0.4);
     EXPECT_DOUBLE_EQ(r.value, 1.0);
@@ -99,7 +102,8 @@ TEST(Calibrate, SearchNeverLeavesABetterStartAndDetectsFlatParameters) {
 
 TEST(Calibrate, FittedDepthThresholdIsNeverWorseThanTheDefaultStart) {
     // T_D on the built-in capture, interpolation only, few frames, a small search.
-    nlohmann::json j = calibrate_json("--capture builtin --frames 3 --modes interp --fit t_depth --rounds 1 --grid 5 --golden 3");
+    nlohmann::json j = calibrate_json(
+        "--capture builtin --frames 3 --modes interp --fit t_depth --rounds 1 --grid 5 --golden 3");
     ASSERT_FALSE(j.is_discarded());
     ASSERT_TRUE(j["modes"].contains("interp"));
     const double before = j["modes"]["interp"]["before"], after = j["modes"]["interp"]["after"];
@@ -111,10 +115,11 @@ TEST(Calibrate, FittedDepthThresholdIsNeverWorseThanTheDefaultStart) {
 
     // From a bad start (T_D = 1 accepts nearly every depth difference as the same surface) the
     // search improves the metric and moves T_D down.
-    nlohmann::json b =
-        calibrate_json("--capture builtin --frames 3 --modes interp --fit t_depth --t-depth 1 --rounds 1 --grid 5 --golden 2");
+    nlohmann::json b = calibrate_json("--capture builtin --frames 3 --modes interp --fit t_depth --t-depth 1 "
+                                      "--rounds 1 --grid 5 --golden 2");
     ASSERT_FALSE(b.is_discarded());
-    EXPECT_GT(b["modes"]["interp"]["after"].get<double>(), b["modes"]["interp"]["before"].get<double>() + 0.1);
+    EXPECT_GT(b["modes"]["interp"]["after"].get<double>(),
+              b["modes"]["interp"]["before"].get<double>() + 0.1);
     EXPECT_LT(b["params"]["t_depth"]["fitted"].get<double>(), 1.0);
 }
 
@@ -124,12 +129,13 @@ TEST(Calibrate, WriteDefaultsWritesTheFittedConstants) {
     std::filesystem::create_directories(dir);
     const std::filesystem::path fresh = dir / "fresh.hpp", edited = dir / "defaults.hpp";
     // An existing header (the repository's) is edited in place: structure and comments kept.
-    const std::filesystem::path src =
-        std::filesystem::path(__FILE__).parent_path().parent_path() / "daemon/engine/include/fgsr/engine/defaults.hpp";
+    const std::filesystem::path src = std::filesystem::path(__FILE__).parent_path().parent_path() /
+                                      "daemon/engine/include/fgsr/engine/defaults.hpp";
     ASSERT_TRUE(std::filesystem::exists(src)) << src;
     std::filesystem::copy_file(src, edited);
 
-    const std::string common = "--capture builtin --frames 2 --modes interp --fit t_depth --t-depth 1 --rounds 1 --grid 3 --golden 0 ";
+    const std::string common = "--capture builtin --frames 2 --modes interp --fit t_depth --t-depth 1 "
+                               "--rounds 1 --grid 3 --golden 0 ";
     nlohmann::json j = calibrate_json(common + "--write-defaults " + fresh.string());
     ASSERT_FALSE(j.is_discarded());
     EXPECT_EQ(j["written"], fresh.string());
@@ -140,7 +146,8 @@ TEST(Calibrate, WriteDefaultsWritesTheFittedConstants) {
     EXPECT_NE(h.find("namespace fgsr::defaults {"), std::string::npos) << h;
     EXPECT_NE(h.find("inline constexpr float t_depth = " + literal(td) + ";"), std::string::npos) << h;
     for (const char* c : {"t_bright", "sr_a", "sr_b"})
-        EXPECT_NE(h.find(std::string("inline constexpr float ") + c + " = "), std::string::npos) << c << "\n" << h;
+        EXPECT_NE(h.find(std::string("inline constexpr float ") + c + " = "), std::string::npos) << c << "\n"
+                                                                                                 << h;
     EXPECT_NE(h.find("// Calibration ("), std::string::npos) << h;
     EXPECT_NE(h.find("): fgsr calibrate "), std::string::npos) << h; // the command line
     EXPECT_NE(h.find("--capture builtin"), std::string::npos) << h;
@@ -149,7 +156,9 @@ TEST(Calibrate, WriteDefaultsWritesTheFittedConstants) {
     nlohmann::json k = calibrate_json(common + "--write-defaults " + edited.string());
     ASSERT_FALSE(k.is_discarded());
     const std::string before = read_text(src), e = read_text(edited);
-    EXPECT_NE(e.find("inline constexpr float t_depth = " + literal(k["params"]["t_depth"]["fitted"]) + ";"), std::string::npos) << e;
+    EXPECT_NE(e.find("inline constexpr float t_depth = " + literal(k["params"]["t_depth"]["fitted"]) + ";"),
+              std::string::npos)
+        << e;
     // Untouched constants keep their lines; the original comment stays above the record.
     for (const char* c : {"t_bright", "sr_a", "sr_b"}) {
         const std::string key = std::string("inline constexpr float ") + c + " ";
@@ -164,8 +173,10 @@ TEST(Calibrate, WriteDefaultsWritesTheFittedConstants) {
     // Compiles: a translation unit including it checks the value (skipped without a compiler).
     if (run_process("command -v c++ >/dev/null 2>&1").status == 0) {
         const std::filesystem::path tu = dir / "check.cpp";
-        std::ofstream(tu) << "#include \"" << edited.string() << "\"\nstatic_assert(fgsr::defaults::t_depth == "
-                          << literal(k["params"]["t_depth"]["fitted"]) << ");\nstatic_assert(fgsr::defaults::sr_b > 0.f);\n";
+        std::ofstream(tu) << "#include \"" << edited.string()
+                          << "\"\nstatic_assert(fgsr::defaults::t_depth == "
+                          << literal(k["params"]["t_depth"]["fitted"])
+                          << ");\nstatic_assert(fgsr::defaults::sr_b > 0.f);\n";
         EXPECT_EQ(run_process("c++ -std=c++20 -fsyntax-only " + tu.string() + " 2>&1").status, 0);
     }
     std::filesystem::remove_all(dir);

@@ -199,7 +199,8 @@ TEST(EngineApi, ConventionsConvertAsDeclared) {
         {DepthKind::linear, far, &linear, MvUnits::pixels, MvDirection::to_previous, false},
         {DepthKind::device, far, &dev, MvUnits::uv, MvDirection::from_previous, true},
         {DepthKind::device_reversed, far, &rev, MvUnits::pixels, MvDirection::from_previous, false},
-        {DepthKind::device_reversed, std::numeric_limits<float>::infinity(), &rev_inf, MvUnits::uv, MvDirection::to_previous, true},
+        {DepthKind::device_reversed, std::numeric_limits<float>::infinity(), &rev_inf, MvUnits::uv,
+         MvDirection::to_previous, true},
     };
     for (const Case& k : cases) {
         FrameFormat f = internal_format(W, H);
@@ -217,7 +218,8 @@ TEST(EngineApi, ConventionsConvertAsDeclared) {
         auto got = s->read_frame(1);
         ASSERT_TRUE(got);
         for (size_t i = 0; i < n; ++i) {
-            ASSERT_NEAR(got->depth[i], linear[i], 2e-3f * linear[i]) << "depth kind " << int(k.kind) << " pixel " << i;
+            ASSERT_NEAR(got->depth[i], linear[i], 2e-3f * linear[i])
+                << "depth kind " << int(k.kind) << " pixel " << i;
             ASSERT_NEAR(got->mv[2 * i], mv[i].x, 1e-4f);
             ASSERT_NEAR(got->mv[2 * i + 1], mv[i].y, 1e-4f);
         }

@@ -14,7 +14,9 @@ namespace {
 
 using fgsr::test::run_process;
 
-fgsr::test::ProcessRun run_fgsr(const std::string& args) { return run_process(std::string(FGSR_BIN_DIR) + "/fgsr " + args); }
+fgsr::test::ProcessRun run_fgsr(const std::string& args) {
+    return run_process(std::string(FGSR_BIN_DIR) + "/fgsr " + args);
+}
 
 nlohmann::json eval_json(const std::string& args) {
     fgsr::test::ProcessRun r = run_fgsr("eval --quiet --json " + args);
@@ -22,7 +24,9 @@ nlohmann::json eval_json(const std::string& args) {
     return nlohmann::json::parse(r.out, nullptr, false);
 }
 
-double psnr(const nlohmann::json& j, const char* method) { return j["methods"][method]["psnr"].get<double>(); }
+double psnr(const nlohmann::json& j, const char* method) {
+    return j["methods"][method]["psnr"].get<double>();
+}
 
 std::string capture_dir(const char* name) {
     const std::filesystem::path p = std::filesystem::path(FGSR_SHARED_CAPTURES) / name;
@@ -51,7 +55,8 @@ TEST(Eval, BuiltinCaptureRanksMethodsAndWritesFrames) {
 
 TEST(Eval, RejectsBadArguments) {
     EXPECT_NE(run_fgsr("eval --quiet --capture builtin --alpha 1.5 2>/dev/null").status, 0);
-    EXPECT_NE(run_fgsr("eval --quiet --capture builtin --alpha 0.25 2>/dev/null").status, 0) << "no ground truth at 0.25";
+    EXPECT_NE(run_fgsr("eval --quiet --capture builtin --alpha 0.25 2>/dev/null").status, 0)
+        << "no ground truth at 0.25";
     EXPECT_NE(run_fgsr("eval --quiet --capture builtin --methods fgsr,magic 2>/dev/null").status, 0);
     EXPECT_NE(run_fgsr("eval --quiet --capture /nonexistent/capture 2>/dev/null").status, 0);
     EXPECT_NE(run_fgsr("eval --quiet --mode sideways 2>/dev/null").status, 0);
@@ -59,7 +64,8 @@ TEST(Eval, RejectsBadArguments) {
 
 TEST(Eval, TossFgInterpolationBeatsTheAuthorsAndBaselines) {
     const std::string dir = capture_dir("blender/toss-fg");
-    if (dir.empty()) GTEST_SKIP() << "../shared/captures/blender/toss-fg not found (captures exist in CI only)";
+    if (dir.empty())
+        GTEST_SKIP() << "../shared/captures/blender/toss-fg not found (captures exist in CI only)";
     nlohmann::json j = eval_json("--capture " + dir + " --mode interp");
     ASSERT_FALSE(j.is_discarded());
     EXPECT_EQ(j["frames"], 10);
@@ -73,7 +79,8 @@ TEST(Eval, TossFgInterpolationBeatsTheAuthorsAndBaselines) {
 
 TEST(Eval, TossFgExtrapolationBeatsBaselines) {
     const std::string dir = capture_dir("blender/toss-fg");
-    if (dir.empty()) GTEST_SKIP() << "../shared/captures/blender/toss-fg not found (captures exist in CI only)";
+    if (dir.empty())
+        GTEST_SKIP() << "../shared/captures/blender/toss-fg not found (captures exist in CI only)";
     nlohmann::json j = eval_json("--capture " + dir + " --mode extrap");
     ASSERT_FALSE(j.is_discarded());
     EXPECT_EQ(j["frames"], 9);
@@ -84,7 +91,8 @@ TEST(Eval, TossFgExtrapolationBeatsBaselines) {
 
 TEST(Eval, BunkerBeatsBaselinesWithComposedVectors) {
     const std::string dir = capture_dir("mobfgsr-bunker");
-    if (dir.empty()) GTEST_SKIP() << "../shared/captures/mobfgsr-bunker not found (captures exist in CI only)";
+    if (dir.empty())
+        GTEST_SKIP() << "../shared/captures/mobfgsr-bunker not found (captures exist in CI only)";
     for (const char* mode : {"interp", "extrap"}) {
         nlohmann::json j = eval_json("--capture " + dir + " --mode " + mode + " --methods fgsr,blend,repeat");
         ASSERT_FALSE(j.is_discarded());

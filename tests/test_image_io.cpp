@@ -77,7 +77,7 @@ TEST(ImageIo, PngRoundTripLinear) {
         img.rgba[i] = (i % 4 == 3) ? 0.25f : srgb8_decode(b);
         expect[i] = (i % 4 == 3) ? 255 : b; // alpha is not stored: reads back opaque
     }
-    img.rgba[0] = 5.f;  // HDR clamps to 255
+    img.rgba[0] = 5.f; // HDR clamps to 255
     expect[0] = 255;
     img.rgba[1] = -1.f; // negative clamps to 0
     expect[1] = 0;
@@ -145,8 +145,9 @@ TEST(ImageIo, ExrHalfRgbaRoundTrip) {
     img.width = 13;
     img.height = 9;
     img.rgba.resize(size_t(img.width) * img.height * 4);
-    for (size_t i = 0; i < img.rgba.size(); ++i) img.rgba[i] = float(int(i % 301) - 100) / 64.f; // exact in half
-    img.rgba[5] = 1000.25f;                                                                     // -> 1000 (rounded)
+    for (size_t i = 0; i < img.rgba.size(); ++i)
+        img.rgba[i] = float(int(i % 301) - 100) / 64.f; // exact in half
+    img.rgba[5] = 1000.25f;                             // -> 1000 (rounded)
     const fs::path p = tmp.path / "half.exr";
     ASSERT_TRUE(write_exr(p, img));
     auto back = read_exr(p);

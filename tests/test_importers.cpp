@@ -33,8 +33,8 @@ namespace {
 #define REQUIRE_CAPTURE(path)                                                                                \
     do {                                                                                                     \
         if (!fs::is_directory(path))                                                                         \
-            GTEST_SKIP() << "shared capture " << (path) << " not found (FGSR_SHARED_CAPTURES="               \
-                         << FGSR_SHARED_CAPTURES << "); skipping";                                           \
+            GTEST_SKIP() << "shared capture " << (path)                                                      \
+                         << " not found (FGSR_SHARED_CAPTURES=" << FGSR_SHARED_CAPTURES << "); skipping";    \
     } while (0)
 
 const fs::path kCaptures = FGSR_SHARED_CAPTURES;
@@ -74,8 +74,9 @@ std::vector<V2> internal_mv(const FrameFormat& fmt, const Frame& f) {
             m[0] *= float(fmt.width);
             m[1] *= float(fmt.height);
         }
-        if (c.mv_y_up) m[1] = -m[1];                                       // +y up -> +y down
-        if (c.mv_direction == MvDirection::from_previous) m[0] = -m[0], m[1] = -m[1]; // p - p_prev -> p_prev - p
+        if (c.mv_y_up) m[1] = -m[1]; // +y up -> +y down
+        if (c.mv_direction == MvDirection::from_previous)
+            m[0] = -m[0], m[1] = -m[1]; // p - p_prev -> p_prev - p
         out[i] = V2{m[0], m[1]};
     }
     return out;
@@ -100,7 +101,9 @@ Rgba warp(const Rgba& prev, const std::vector<V2>& mv, int w, int h) {
             const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
             const float tx = sx - float(x0), ty = sy - float(y0);
             for (int c = 0; c < 4; ++c) {
-                auto at = [&](int a, int b) { return prev[(size_t(b) * size_t(w) + size_t(a)) * 4 + size_t(c)]; };
+                auto at = [&](int a, int b) {
+                    return prev[(size_t(b) * size_t(w) + size_t(a)) * 4 + size_t(c)];
+                };
                 out[i * 4 + size_t(c)] = (1.f - ty) * ((1.f - tx) * at(x0, y0) + tx * at(x1, y0)) +
                                          ty * ((1.f - tx) * at(x0, y1) + tx * at(x1, y1));
             }
@@ -122,7 +125,9 @@ double psnr(const Rgba& a, const Rgba& b) {
     return s <= 0.0 ? 99.0 : 10.0 * std::log10(1.0 / s);
 }
 
-Rgba color_of(const Capture& c, size_t k) { return decode_color(c.format, c.inputs[k]).rgba; }
+Rgba color_of(const Capture& c, size_t k) {
+    return decode_color(c.format, c.inputs[k]).rgba;
+}
 
 // 2x2 box average of an image (HR reference -> LR grid).
 Rgba downsample2(const ImageRGBA& img) {
@@ -145,7 +150,8 @@ struct WarpScores {
 
 // Scores of warping `prev` onto `cur` with `mv`, with no motion, and with mv's y negated.
 WarpScores score(const Rgba& prev, const Rgba& cur, const std::vector<V2>& mv, int w, int h) {
-    return WarpScores{psnr(warp(prev, mv, w, h), cur), psnr(prev, cur), psnr(warp(prev, scaled(mv, 1.f, -1.f), w, h), cur)};
+    return WarpScores{psnr(warp(prev, mv, w, h), cur), psnr(prev, cur),
+                      psnr(warp(prev, scaled(mv, 1.f, -1.f), w, h), cur)};
 }
 
 // Checks the conventions of frames [first, last] of `c` (colour from `colour(k)`), printing the
@@ -159,8 +165,8 @@ WarpScores check_conventions(const Capture& c, size_t first, size_t last, double
     for (size_t k = first; k <= last; ++k) {
         Rgba cur = colour(k);
         const WarpScores s = score(prev, cur, internal_mv(c.format, c.inputs[k]), w, h);
-        std::printf("  %s frame %zu: warp %.2f dB, repeat %.2f dB, flipped-y %.2f dB\n", c.name.c_str(), k, s.warp,
-                    s.repeat, s.flipped);
+        std::printf("  %s frame %zu: warp %.2f dB, repeat %.2f dB, flipped-y %.2f dB\n", c.name.c_str(), k,
+                    s.warp, s.repeat, s.flipped);
         EXPECT_GT(s.warp, s.repeat + margin) << c.name << " frame " << k;
         EXPECT_GT(s.warp, s.flipped + margin) << c.name << " frame " << k;
         mean.warp += s.warp;
@@ -172,8 +178,8 @@ WarpScores check_conventions(const Capture& c, size_t first, size_t last, double
     mean.warp /= double(count);
     mean.repeat /= double(count);
     mean.flipped /= double(count);
-    std::printf("  %s mean over frames %zu..%zu: warp %.2f dB, repeat %.2f dB, flipped-y %.2f dB\n", c.name.c_str(),
-                first, last, mean.warp, mean.repeat, mean.flipped);
+    std::printf("  %s mean over frames %zu..%zu: warp %.2f dB, repeat %.2f dB, flipped-y %.2f dB\n",
+                c.name.c_str(), first, last, mean.warp, mean.repeat, mean.flipped);
     return mean;
 }
 
@@ -300,13 +306,16 @@ TEST(Importers, BlenderOrbitSr) {
     // the HR reference sampled at the very same positions is only ~13 dB); the conventions are
     // checked on the HR reference box-filtered to the LR grid instead. Figures for the raw LR
     // colour are printed for information.
-    const WarpScores m = check_conventions(c, 1, 20, 1.0, [&](size_t k) { return downsample2(c.hr_reference[k]); });
+    const WarpScores m =
+        check_conventions(c, 1, 20, 1.0, [&](size_t k) { return downsample2(c.hr_reference[k]); });
     EXPECT_GT(m.warp, m.repeat + 4.0);
     EXPECT_GT(m.warp, m.flipped + 4.0);
     {
-        const WarpScores s = score(color_of(c, 9), color_of(c, 10), internal_mv(c.format, c.inputs[10]), 320, 180);
-        std::printf("  orbit-sr LR colour frame 10 (information): warp %.2f, repeat %.2f, flipped-y %.2f dB\n", s.warp,
-                    s.repeat, s.flipped);
+        const WarpScores s =
+            score(color_of(c, 9), color_of(c, 10), internal_mv(c.format, c.inputs[10]), 320, 180);
+        std::printf(
+            "  orbit-sr LR colour frame 10 (information): warp %.2f, repeat %.2f, flipped-y %.2f dB\n",
+            s.warp, s.repeat, s.flipped);
     }
     expect_ingest_agrees(c, 7);
 
@@ -323,12 +332,14 @@ TEST(Importers, BlenderOrbitSr) {
                 for (int x = 0; x < 320; ++x) {
                     const float sx = std::clamp(2.f * (float(x) + 0.5f + jx) - 0.5f, 0.f, 639.f);
                     const float sy = std::clamp(2.f * (float(y) + 0.5f + jy) - 0.5f, 0.f, 359.f);
-                    const int x0 = int(sx), y0 = int(sy), x1 = std::min(x0 + 1, 639), y1 = std::min(y0 + 1, 359);
+                    const int x0 = int(sx), y0 = int(sy), x1 = std::min(x0 + 1, 639),
+                              y1 = std::min(y0 + 1, 359);
                     const float tx = sx - float(x0), ty = sy - float(y0);
                     for (size_t ch = 0; ch < 4; ++ch) {
                         auto at = [&](int a, int b) { return hr[(size_t(b) * 640 + size_t(a)) * 4 + ch]; };
                         out[(size_t(y) * 320 + size_t(x)) * 4 + ch] =
-                            (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
+                            (1 - ty) * ((1 - tx) * at(x0, y0) + tx * at(x1, y0)) +
+                            ty * ((1 - tx) * at(x0, y1) + tx * at(x1, y1));
                     }
                 }
             return psnr(out, lr);
@@ -339,8 +350,9 @@ TEST(Importers, BlenderOrbitSr) {
         at_negated += sample_hr(-jx, -jy);
     }
     const double nf = double(c.inputs.size());
-    std::printf("  orbit-sr jitter: LR vs HR at centre+jitter %.2f dB, y-flipped jitter %.2f dB, negated %.2f dB\n",
-                at_jitter / nf, at_flipped / nf, at_negated / nf);
+    std::printf(
+        "  orbit-sr jitter: LR vs HR at centre+jitter %.2f dB, y-flipped jitter %.2f dB, negated %.2f dB\n",
+        at_jitter / nf, at_flipped / nf, at_negated / nf);
     EXPECT_GT(at_jitter / nf, at_flipped / nf + 0.3);
     EXPECT_GT(at_jitter / nf, at_negated / nf + 0.3);
 }
@@ -436,10 +448,12 @@ HalfRateScores score_half_rate(const Capture& full, const Capture& half, ColourF
         const Rgba prev = colour(k - 2), cur = colour(k);
         const std::vector<V2> composed = internal_mv(half.format, half.inputs[j]);
         const std::vector<V2> doubled = scaled(internal_mv(full.format, full.inputs[k]), 2.f, 2.f);
-        HalfRateScores s{psnr(warp(prev, composed, w, h), cur), psnr(warp(prev, doubled, w, h), cur), psnr(prev, cur)};
-        std::printf("  %s half-rate input %zu (frame %zu from %zu): composed %.2f dB, 2x one-frame %.2f dB, repeat "
-                    "%.2f dB\n",
-                    full.name.c_str(), j, k, k - 2, s.composed, s.doubled, s.repeat);
+        HalfRateScores s{psnr(warp(prev, composed, w, h), cur), psnr(warp(prev, doubled, w, h), cur),
+                         psnr(prev, cur)};
+        std::printf(
+            "  %s half-rate input %zu (frame %zu from %zu): composed %.2f dB, 2x one-frame %.2f dB, repeat "
+            "%.2f dB\n",
+            full.name.c_str(), j, k, k - 2, s.composed, s.doubled, s.repeat);
         mean.composed += s.composed;
         mean.doubled += s.doubled;
         mean.repeat += s.repeat;
@@ -448,8 +462,8 @@ HalfRateScores score_half_rate(const Capture& full, const Capture& half, ColourF
     mean.composed /= double(count);
     mean.doubled /= double(count);
     mean.repeat /= double(count);
-    std::printf("  %s half-rate mean: composed %.2f dB, 2x one-frame %.2f dB, repeat %.2f dB\n", full.name.c_str(),
-                mean.composed, mean.doubled, mean.repeat);
+    std::printf("  %s half-rate mean: composed %.2f dB, 2x one-frame %.2f dB, repeat %.2f dB\n",
+                full.name.c_str(), mean.composed, mean.doubled, mean.repeat);
     return mean;
 }
 
@@ -488,7 +502,8 @@ void expect_internal_half_rate(const Capture& full, const Capture& half) {
                                decode_color(full.format, full.inputs[2 * j]).rgba),
                   1e-6f);
         if (j < half.ground_truth.size()) {
-            EXPECT_LE(max_abs_diff(half.ground_truth[j].rgba, decode_color(full.format, full.inputs[2 * j + 1]).rgba),
+            EXPECT_LE(max_abs_diff(half.ground_truth[j].rgba,
+                                   decode_color(full.format, full.inputs[2 * j + 1]).rgba),
                       1e-6f);
         }
     }
@@ -549,7 +564,8 @@ TEST(Importers, HalfRateBlenderOrbitSr) {
     EXPECT_EQ(hr->hr_reference.size(), 11u);
     EXPECT_EQ(hr->hr_ground_truth.size(), 10u);
     // Scored on the box-filtered HR reference (the LR colour is too aliased, see BlenderOrbitSr).
-    const HalfRateScores s = score_half_rate(*r, *hr, [&](size_t k) { return downsample2(r->hr_reference[k]); });
+    const HalfRateScores s =
+        score_half_rate(*r, *hr, [&](size_t k) { return downsample2(r->hr_reference[k]); });
     EXPECT_GT(s.composed, s.repeat + 4.0);
     EXPECT_GT(s.composed, s.doubled);
 }
@@ -615,7 +631,8 @@ Capture generated_capture(ColorFormat cf, MvFormat mf, uint32_t seed) {
         Frame f;
         f.color = random_bytes(n * cb);
         f.depth = random_bytes(n * 4);
-        const float specials[3] = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+        const float specials[3] = {std::numeric_limits<float>::infinity(),
+                                   std::numeric_limits<float>::quiet_NaN(),
                                    bits_to_float(0x7fa00001u)}; // a signalling NaN with a payload
         std::memcpy(f.depth.data(), &specials, sizeof(specials));
         if (k != 1) f.mv = random_bytes(n * mb); // frame 1: vectors unknown
@@ -670,11 +687,13 @@ void expect_same_capture(const Capture& a, const Capture& b) {
         EXPECT_EQ(a.inputs[k].jitter_y, b.inputs[k].jitter_y);
     }
     ASSERT_EQ(a.ground_truth.size(), b.ground_truth.size());
-    for (size_t k = 0; k < a.ground_truth.size(); ++k) EXPECT_TRUE(same_bits(a.ground_truth[k].rgba, b.ground_truth[k].rgba));
+    for (size_t k = 0; k < a.ground_truth.size(); ++k)
+        EXPECT_TRUE(same_bits(a.ground_truth[k].rgba, b.ground_truth[k].rgba));
     EXPECT_EQ(a.hr_format.width, b.hr_format.width);
     EXPECT_EQ(a.hr_format.height, b.hr_format.height);
     ASSERT_EQ(a.hr_reference.size(), b.hr_reference.size());
-    for (size_t k = 0; k < a.hr_reference.size(); ++k) EXPECT_TRUE(same_bits(a.hr_reference[k].rgba, b.hr_reference[k].rgba));
+    for (size_t k = 0; k < a.hr_reference.size(); ++k)
+        EXPECT_TRUE(same_bits(a.hr_reference[k].rgba, b.hr_reference[k].rgba));
     ASSERT_EQ(a.hr_ground_truth.size(), b.hr_ground_truth.size());
     for (size_t k = 0; k < a.hr_ground_truth.size(); ++k)
         EXPECT_TRUE(same_bits(a.hr_ground_truth[k].rgba, b.hr_ground_truth[k].rgba));
@@ -684,7 +703,8 @@ void expect_same_capture(const Capture& a, const Capture& b) {
 
 TEST(Importers, FgsrFormatRoundTripIsBitExact) {
     TempDir tmp("roundtrip");
-    const ColorFormat colours[3] = {ColorFormat::rgba8_srgb, ColorFormat::rgba16f_linear, ColorFormat::rgba32f_linear};
+    const ColorFormat colours[3] = {ColorFormat::rgba8_srgb, ColorFormat::rgba16f_linear,
+                                    ColorFormat::rgba32f_linear};
     const MvFormat mvs[2] = {MvFormat::rg16f, MvFormat::rg32f};
     uint32_t seed = 1;
     for (ColorFormat cf : colours)
@@ -759,11 +779,13 @@ ExrImage blender_exr(uint32_t w, uint32_t h, bool colour, bool aux) {
     const size_t n = size_t(w) * h;
     if (colour)
         for (const char* c : {"R", "G", "B", "A"})
-            e.channels.push_back(ExrChannel{std::string("ViewLayer.Combined.") + c, ExrPixel::half, std::vector<float>(n, 0.5f)});
+            e.channels.push_back(ExrChannel{std::string("ViewLayer.Combined.") + c, ExrPixel::half,
+                                            std::vector<float>(n, 0.5f)});
     if (aux) {
         e.channels.push_back(ExrChannel{"ViewLayer.Depth.Z", ExrPixel::float32, std::vector<float>(n, 3.f)});
         for (const char* c : {"X", "Y", "Z", "W"})
-            e.channels.push_back(ExrChannel{std::string("ViewLayer.Vector.") + c, ExrPixel::float32, std::vector<float>(n, 0.25f)});
+            e.channels.push_back(ExrChannel{std::string("ViewLayer.Vector.") + c, ExrPixel::float32,
+                                            std::vector<float>(n, 0.25f)});
     }
     return e;
 }
@@ -843,8 +865,11 @@ TEST(Importers, MobFgsrMalformed) {
     // 128/255 + 128/255^2 + ... = 0.50394; m = 2v - 1 = 0.00788 UV.
     float m[2];
     std::memcpy(m, r->inputs[0].mv.data(), 8);
-    EXPECT_NEAR(m[0], 2.0 * (128.0 / 255 + 128.0 / 255 / 255 + 128.0 / 255 / 255 / 255 + 128.0 / 255 / 255 / 255 / 255) - 1.0,
-                1e-6);
+    EXPECT_NEAR(
+        m[0],
+        2.0 * (128.0 / 255 + 128.0 / 255 / 255 + 128.0 / 255 / 255 / 255 + 128.0 / 255 / 255 / 255 / 255) -
+            1.0,
+        1e-6);
 
     Image8 wrong{5, 4, std::vector<uint8_t>(5 * 4 * 4, 1)};
     ASSERT_TRUE(put_png8(d / "HR_Inputs" / "depth" / "0011.png", wrong));
@@ -877,7 +902,8 @@ TEST(Importers, FgsrFormatMalformed) {
     ExrImage e;
     e.width = 7;
     e.height = 5;
-    for (const char* ch : {"R", "G", "B", "A"}) e.channels.push_back(ExrChannel{ch, ExrPixel::half, std::vector<float>(35)});
+    for (const char* ch : {"R", "G", "B", "A"})
+        e.channels.push_back(ExrChannel{ch, ExrPixel::half, std::vector<float>(35)});
     e.channels.push_back(ExrChannel{"Z", ExrPixel::float32, std::vector<float>(35, 1.f)});
     ASSERT_TRUE(put_exr(f2, e));
     auto r = load(d);

@@ -22,13 +22,17 @@ namespace {
 using namespace fgsr;
 using namespace fgsr::cli::lutmodel;
 
-const std::filesystem::path kShipped = std::filesystem::path(__FILE__).parent_path().parent_path() / "daemon/engine/luts";
+const std::filesystem::path kShipped =
+    std::filesystem::path(__FILE__).parent_path().parent_path() / "daemon/engine/luts";
 constexpr float kScales[] = {1.5f, 2.f, 3.f, 4.f};
 
-std::string shipped_name(float s) { return s == 1.5f ? "sr_x1.5.lut" : "sr_x" + std::to_string(int(s)) + ".lut"; }
+std::string shipped_name(float s) {
+    return s == 1.5f ? "sr_x1.5.lut" : "sr_x" + std::to_string(int(s)) + ".lut";
+}
 
 std::filesystem::path temp_file(const std::string& name) {
-    return std::filesystem::temp_directory_path() / ("fgsr_test_lut_" + std::to_string(::getpid()) + "_" + name);
+    return std::filesystem::temp_directory_path() /
+           ("fgsr_test_lut_" + std::to_string(::getpid()) + "_" + name);
 }
 
 std::vector<char> read_all(const std::filesystem::path& p) {
@@ -135,13 +139,16 @@ TEST(Lut, TrainerForwardModelEqualsReference) {
     const Lut l = random_lut(7);
     const RgbImage im = random_image(37, 29, 11);
     const std::vector<glm::vec4> v = to_vec4(im);
-    for (glm::vec2 s : {glm::vec2(0.f), glm::vec2(0.5f), glm::vec2(-0.5f, 0.25f), glm::vec2(0.3137f, -0.77f),
-                        glm::vec2(-3.9f, 2.03125f), glm::vec2(1.0f / 64, 31.0f / 32), glm::vec2(12.5f, -40.f)}) {
+    for (glm::vec2 s :
+         {glm::vec2(0.f), glm::vec2(0.5f), glm::vec2(-0.5f, 0.25f), glm::vec2(0.3137f, -0.77f),
+          glm::vec2(-3.9f, 2.03125f), glm::vec2(1.0f / 64, 31.0f / 32), glm::vec2(12.5f, -40.f)}) {
         const RgbImage mine = lut_resample(im, s, l.weights);
-        const std::vector<glm::vec4> ref = ref::resample_image(v, im.width, im.height, s, Resample::lut, l.weights);
+        const std::vector<glm::vec4> ref =
+            ref::resample_image(v, im.width, im.height, s, Resample::lut, l.weights);
         float worst = 0;
         for (size_t i = 0; i < ref.size(); ++i)
-            for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(mine.rgb[i * 3 + size_t(c)] - ref[i][c]));
+            for (int c = 0; c < 3; ++c)
+                worst = std::max(worst, std::abs(mine.rgb[i * 3 + size_t(c)] - ref[i][c]));
         EXPECT_LE(worst, 1e-6f) << "shift " << s.x << "," << s.y;
     }
 }
@@ -183,7 +190,9 @@ TEST(Lut, TrainerGradients) {
     for (size_t i = 0; i < da.size(); ++i)
         for (int c = 0; c < 3; ++c) {
             // Linear values whose display values are da / db.
-            auto lin = [](double d) { return float(d <= 0.04045 ? d / 12.92 : std::pow((d + 0.055) / 1.055, 2.4)); };
+            auto lin = [](double d) {
+                return float(d <= 0.04045 ? d / 12.92 : std::pow((d + 0.055) / 1.055, 2.4));
+            };
             ia.rgba[i * 4 + size_t(c)] = lin(da[i]);
             ib.rgba[i * 4 + size_t(c)] = lin(db[i]);
         }
@@ -228,7 +237,8 @@ TEST(Lut, SixFoldResamplingBeatsBilinearAndMatchesBicubic) {
                 const Resample kinds[3] = {Resample::lut, Resample::bilinear, Resample::catmull_rom};
                 for (int m = 0; m < 3; ++m) {
                     std::vector<glm::vec4> v = to_vec4(img);
-                    for (const glm::vec2& s : q.shift) v = ref::resample_image(v, img.width, img.height, s, kinds[m], lut);
+                    for (const glm::vec2& s : q.shift)
+                        v = ref::resample_image(v, img.width, img.height, s, kinds[m], lut);
                     const ImageRGBA out = to_rgba(crop(from_vec4(v, img.width, img.height), q.margin));
                     per_seq[qi].ssim[m] += capture::ssim(out, gt).value() / 2;
                     per_seq[qi].psnr[m] += capture::psnr(out, gt).value() / 2;
@@ -248,10 +258,11 @@ TEST(Lut, SixFoldResamplingBeatsBilinearAndMatchesBicubic) {
                 random.psnr[m] += f[qi].psnr[m] / double(f.size() - 1);
             }
         for (const auto& [name, fig] : {std::pair<const char*, Figures>{"half", half}, {"random", random}}) {
-            std::printf("[ lut x%-3g %-6s] SSIM lut %.4f bilinear %.4f bicubic %.4f | PSNR lut %.2f bilinear %.2f "
-                        "bicubic %.2f dB\n",
-                        double(kScales[si]), name, fig.ssim[0], fig.ssim[1], fig.ssim[2], fig.psnr[0], fig.psnr[1],
-                        fig.psnr[2]);
+            std::printf(
+                "[ lut x%-3g %-6s] SSIM lut %.4f bilinear %.4f bicubic %.4f | PSNR lut %.2f bilinear %.2f "
+                "bicubic %.2f dB\n",
+                double(kScales[si]), name, fig.ssim[0], fig.ssim[1], fig.ssim[2], fig.psnr[0], fig.psnr[1],
+                fig.psnr[2]);
             SCOPED_TRACE(std::string(name) + " x" + std::to_string(kScales[si]));
             EXPECT_GT(fig.ssim[0], fig.ssim[1]);
             EXPECT_GE(fig.ssim[0], fig.ssim[2]);

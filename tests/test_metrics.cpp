@@ -20,7 +20,9 @@ double oetf(double v) {
     v = std::clamp(v, 0.0, 1.0);
     return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
 }
-double eotf(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
+double eotf(double v) {
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
 
 ImageRGBA make_image(uint32_t w, uint32_t h) {
     ImageRGBA im;
@@ -188,7 +190,8 @@ TEST(Metrics, SsimConstantLuminanceShift) {
         }
     const double C1 = 1e-4;
     double expect = 0;
-    for (int c = 0; c < 3; ++c) expect += (2 * da[c] * db[c] + C1) / (da[c] * da[c] + db[c] * db[c] + C1) / 3.0;
+    for (int c = 0; c < 3; ++c)
+        expect += (2 * da[c] * db[c] + C1) / (da[c] * da[c] + db[c] * db[c] + C1) / 3.0;
     auto s = ssim(a, b);
     ASSERT_TRUE(s.ok());
     EXPECT_NEAR(*s, expect, 1e-6);

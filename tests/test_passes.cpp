@@ -25,7 +25,8 @@ struct PassCase {
 
 std::string case_name(const testing::TestParamInfo<PassCase>& info) {
     const PassCase& c = info.param;
-    return std::to_string(c.width) + "x" + std::to_string(c.height) + (c.extrapolate ? "_extrap" : "_interp") +
+    return std::to_string(c.width) + "x" + std::to_string(c.height) +
+           (c.extrapolate ? "_extrap" : "_interp") +
            (c.motion == MotionModel::quadratic ? "_quadratic" : "_linear") + "_a" +
            std::to_string(int(std::lround(c.alpha * 100))) + "_r" + std::to_string(int(c.range)) + "_" +
            std::string(to_string(c.color_format)) + "_" + std::string(to_string(c.mv_format)) +
@@ -65,7 +66,9 @@ RawFrame to_client(const RawFrame& f, const PassCase& c, size_t n) {
     return out;
 }
 
-double max_rel(float a, float b) { return std::abs(a - b) / std::max(1.0, double(std::max(std::abs(a), std::abs(b)))); }
+double max_rel(float a, float b) {
+    return std::abs(a - b) / std::max(1.0, double(std::max(std::abs(a), std::abs(b))));
+}
 
 class PassesMatchReference : public testing::TestWithParam<PassCase> {};
 
@@ -106,10 +109,12 @@ TEST_P(PassesMatchReference, EveryPass) {
     ref::InternalFrame c0 = ref::ingest(fmt, raw0.view()), c1 = ref::ingest(fmt, raw1.view());
     double ingest_err = 0;
     for (size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 4; ++k) ingest_err = std::max(ingest_err, max_rel(f1.color[i][k], c1.color[i][k]));
+        for (int k = 0; k < 4; ++k)
+            ingest_err = std::max(ingest_err, max_rel(f1.color[i][k], c1.color[i][k]));
         ingest_err = std::max(ingest_err, max_rel(f1.depth[i], c1.depth[i]));
         for (int k = 0; k < 2; ++k) ingest_err = std::max(ingest_err, max_rel(f1.mv[i][k], c1.mv[i][k]));
-        for (int k = 0; k < 4; ++k) ingest_err = std::max(ingest_err, max_rel(f0.color[i][k], c0.color[i][k]));
+        for (int k = 0; k < 4; ++k)
+            ingest_err = std::max(ingest_err, max_rel(f0.color[i][k], c0.color[i][k]));
     }
     EXPECT_LT(ingest_err, 1e-4) << "ingest";
 
@@ -125,7 +130,8 @@ TEST_P(PassesMatchReference, EveryPass) {
     double motion_err = 0;
     for (size_t i = 0; i < n; ++i) {
         key_diff += sp.keys[i] != pre->keys[i];
-        for (int k = 0; k < 4; ++k) motion_err = std::max(motion_err, max_rel(sp.motion[i][k], pre->motion[4 * i + size_t(k)]));
+        for (int k = 0; k < 4; ++k)
+            motion_err = std::max(motion_err, max_rel(sp.motion[i][k], pre->motion[4 * i + size_t(k)]));
         occupied += (pre->keys[i] & 0xffffffffull) != 0xffffffffull;
     }
     EXPECT_LE(key_diff, n / 1000) << "splat keys differ on " << key_diff << " of " << n << " pixels";
@@ -145,7 +151,8 @@ TEST_P(PassesMatchReference, EveryPass) {
         gaps += pre->field_state[i] == ref::kFieldGapFilled;
         holes += pre->field_state[i] == ref::kFieldHole;
         if (field.state[i] == pre->field_state[i]) {
-            for (int k = 0; k < 4; ++k) field_err = std::max(field_err, max_rel(field.v[i][k], pre->field[4 * i + size_t(k)]));
+            for (int k = 0; k < 4; ++k)
+                field_err = std::max(field_err, max_rel(field.v[i][k], pre->field[4 * i + size_t(k)]));
             field_err = std::max(field_err, max_rel(field.depth[i], pre->field_depth[i]));
         }
     }
@@ -174,7 +181,8 @@ TEST_P(PassesMatchReference, EveryPass) {
     size_t disocc_diff = 0;
     for (size_t i = 0; i < n; ++i) {
         disocc_diff += gpu_field.state[i] != post->field_state[i];
-        for (int k = 0; k < 4; ++k) disocc_err = std::max(disocc_err, max_rel(gpu_field.v[i][k], post->field[4 * i + size_t(k)]));
+        for (int k = 0; k < 4; ++k)
+            disocc_err = std::max(disocc_err, max_rel(gpu_field.v[i][k], post->field[4 * i + size_t(k)]));
     }
     EXPECT_EQ(disocc_diff, 0u) << "disocc states";
     EXPECT_LT(disocc_err, 1e-4) << "disocc vectors";
@@ -189,8 +197,11 @@ TEST_P(PassesMatchReference, EveryPass) {
     size_t depth_diff = 0;
     for (size_t i = 0; i < n; ++i) {
         for (int k = 0; k < 4; ++k) {
-            warp_err = std::max(warp_err, max_rel(warped.color[n + i][k], post->warped_color1[4 * i + size_t(k)]));
-            if (!c.extrapolate) warp_err = std::max(warp_err, max_rel(warped.color[i][k], post->warped_color0[4 * i + size_t(k)]));
+            warp_err =
+                std::max(warp_err, max_rel(warped.color[n + i][k], post->warped_color1[4 * i + size_t(k)]));
+            if (!c.extrapolate)
+                warp_err =
+                    std::max(warp_err, max_rel(warped.color[i][k], post->warped_color0[4 * i + size_t(k)]));
         }
         depth_diff += warped.depth[n + i] != post->warped_depth1[i];
         if (!c.extrapolate) depth_diff += warped.depth[i] != post->warped_depth0[i];
@@ -210,12 +221,15 @@ TEST_P(PassesMatchReference, EveryPass) {
         double blend_err = 0;
         for (size_t i = 0; i < n; ++i)
             for (int k = 0; k < 4; ++k)
-                blend_err = std::max(blend_err, max_rel(blended[i][k], (*out)[0].color.rgba[4 * i + size_t(k)]));
+                blend_err =
+                    std::max(blend_err, max_rel(blended[i][k], (*out)[0].color.rgba[4 * i + size_t(k)]));
         EXPECT_LT(blend_err, 1e-4) << "blend";
     } else {
         double out_err = 0;
         for (size_t i = 0; i < n; ++i)
-            for (int k = 0; k < 4; ++k) out_err = std::max(out_err, max_rel(warped.color[n + i][k], (*out)[0].color.rgba[4 * i + size_t(k)]));
+            for (int k = 0; k < 4; ++k)
+                out_err = std::max(out_err,
+                                   max_rel(warped.color[n + i][k], (*out)[0].color.rgba[4 * i + size_t(k)]));
         EXPECT_LT(out_err, 1e-4) << "extrapolated output";
     }
 
@@ -242,19 +256,24 @@ TEST_P(PassesMatchReference, EveryPass) {
     expect_no_validation_errors();
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Random, PassesMatchReference,
-    testing::Values(PassCase{64, 48, false, MotionModel::quadratic, 0.5f, 6.f, ColorFormat::rgba32f_linear, MvFormat::rg32f},
-                    PassCase{64, 48, false, MotionModel::linear, 0.25f, 6.f, ColorFormat::rgba16f_linear, MvFormat::rg16f},
-                    PassCase{61, 37, true, MotionModel::quadratic, 0.5f, 8.f, ColorFormat::rgba8_srgb, MvFormat::rg32f},
-                    PassCase{61, 37, true, MotionModel::linear, 1.0f, 8.f, ColorFormat::rgba32f_linear, MvFormat::rg16f},
-                    PassCase{200, 120, false, MotionModel::quadratic, 0.8f, 30.f, ColorFormat::rgba8_srgb, MvFormat::rg16f},
-                    PassCase{1, 1, false, MotionModel::quadratic, 0.5f, 2.f, ColorFormat::rgba32f_linear, MvFormat::rg32f},
-                    PassCase{240, 135, false, MotionModel::quadratic, 0.5f, 10.f, ColorFormat::rgba16f_linear,
-                             MvFormat::rg32f, true},
-                    PassCase{240, 135, true, MotionModel::quadratic, 0.7f, 20.f, ColorFormat::rgba8_srgb, MvFormat::rg16f,
-                             true}),
-    case_name);
+INSTANTIATE_TEST_SUITE_P(Random, PassesMatchReference,
+                         testing::Values(PassCase{64, 48, false, MotionModel::quadratic, 0.5f, 6.f,
+                                                  ColorFormat::rgba32f_linear, MvFormat::rg32f},
+                                         PassCase{64, 48, false, MotionModel::linear, 0.25f, 6.f,
+                                                  ColorFormat::rgba16f_linear, MvFormat::rg16f},
+                                         PassCase{61, 37, true, MotionModel::quadratic, 0.5f, 8.f,
+                                                  ColorFormat::rgba8_srgb, MvFormat::rg32f},
+                                         PassCase{61, 37, true, MotionModel::linear, 1.0f, 8.f,
+                                                  ColorFormat::rgba32f_linear, MvFormat::rg16f},
+                                         PassCase{200, 120, false, MotionModel::quadratic, 0.8f, 30.f,
+                                                  ColorFormat::rgba8_srgb, MvFormat::rg16f},
+                                         PassCase{1, 1, false, MotionModel::quadratic, 0.5f, 2.f,
+                                                  ColorFormat::rgba32f_linear, MvFormat::rg32f},
+                                         PassCase{240, 135, false, MotionModel::quadratic, 0.5f, 10.f,
+                                                  ColorFormat::rgba16f_linear, MvFormat::rg32f, true},
+                                         PassCase{240, 135, true, MotionModel::quadratic, 0.7f, 20.f,
+                                                  ColorFormat::rgba8_srgb, MvFormat::rg16f, true}),
+                         case_name);
 
 } // namespace
 } // namespace fgsr::test

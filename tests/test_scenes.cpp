@@ -22,7 +22,8 @@ struct Generated {
     std::vector<double> times; // scene time of each generated frame
 };
 
-Generated generate(const SyntheticScene& scene, MotionModel motion, bool extrapolate, float alpha, int count) {
+Generated generate(const SyntheticScene& scene, MotionModel motion, bool extrapolate, float alpha,
+                   int count) {
     const SceneOptions& o = scene.options();
     Params p;
     p.motion = motion;
@@ -31,10 +32,11 @@ Generated generate(const SyntheticScene& scene, MotionModel motion, bool extrapo
     Generated g;
     for (int t = 0; t < count; ++t) {
         auto smp = scene.render(t, t - 1);
-        RawFrame raw = make_raw(std::vector<glm::vec4>(reinterpret_cast<const glm::vec4*>(smp.color.rgba.data()),
-                                                       reinterpret_cast<const glm::vec4*>(smp.color.rgba.data()) +
-                                                           smp.color.rgba.size() / 4),
-                                smp.depth, t == 0 ? std::vector<glm::vec2>{} : smp.mv);
+        RawFrame raw =
+            make_raw(std::vector<glm::vec4>(reinterpret_cast<const glm::vec4*>(smp.color.rgba.data()),
+                                            reinterpret_cast<const glm::vec4*>(smp.color.rgba.data()) +
+                                                smp.color.rgba.size() / 4),
+                     smp.depth, t == 0 ? std::vector<glm::vec2>{} : smp.mv);
         EXPECT_TRUE((*s)->submit(raw.view()));
         if (t < 2) continue;
         const float a[] = {alpha};
@@ -48,7 +50,8 @@ Generated generate(const SyntheticScene& scene, MotionModel motion, bool extrapo
 
 double mean_psnr(const SyntheticScene& scene, const Generated& g) {
     double sum = 0;
-    for (size_t i = 0; i < g.frames.size(); ++i) sum += *capture::psnr(g.frames[i], scene.render_color(g.times[i]));
+    for (size_t i = 0; i < g.frames.size(); ++i)
+        sum += *capture::psnr(g.frames[i], scene.render_color(g.times[i]));
     return sum / double(g.frames.size());
 }
 
@@ -76,8 +79,10 @@ TEST(Scenes, QuadraticBeatsLinearOnAcceleratedMotion) {
     for (bool extrap : {false, true}) {
         double q = mean_psnr(accel, generate(accel, MotionModel::quadratic, extrap, 0.5f, 7));
         double l = mean_psnr(accel, generate(accel, MotionModel::linear, extrap, 0.5f, 7));
-        std::printf("[ measured ] %s: quadratic %.2f dB, linear %.2f dB\n", extrap ? "extrapolation" : "interpolation", q, l);
-        EXPECT_GT(q, l + 0.3) << (extrap ? "extrapolation" : "interpolation") << ": quadratic " << q << " linear " << l;
+        std::printf("[ measured ] %s: quadratic %.2f dB, linear %.2f dB\n",
+                    extrap ? "extrapolation" : "interpolation", q, l);
+        EXPECT_GT(q, l + 0.3) << (extrap ? "extrapolation" : "interpolation") << ": quadratic " << q
+                              << " linear " << l;
     }
     // Control: without acceleration both models predict the same positions.
     SceneOptions o;
@@ -99,16 +104,23 @@ std::vector<uint8_t> visibility_mask(const SyntheticScene& scene, double t, doub
             size_t i = size_t(y) * o.width + x;
             bool uniform = true;
             for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) uniform = uniform && layers[size_t(int(i) + dy * int(o.width) + dx)] == layers[i];
+                for (int dx = -1; dx <= 1; ++dx)
+                    uniform = uniform && layers[size_t(int(i) + dy * int(o.width) + dx)] == layers[i];
             if (!uniform) continue;
             size_t l = layers[i];
-            glm::dvec2 p = glm::dvec2(x + 0.5, y + 0.5) + scene.layer_position(l, other) - scene.layer_position(l, t);
+            glm::dvec2 p =
+                glm::dvec2(x + 0.5, y + 0.5) + scene.layer_position(l, other) - scene.layer_position(l, t);
             bool inside = p.x >= 1 && p.y >= 1 && p.x < o.width - 1 && p.y < o.height - 1;
             bool visible = inside && scene.visible_layer(p.x, p.y, other) == l;
             bool hidden = inside && !visible;
             // Require a clear answer one pixel around the point too.
             for (int k = 0; k < 4 && inside; ++k) {
-                glm::dvec2 q = p + glm::dvec2(k == 0 ? 1.5 : k == 1 ? -1.5 : 0, k == 2 ? 1.5 : k == 3 ? -1.5 : 0);
+                glm::dvec2 q = p + glm::dvec2(k == 0   ? 1.5
+                                              : k == 1 ? -1.5
+                                                       : 0,
+                                              k == 2   ? 1.5
+                                              : k == 3 ? -1.5
+                                                       : 0);
                 bool v = scene.visible_layer(q.x, q.y, other) == l;
                 visible = visible && v;
                 hidden = hidden && !v;
@@ -141,7 +153,8 @@ TEST(Scenes, DisoccludedRegionsComeFromTheFrameThatSeesThem) {
         for (size_t i = 0; i < revealed.size(); ++i) {
             auto err = [&](const ImageRGBA& a) {
                 double e = 0;
-                for (int k = 0; k < 3; ++k) e += std::abs(a.rgba[4 * i + size_t(k)] - gt.rgba[4 * i + size_t(k)]);
+                for (int k = 0; k < 3; ++k)
+                    e += std::abs(a.rgba[4 * i + size_t(k)] - gt.rgba[4 * i + size_t(k)]);
                 return e / 3;
             };
             if (revealed[i]) {
@@ -162,10 +175,12 @@ TEST(Scenes, DisoccludedRegionsComeFromTheFrameThatSeesThem) {
     covered_err /= double(covered_px);
     revealed_wrong /= double(revealed_px);
     covered_wrong /= double(covered_px);
-    std::printf("[ measured ] revealed %zu px: error %.4f (wrong frame %.4f); covered %zu px: error %.4f (wrong frame %.4f)\n",
+    std::printf("[ measured ] revealed %zu px: error %.4f (wrong frame %.4f); covered %zu px: error %.4f "
+                "(wrong frame %.4f)\n",
                 revealed_px, revealed_err, revealed_wrong, covered_px, covered_err, covered_wrong);
     // The output must be far closer to the truth than the occluder a wrong pick would show.
-    EXPECT_LT(revealed_err, 0.25 * revealed_wrong) << "revealed: " << revealed_err << " vs " << revealed_wrong;
+    EXPECT_LT(revealed_err, 0.25 * revealed_wrong)
+        << "revealed: " << revealed_err << " vs " << revealed_wrong;
     EXPECT_LT(covered_err, 0.25 * covered_wrong) << "covered: " << covered_err << " vs " << covered_wrong;
     EXPECT_LT(revealed_err, 0.03);
     EXPECT_LT(covered_err, 0.03);
@@ -205,15 +220,18 @@ TEST(Scenes, ForegroundWinsAtOverlaps) {
                     if (scene.visible_layer(p1.x, p1.y, newest) != front) continue;
                     glm::vec3 want = scene.layer_color(front, x + 0.5, y + 0.5, t);
                     glm::vec3 hidden = scene.layer_color(behind, x + 0.5, y + 0.5, t);
-                    glm::vec3 got(g.frames[f].rgba[4 * i], g.frames[f].rgba[4 * i + 1], g.frames[f].rgba[4 * i + 2]);
+                    glm::vec3 got(g.frames[f].rgba[4 * i], g.frames[f].rgba[4 * i + 1],
+                                  g.frames[f].rgba[4 * i + 2]);
                     if (glm::length(want - hidden) < 0.1f) continue; // indistinguishable here
                     ++n;
                     right += glm::length(got - want) < glm::length(got - hidden);
                 }
         }
         ASSERT_GT(n, 500u) << "the scene must have overlaps";
-        std::printf("[ measured ] %s: foreground at %zu of %zu overlap pixels\n", extrap ? "extrapolation" : "interpolation", right, n);
-        EXPECT_GT(double(right) / double(n), 0.98) << (extrap ? "extrapolation" : "interpolation") << ": " << right << "/" << n;
+        std::printf("[ measured ] %s: foreground at %zu of %zu overlap pixels\n",
+                    extrap ? "extrapolation" : "interpolation", right, n);
+        EXPECT_GT(double(right) / double(n), 0.98)
+            << (extrap ? "extrapolation" : "interpolation") << ": " << right << "/" << n;
     }
 }
 

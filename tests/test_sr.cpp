@@ -26,7 +26,9 @@ float halton(uint32_t i, uint32_t base) {
     return r;
 }
 
-float v_jitter(uint32_t k) { return 0.1f * float(k); }
+float v_jitter(uint32_t k) {
+    return 0.1f * float(k);
+}
 
 glm::vec2 halton_jitter(uint32_t frame) {
     return glm::vec2(halton(frame % 16 + 1, 2) - 0.5f, halton(frame % 16 + 1, 3) - 0.5f);
@@ -34,7 +36,8 @@ glm::vec2 halton_jitter(uint32_t frame) {
 
 // The scene at time t seen by a w x h camera whose pixels each take one sample at centre + jitter
 // (in pixels of that camera); vectors towards t_prev for the same surface points.
-RawFrame point_sampled(const SyntheticScene& scene, uint32_t w, uint32_t h, double t, double t_prev, glm::vec2 jitter) {
+RawFrame point_sampled(const SyntheticScene& scene, uint32_t w, uint32_t h, double t, double t_prev,
+                       glm::vec2 jitter) {
     const SceneOptions& o = scene.options();
     const double sx = double(o.width) / w, sy = double(o.height) / h;
     std::vector<glm::vec4> c(size_t(w) * h);
@@ -104,8 +107,9 @@ TEST(Sr, StaticJitteredContentConverges) {
     SrRun r = run_sr(scene, 160, 90, 2.f, 16, static_params(), false);
     double late = 0;
     for (size_t k = 8; k < 16; ++k) late += r.psnr[k] / 8;
-    std::printf("[ measured ] static 2x: first frame (spatial upsample) %.2f dB, mean of frames 9-16 %.2f dB\n",
-                r.psnr.front(), late);
+    std::printf(
+        "[ measured ] static 2x: first frame (spatial upsample) %.2f dB, mean of frames 9-16 %.2f dB\n",
+        r.psnr.front(), late);
     EXPECT_GT(late, r.psnr.front() + 1.0) << "accumulating jittered samples must beat the spatial upsample";
     for (size_t k = 1; k < 16; ++k) EXPECT_GT(r.psnr[k], r.psnr.front() - 0.5) << "frame " << k;
 }
@@ -128,13 +132,14 @@ TEST(Sr, EveryScaleFactorRuns) {
     SyntheticScene scene(hr_options(240, 160, 0.f));
     for (float scale : {1.5f, 2.f, 3.f, 4.f}) {
         const uint32_t lr_w = uint32_t(std::lround(240 / scale)), lr_h = uint32_t(std::lround(160 / scale));
-        SyntheticScene hr(hr_options(uint32_t(std::lround(lr_w * scale)), uint32_t(std::lround(lr_h * scale)), 0.f));
+        SyntheticScene hr(
+            hr_options(uint32_t(std::lround(lr_w * scale)), uint32_t(std::lround(lr_h * scale)), 0.f));
         SrRun r = run_sr(hr, lr_w, lr_h, scale, 6, static_params(), false);
         ASSERT_EQ(r.frames.back().width, uint32_t(std::lround(lr_w * scale))) << scale;
         ASSERT_EQ(r.frames.back().height, uint32_t(std::lround(lr_h * scale))) << scale;
         for (float v : r.frames.back().rgba) ASSERT_TRUE(std::isfinite(v));
-        std::printf("[ measured ] scale %.1f (%ux%u): frame 1 %.2f dB, frame 6 %.2f dB\n", double(scale), lr_w, lr_h,
-                    r.psnr.front(), r.psnr.back());
+        std::printf("[ measured ] scale %.1f (%ux%u): frame 1 %.2f dB, frame 6 %.2f dB\n", double(scale),
+                    lr_w, lr_h, r.psnr.front(), r.psnr.back());
         EXPECT_GT(r.psnr.back(), 22.0) << "scale " << scale;
         EXPECT_GT(r.psnr.back(), r.psnr.front() - 0.5) << "scale " << scale;
     }
@@ -195,7 +200,8 @@ TEST(Sr, DisocclusionRejectsHistory) {
         p_with += with.psnr[k] / 4;
         p_without += without.psnr[k] / 4;
     }
-    std::printf("[ measured ] moving scene, frames 5-8: with depth rejection %.2f dB, without %.2f dB\n", p_with, p_without);
+    std::printf("[ measured ] moving scene, frames 5-8: with depth rejection %.2f dB, without %.2f dB\n",
+                p_with, p_without);
     EXPECT_GT(p_with, p_without + 0.1);
 }
 
@@ -228,7 +234,8 @@ TEST(Sr, PassMatchesReference) {
             const ref::InternalFrame cur = to_internal(*g1, w, h);
             std::vector<glm::vec4> hist(size_t(4 * w * h));
             std::memcpy(hist.data(), history->color.rgba.data(), hist.size() * 16);
-            const ref::SrParams sp = ref::sr_params(internal_format(w, h), p, 2 * w, 2 * h, v1.jitter_x, v1.jitter_y, true);
+            const ref::SrParams sp =
+                ref::sr_params(internal_format(w, h), p, 2 * w, 2 * h, v1.jitter_x, v1.jitter_y, true);
             const Lut lut = default_lut(2.f);
             auto expect = ref::super_resolve(cur, g0->depth, hist, sp, lut.weights);
             double err = 0;
@@ -301,8 +308,10 @@ TEST(Sr, JointModesBeatUpscaledFrameGeneration) {
             ImageRGBA up{320, 180, std::vector<float>(size_t(320) * 180 * 4)};
             for (uint32_t y = 0; y < 180; ++y)
                 for (uint32_t x = 0; x < 320; ++x) {
-                    glm::vec4 c = ref::resample_at(lr, 160, 90, glm::vec2((x + 0.5f) / 2, (y + 0.5f) / 2), Resample::catmull_rom);
-                    for (int ch = 0; ch < 4; ++ch) up.rgba[(size_t(y) * 320 + x) * 4 + size_t(ch)] = std::max(c[ch], 0.f);
+                    glm::vec4 c = ref::resample_at(lr, 160, 90, glm::vec2((x + 0.5f) / 2, (y + 0.5f) / 2),
+                                                   Resample::catmull_rom);
+                    for (int ch = 0; ch < 4; ++ch)
+                        up.rgba[(size_t(y) * 320 + x) * 4 + size_t(ch)] = std::max(c[ch], 0.f);
                 }
             psnr_joint += *capture::psnr((*hi)[0].color, truth);
             psnr_low += *capture::psnr(up, truth);
@@ -310,8 +319,8 @@ TEST(Sr, JointModesBeatUpscaledFrameGeneration) {
         }
         psnr_joint /= count;
         psnr_low /= count;
-        std::printf("[ measured ] %s: joint %.2f dB, frame generation + bicubic %.2f dB\n", extrap ? "ESR" : "ISR", psnr_joint,
-                    psnr_low);
+        std::printf("[ measured ] %s: joint %.2f dB, frame generation + bicubic %.2f dB\n",
+                    extrap ? "ESR" : "ISR", psnr_joint, psnr_low);
         EXPECT_GT(psnr_joint, psnr_low + 0.2) << (extrap ? "ESR" : "ISR");
     }
     expect_no_validation_errors();
@@ -351,10 +360,12 @@ TEST(Sr, JointPassMatchesReference) {
         const FrameFormat fmt = internal_format(w, h);
         const ref::GenParams g = ref::gen_params(fmt, p, 0.5f, extrap, true, true);
         const ref::SrParams sr = ref::sr_params(fmt, p, 2 * w, 2 * h, v_jitter(2), 0.f, true);
-        auto expect = ref::generate_sr(to_internal(*g0, w, h), to_internal(*g1, w, h), sp, src, g, sr, default_lut(2.f).weights);
+        auto expect = ref::generate_sr(to_internal(*g0, w, h), to_internal(*g1, w, h), sp, src, g, sr,
+                                       default_lut(2.f).weights);
         double err = 0;
         for (size_t i = 0; i < expect.size(); ++i)
-            for (int c = 0; c < 4; ++c) err = std::max(err, double(std::abs(expect[i][c] - (*out)[0].color.rgba[4 * i + size_t(c)])));
+            for (int c = 0; c < 4; ++c)
+                err = std::max(err, double(std::abs(expect[i][c] - (*out)[0].color.rgba[4 * i + size_t(c)])));
         EXPECT_LT(err, 1e-4);
     }
 }

@@ -153,7 +153,8 @@ TEST(Synthetic, SceneHasThinBarsExitsAndEntries) {
     EXPECT_TRUE(enters);
     EXPECT_TRUE(leaves);
     std::sort(depths.begin(), depths.end());
-    EXPECT_TRUE(std::adjacent_find(depths.begin(), depths.end()) == depths.end()) << "depths must be distinct";
+    EXPECT_TRUE(std::adjacent_find(depths.begin(), depths.end()) == depths.end())
+        << "depths must be distinct";
     EXPECT_EQ(s.layer_shape(0), LayerShape::plane);
     EXPECT_EQ(depths.back(), s.layer_depth(0)); // the background is the farthest
 }

@@ -32,7 +32,9 @@ SearchDim dim_of(const std::string& name) {
 }
 
 // Values are evaluated, reported and written with 4 significant digits.
-double round4(double v) { return std::stod(fmt::format("{:.4g}", v)); }
+double round4(double v) {
+    return std::stod(fmt::format("{:.4g}", v));
+}
 
 std::string literal(double v) {
     std::string s = fmt::format("{:.4g}", v);
@@ -49,10 +51,14 @@ float& param_ref(Params& p, const std::string& name) {
 
 const char* mode_name(EvalMode m) {
     switch (m) {
-    case EvalMode::interp: return "interp";
-    case EvalMode::extrap: return "extrap";
-    case EvalMode::sr: return "sr";
-    default: return "?";
+    case EvalMode::interp:
+        return "interp";
+    case EvalMode::extrap:
+        return "extrap";
+    case EvalMode::sr:
+        return "sr";
+    default:
+        return "?";
     }
 }
 
@@ -96,7 +102,8 @@ class TempDir {
 };
 
 Result<capture::Capture> load_spec(const std::string& spec, bool lr, size_t max_frames) {
-    if (spec == "builtin") return capture::make_synthetic_capture(capture::SceneOptions{}, 11); // as `fgsr eval`
+    if (spec == "builtin")
+        return capture::make_synthetic_capture(capture::SceneOptions{}, 11); // as `fgsr eval`
     return capture::load(spec, lr, max_frames);
 }
 
@@ -119,20 +126,28 @@ std::string today_utc() {
 
 Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
     const auto t0 = Clock::now();
-    if (o.captures.empty()) return make_error(Errc::invalid_argument, "no capture given (--capture DIR or builtin)");
+    if (o.captures.empty())
+        return make_error(Errc::invalid_argument, "no capture given (--capture DIR or builtin)");
     if (o.max_frames < 0) return make_error(Errc::invalid_argument, "--frames must be >= 0");
     for (const std::string& p : o.fit)
         if (std::find(std::begin(kParamNames), std::end(kParamNames), p) == std::end(kParamNames))
-            return make_error(Errc::invalid_argument, "unknown parameter '" + p + "' (t_depth, t_bright, sr_a, sr_b)");
+            return make_error(Errc::invalid_argument,
+                              "unknown parameter '" + p + "' (t_depth, t_bright, sr_a, sr_b)");
     std::vector<EvalMode> fg_modes;
     bool want_sr = false;
     for (const std::string& m : o.modes) {
-        if (m == "interp") fg_modes.push_back(EvalMode::interp);
-        else if (m == "extrap") fg_modes.push_back(EvalMode::extrap);
-        else if (m == "sr") want_sr = true;
-        else return make_error(Errc::invalid_argument, "unknown mode '" + m + "' (interp, extrap, sr)");
+        if (m == "interp")
+            fg_modes.push_back(EvalMode::interp);
+        else if (m == "extrap")
+            fg_modes.push_back(EvalMode::extrap);
+        else if (m == "sr")
+            want_sr = true;
+        else
+            return make_error(Errc::invalid_argument, "unknown mode '" + m + "' (interp, extrap, sr)");
     }
-    const auto fitting = [&](const char* p) { return std::find(o.fit.begin(), o.fit.end(), p) != o.fit.end(); };
+    const auto fitting = [&](const char* p) {
+        return std::find(o.fit.begin(), o.fit.end(), p) != o.fit.end();
+    };
 
     CalibrateReport rep;
     rep.metric = o.metric == CalMetric::psnr ? "psnr" : "ssim";
@@ -141,7 +156,8 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
     for (const char* n : kParamNames) {
         const SearchDim d = dim_of(n);
         float& v = param_ref(start, n);
-        if (!std::isfinite(v)) return make_error(Errc::invalid_argument, fmt::format("start value of {} is not finite", n));
+        if (!std::isfinite(v))
+            return make_error(Errc::invalid_argument, fmt::format("start value of {} is not finite", n));
         v = float(round4(std::clamp(double(v), d.lo, d.hi)));
         rep.params.push_back({n, double(v), double(v), false, false});
     }
@@ -173,11 +189,14 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
             if (!c) return c.error();
             std::string why;
             if (jittered(*c)) {
-                why = "jittered inputs (a super-resolution capture): no aligned frame-generation ground truth";
+                why =
+                    "jittered inputs (a super-resolution capture): no aligned frame-generation ground truth";
             } else if (c->ground_truth_kind == capture::GroundTruth::consecutive) {
                 auto h = capture::make_half_rate(*c);
-                if (!h) why = "half-rate conversion failed: " + h.error().message;
-                else *c = std::move(*h);
+                if (!h)
+                    why = "half-rate conversion failed: " + h.error().message;
+                else
+                    *c = std::move(*h);
             }
             if (why.empty()) {
                 if (n) {
@@ -197,8 +216,10 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
             log("loading " + spec + " (super resolution)");
             auto c = load_spec(spec, true, n ? n : capture::kAllFrames);
             if (!c) return c.error();
-            if (c->hr_reference.empty()) skip(name, "sr", "no high-resolution reference");
-            else sr.push_back({name, std::move(*c)});
+            if (c->hr_reference.empty())
+                skip(name, "sr", "no high-resolution reference");
+            else
+                sr.push_back({name, std::move(*c)});
         }
     }
 
@@ -238,14 +259,16 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
     };
     auto describe = [&](const Params& p, const std::vector<std::string>& which) {
         std::string s;
-        for (const std::string& w : which) s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", w, param_ref(const_cast<Params&>(p), w));
+        for (const std::string& w : which)
+            s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", w, param_ref(const_cast<Params&>(p), w));
         return s;
     };
-    auto report_point = [&](const char* stage, const Params& p, const std::vector<std::string>& which, const Scores& s) {
+    auto report_point = [&](const char* stage, const Params& p, const std::vector<std::string>& which,
+                            const Scores& s) {
         std::string detail;
         for (const auto& [k, v] : s) detail += fmt::format("{}{} {:.4f}", detail.empty() ? "" : ", ", k, v);
-        log(fmt::format("{} #{} {}: {} {:.4f} ({}) [{:.0f} s]", stage, rep.evaluations, describe(p, which), rep.metric,
-                        mean(s), detail, seconds()));
+        log(fmt::format("{} #{} {}: {} {:.4f} ({}) [{:.0f} s]", stage, rep.evaluations, describe(p, which),
+                        rep.metric, mean(s), detail, seconds()));
     };
 
     // Start point: scores every case once; a case that fails is skipped for that mode.
@@ -284,7 +307,8 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
 
     // One search stage over `which` (a subset of the parameters) scored on `score`.
     Params current = start;
-    auto stage = [&](const char* label, const std::vector<std::string>& which, const std::function<Result<Scores>(const Params&)>& score,
+    auto stage = [&](const char* label, const std::vector<std::string>& which,
+                     const std::function<Result<Scores>(const Params&)>& score,
                      const Scores& known_at_current) -> Scores {
         std::map<std::vector<double>, Scores> seen;
         std::vector<SearchDim> dims;
@@ -316,8 +340,10 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
             return mean(it->second);
         };
         if (dims.empty()) return known_at_current;
-        log(fmt::format("{}: fitting {} on {}", label, fmt::format("{}", fmt::join(which, ", ")), rep.metric));
-        SearchResult r = maximise_coordinates(f, dims, x0, o.search, [](size_t, double v) { return round4(v); });
+        log(fmt::format("{}: fitting {} on {}", label, fmt::format("{}", fmt::join(which, ", ")),
+                        rep.metric));
+        SearchResult r =
+            maximise_coordinates(f, dims, x0, o.search, [](size_t, double v) { return round4(v); });
         if (failure) return {};
         current = at(r.x);
         for (size_t i = 0; i < which.size(); ++i)
@@ -326,7 +352,9 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
                     cp.fitted = r.x[i];
                     cp.searched = true;
                     cp.flat = r.flat[i];
-                    if (cp.flat) log(cp.name + ": no value changed the metric; kept " + fmt::format("{:.4g}", cp.start));
+                    if (cp.flat)
+                        log(cp.name + ": no value changed the metric; kept " +
+                            fmt::format("{:.4g}", cp.start));
                 }
         return seen[r.x];
     };
@@ -417,45 +445,59 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
         }
         std::error_code ec;
         std::filesystem::rename(tmp_path, *o.write_defaults, ec);
-        if (ec) return make_error(Errc::io, "cannot write " + o.write_defaults->string() + ": " + ec.message());
+        if (ec)
+            return make_error(Errc::io, "cannot write " + o.write_defaults->string() + ": " + ec.message());
         rep.written = *o.write_defaults;
     }
     return rep;
 }
 
-Result<std::string> defaults_header(const CalibrateOptions& o, const CalibrateReport& r, const std::string& existing_text) {
+Result<std::string> defaults_header(const CalibrateOptions& o, const CalibrateReport& r,
+                                    const std::string& existing_text) {
     std::string existing = existing_text;
     if (existing.empty())
-        existing = "// Default algorithm parameters. `fgsr calibrate --write-defaults` rewrites this file with the\n"
-                   "// values it fits on captures (and records how in the comment below); otherwise they are the\n"
-                   "// paper's (Mob-FGSR section 4) or were chosen by hand as noted.\n"
-                   "#pragma once\n"
-                   "\n"
-                   "namespace fgsr::defaults {\n"
-                   "\n"
-                   "inline constexpr float t_depth = " + literal(r.params[0].start) + ";\n"
-                   "inline constexpr float t_bright = " + literal(r.params[1].start) + ";\n"
-                   "inline constexpr float sr_a = " + literal(r.params[2].start) + ";\n"
-                   "inline constexpr float sr_b = " + literal(r.params[3].start) + ";\n"
-                   "\n"
-                   "} // namespace fgsr::defaults\n";
+        existing =
+            "// Default algorithm parameters. `fgsr calibrate --write-defaults` rewrites this file with the\n"
+            "// values it fits on captures (and records how in the comment below); otherwise they are the\n"
+            "// paper's (Mob-FGSR section 4) or were chosen by hand as noted.\n"
+            "#pragma once\n"
+            "\n"
+            "namespace fgsr::defaults {\n"
+            "\n"
+            "inline constexpr float t_depth = " +
+            literal(r.params[0].start) +
+            ";\n"
+            "inline constexpr float t_bright = " +
+            literal(r.params[1].start) +
+            ";\n"
+            "inline constexpr float sr_a = " +
+            literal(r.params[2].start) +
+            ";\n"
+            "inline constexpr float sr_b = " +
+            literal(r.params[3].start) +
+            ";\n"
+            "\n"
+            "} // namespace fgsr::defaults\n";
 
     // The calibration record.
     std::vector<std::string> block;
-    block.push_back("// Calibration (" + today_utc() + "): " + (o.command_line.empty() ? "fgsr calibrate" : o.command_line));
+    block.push_back("// Calibration (" + today_utc() +
+                    "): " + (o.command_line.empty() ? "fgsr calibrate" : o.command_line));
     if (r.blend_select) block.push_back("//   frame generation scored with blend mode 'select'");
     {
         std::string caps;
         for (const CalMode& m : r.modes)
             caps += fmt::format("{}{} {}", caps.empty() ? "" : "; ", m.mode, fmt::join(m.captures, ", "));
-        block.push_back("//   captures: " + (caps.empty() ? std::string("none") : caps) +
-                        (o.max_frames ? fmt::format(" (at most {} frames each)", o.max_frames) : std::string()));
+        block.push_back(
+            "//   captures: " + (caps.empty() ? std::string("none") : caps) +
+            (o.max_frames ? fmt::format(" (at most {} frames each)", o.max_frames) : std::string()));
     }
     {
         std::string ms;
         for (const CalMode& m : r.modes)
             ms += fmt::format("{}{} {:.4f} -> {:.4f}", ms.empty() ? "" : ", ", m.mode, m.before, m.after);
-        block.push_back("//   mean " + r.metric + " of the fgsr method (start -> fitted): " + (ms.empty() ? "none" : ms));
+        block.push_back("//   mean " + r.metric +
+                        " of the fgsr method (start -> fitted): " + (ms.empty() ? "none" : ms));
     }
     {
         std::string ps;
@@ -482,14 +524,18 @@ Result<std::string> defaults_header(const CalibrateOptions& o, const CalibrateRe
             lines.erase(lines.begin() + long(i), lines.begin() + long(e));
             break;
         }
-    auto pragma = std::find_if(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("#pragma once", 0) == 0; });
-    if (pragma == lines.end()) return make_error(Errc::invalid_argument, "defaults header has no '#pragma once'");
+    auto pragma = std::find_if(lines.begin(), lines.end(),
+                               [](const std::string& l) { return l.rfind("#pragma once", 0) == 0; });
+    if (pragma == lines.end())
+        return make_error(Errc::invalid_argument, "defaults header has no '#pragma once'");
     lines.insert(pragma, block.begin(), block.end());
 
     for (const CalParam& p : r.params) {
         const std::string key = "inline constexpr float " + p.name + " ";
-        auto it = std::find_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(key) != std::string::npos; });
-        if (it == lines.end()) return make_error(Errc::invalid_argument, "defaults header lacks the constant " + p.name);
+        auto it = std::find_if(lines.begin(), lines.end(),
+                               [&](const std::string& l) { return l.find(key) != std::string::npos; });
+        if (it == lines.end())
+            return make_error(Errc::invalid_argument, "defaults header lacks the constant " + p.name);
         if (!p.searched || p.flat) continue;
         const size_t indent = it->find(key);
         *it = it->substr(0, indent) + key + "= " + literal(p.fitted) + "; // calibrated (see above)";
@@ -504,15 +550,18 @@ std::string calibrate_table(const CalibrateReport& r) {
     for (const CalParam& p : r.params)
         s += fmt::format("{:<10} {:>10.4g} {:>10.4g}{}\n", p.name, p.start, p.fitted,
                          !p.searched ? "   (not fitted)"
-                         : !p.flat ? ""
-                         : p.name == "t_bright" && !r.blend_select ? "   (no effect on the metric: T_B acts only with --blend select)"
-                                                                   : "   (no effect on the metric)");
-    s += fmt::format("\n{:<8} {:>10} {:>10}  {}\n", "mode", r.metric + " start", r.metric + " fit", "captures (start -> fitted)");
+                         : !p.flat   ? ""
+                         : p.name == "t_bright" && !r.blend_select
+                             ? "   (no effect on the metric: T_B acts only with --blend select)"
+                             : "   (no effect on the metric)");
+    s += fmt::format("\n{:<8} {:>10} {:>10}  {}\n", "mode", r.metric + " start", r.metric + " fit",
+                     "captures (start -> fitted)");
     const char* f = r.metric == "psnr" ? "{:.3f}" : "{:.4f}";
     for (const CalMode& m : r.modes) {
         std::string caps;
         for (const std::string& c : m.captures)
-            caps += fmt::format("{}{} {} -> {}", caps.empty() ? "" : ", ", c, fmt::format(fmt::runtime(f), m.before_by_capture.at(c)),
+            caps += fmt::format("{}{} {} -> {}", caps.empty() ? "" : ", ", c,
+                                fmt::format(fmt::runtime(f), m.before_by_capture.at(c)),
                                 fmt::format(fmt::runtime(f), m.after_by_capture.at(c)));
         s += fmt::format("{:<8} {:>10} {:>10}  {}\n", m.mode, fmt::format(fmt::runtime(f), m.before),
                          fmt::format(fmt::runtime(f), m.after), caps);
@@ -529,11 +578,15 @@ std::string calibrate_json(const CalibrateReport& r) {
     j["metric"] = r.metric;
     j["blend"] = r.blend_select ? "select" : "mix";
     for (const CalParam& p : r.params)
-        j["params"][p.name] = {{"start", p.start}, {"fitted", p.fitted}, {"searched", p.searched}, {"flat", p.flat}};
+        j["params"][p.name] = {
+            {"start", p.start}, {"fitted", p.fitted}, {"searched", p.searched}, {"flat", p.flat}};
     j["modes"] = nlohmann::json::object();
     for (const CalMode& m : r.modes)
-        j["modes"][m.mode] = {{"captures", m.captures}, {"before", m.before}, {"after", m.after},
-                              {"before_by_capture", m.before_by_capture}, {"after_by_capture", m.after_by_capture}};
+        j["modes"][m.mode] = {{"captures", m.captures},
+                              {"before", m.before},
+                              {"after", m.after},
+                              {"before_by_capture", m.before_by_capture},
+                              {"after_by_capture", m.after_by_capture}};
     j["skipped"] = r.skipped;
     j["evaluations"] = r.evaluations;
     j["seconds"] = r.seconds;
@@ -543,33 +596,41 @@ std::string calibrate_json(const CalibrateReport& r) {
 
 CLI::App* add_calibrate_command(CLI::App& app, CalibrateCli& c) {
     CalibrateOptions& o = c.options;
-    auto* cmd = app.add_subcommand("calibrate", "Fit T_D, T_B (frame generation) and a, b (super resolution) on captures "
-                                                "by searching on the evaluation metric");
-    cmd->add_option("--capture", o.captures,
-                    "Capture directory or 'builtin' (repeatable). Frame generation is scored on captures with "
-                    "unjittered inputs (interp, extrap), super resolution on captures with a high-resolution "
-                    "reference (Mob-FGSR captures: LR_Inputs against HR_Inputs)")
+    auto* cmd = app.add_subcommand("calibrate",
+                                   "Fit T_D, T_B (frame generation) and a, b (super resolution) on captures "
+                                   "by searching on the evaluation metric");
+    cmd->add_option(
+           "--capture", o.captures,
+           "Capture directory or 'builtin' (repeatable). Frame generation is scored on captures with "
+           "unjittered inputs (interp, extrap), super resolution on captures with a high-resolution "
+           "reference (Mob-FGSR captures: LR_Inputs against HR_Inputs)")
         ->required();
     cmd->add_option("--metric", c.metric, "psnr or ssim (mean over frames of the fgsr method)")
         ->check(CLI::IsMember({"psnr", "ssim"}))
         ->capture_default_str();
-    cmd->add_option("--frames", o.max_frames, "At most this many frames per capture and mode (0: all)")->capture_default_str();
-    cmd->add_option("--write-defaults", c.write_defaults,
-                    "Rewrite the defaults header (default path: daemon/engine/include/fgsr/engine/defaults.hpp) with "
-                    "the fitted values")
+    cmd->add_option("--frames", o.max_frames, "At most this many frames per capture and mode (0: all)")
+        ->capture_default_str();
+    cmd->add_option(
+           "--write-defaults", c.write_defaults,
+           "Rewrite the defaults header (default path: daemon/engine/include/fgsr/engine/defaults.hpp) with "
+           "the fitted values")
         ->expected(0, 1);
     cmd->add_option("--device", o.device.device, "Vulkan device index or name substring");
-    cmd->add_option("--fit", c.fit, "Parameters to fit, comma-separated (default: t_depth,t_bright,sr_a,sr_b)");
+    cmd->add_option("--fit", c.fit,
+                    "Parameters to fit, comma-separated (default: t_depth,t_bright,sr_a,sr_b)");
     cmd->add_option("--modes", c.modes, "Modes to score, comma-separated (default: interp,extrap,sr)");
-    cmd->add_option("--blend", c.blend, "Blend mode the frame-generation metric is taken with ('mix', the engine "
-                                        "default, or 'select': paper Eq. 1; T_B acts only with select)")
+    cmd->add_option("--blend", c.blend,
+                    "Blend mode the frame-generation metric is taken with ('mix', the engine "
+                    "default, or 'select': paper Eq. 1; T_B acts only with select)")
         ->check(CLI::IsMember({"mix", "select"}))
         ->capture_default_str();
     cmd->add_option("--t-depth", c.t_depth, "Start value of T_D (default: the current default)");
     cmd->add_option("--t-bright", c.t_bright, "Start value of T_B");
     cmd->add_option("--sr-a", c.sr_a, "Start value of a");
     cmd->add_option("--sr-b", c.sr_b, "Start value of b");
-    cmd->add_option("--rounds", o.search.rounds, "Coordinate-ascent rounds")->capture_default_str()->check(CLI::Range(1, 20));
+    cmd->add_option("--rounds", o.search.rounds, "Coordinate-ascent rounds")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 20));
     cmd->add_option("--grid", o.search.grid, "Grid points per parameter in the first round")
         ->capture_default_str()
         ->check(CLI::Range(2, 100));
@@ -593,8 +654,9 @@ int calibrate_main(CalibrateCli& c, CLI::App* cmd, int argc, char** argv) {
     if (cmd->count("--sr-a")) o.start.sr_a = c.sr_a;
     if (cmd->count("--sr-b")) o.start.sr_b = c.sr_b;
     if (cmd->count("--write-defaults"))
-        o.write_defaults = c.write_defaults.empty() ? std::filesystem::path("daemon/engine/include/fgsr/engine/defaults.hpp")
-                                                    : std::filesystem::path(c.write_defaults);
+        o.write_defaults = c.write_defaults.empty()
+                               ? std::filesystem::path("daemon/engine/include/fgsr/engine/defaults.hpp")
+                               : std::filesystem::path(c.write_defaults);
     o.progress = !c.quiet;
     o.command_line.clear();
     for (int i = 0; i < argc; ++i) o.command_line += (i ? " " : "") + std::string(i ? argv[i] : "fgsr");

@@ -36,9 +36,9 @@ struct SearchDim {
 };
 
 struct SearchOptions {
-    int rounds = 2;        // coordinate-ascent rounds (>= 1)
-    int grid = 9;          // grid points over the full range in round 1 (>= 2); later rounds use 5
-    int golden = 6;        // golden-section iterations after each grid (>= 0)
+    int rounds = 2;         // coordinate-ascent rounds (>= 1)
+    int grid = 9;           // grid points over the full range in round 1 (>= 2); later rounds use 5
+    int golden = 6;         // golden-section iterations after each grid (>= 0)
     double min_gain = 1e-4; // a round that improves less than this ends the search
 };
 
@@ -46,7 +46,7 @@ struct SearchResult {
     std::vector<double> x; // best point (start when nothing scored higher)
     double value = 0;      // f(x)
     double start_value = 0;
-    int evaluations = 0;     // calls of f (distinct points)
+    int evaluations = 0;    // calls of f (distinct points)
     std::vector<bool> flat; // per dimension: every grid value of round 1 scored the same (no effect)
 };
 
@@ -55,12 +55,14 @@ namespace detail {
 inline double to_unit(const SearchDim& d, double x) {
     x = std::clamp(x, d.lo, d.hi);
     if (d.hi <= d.lo) return 0;
-    return d.log ? (std::log(x) - std::log(d.lo)) / (std::log(d.hi) - std::log(d.lo)) : (x - d.lo) / (d.hi - d.lo);
+    return d.log ? (std::log(x) - std::log(d.lo)) / (std::log(d.hi) - std::log(d.lo))
+                 : (x - d.lo) / (d.hi - d.lo);
 }
 
 inline double from_unit(const SearchDim& d, double u) {
     u = std::clamp(u, 0.0, 1.0);
-    return d.log ? std::exp(std::log(d.lo) + u * (std::log(d.hi) - std::log(d.lo))) : d.lo + u * (d.hi - d.lo);
+    return d.log ? std::exp(std::log(d.lo) + u * (std::log(d.hi) - std::log(d.lo)))
+                 : d.lo + u * (d.hi - d.lo);
 }
 
 } // namespace detail
@@ -167,14 +169,14 @@ inline SearchResult maximise_coordinates(const std::function<double(const std::v
 enum class CalMetric { psnr, ssim };
 
 struct CalibrateOptions {
-    std::vector<std::string> captures;                        // directories or "builtin"; empty: toss-fg + orbit-sr
+    std::vector<std::string> captures; // directories or "builtin"; empty: toss-fg + orbit-sr
     CalMetric metric = CalMetric::psnr;
-    int max_frames = 8;                                       // per capture and mode (0: all)
+    int max_frames = 8; // per capture and mode (0: all)
     std::vector<std::string> fit{"t_depth", "t_bright", "sr_a", "sr_b"};
     std::vector<std::string> modes{"interp", "extrap", "sr"};
     Params start; // starting point (the defaults); also the other parameters of every evaluation (blend, ...)
     SearchOptions search;
-    std::optional<std::filesystem::path> write_defaults;      // header to rewrite
+    std::optional<std::filesystem::path> write_defaults; // header to rewrite
     DeviceOptions device;
     bool progress = true;
     std::string command_line; // recorded in the header
@@ -188,17 +190,17 @@ struct CalParam {
 };
 
 struct CalMode {
-    std::string mode;                        // interp, extrap, sr
-    std::vector<std::string> captures;       // report names of the captures scored
-    double before = 0, after = 0;            // mean fgsr metric at the start / fitted parameters
+    std::string mode;                  // interp, extrap, sr
+    std::vector<std::string> captures; // report names of the captures scored
+    double before = 0, after = 0;      // mean fgsr metric at the start / fitted parameters
     std::map<std::string, double> before_by_capture, after_by_capture;
 };
 
 struct CalibrateReport {
     std::string metric;
-    bool blend_select = false;    // frame generation scored with BlendMode::select
-    std::vector<CalParam> params; // t_depth, t_bright, sr_a, sr_b
-    std::vector<CalMode> modes;   // modes with at least one capture
+    bool blend_select = false;        // frame generation scored with BlendMode::select
+    std::vector<CalParam> params;     // t_depth, t_bright, sr_a, sr_b
+    std::vector<CalMode> modes;       // modes with at least one capture
     std::vector<std::string> skipped; // "capture: mode: reason"
     int evaluations = 0;              // parameter points evaluated (each over all captures of a stage)
     double seconds = 0;
@@ -211,7 +213,8 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& options);
 // current header text) with its four constants and calibration comment replaced; when `existing`
 // is empty, a new header of the same structure. Errors: invalid_argument if `existing` lacks one
 // of the four constants.
-Result<std::string> defaults_header(const CalibrateOptions& o, const CalibrateReport& r, const std::string& existing);
+Result<std::string> defaults_header(const CalibrateOptions& o, const CalibrateReport& r,
+                                    const std::string& existing);
 
 std::string calibrate_table(const CalibrateReport& r);
 std::string calibrate_json(const CalibrateReport& r);

@@ -15,7 +15,8 @@ namespace fgsr::cli {
 namespace {
 
 // Engine passes in pipeline order: fused ("generate") or separate.
-constexpr const char* kPassOrder[] = {"sr", "splat", "generate", "generate_sr", "refine", "disocc", "warp", "blend"};
+constexpr const char* kPassOrder[] = {"sr",     "splat",  "generate", "generate_sr",
+                                      "refine", "disocc", "warp",     "blend"};
 
 ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
     ImageRGBA out = a;
@@ -23,7 +24,9 @@ ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
     return out;
 }
 
-bool is_engine_method(const std::string& m) { return m == "fgsr" || m == "linear"; }
+bool is_engine_method(const std::string& m) {
+    return m == "fgsr" || m == "linear";
+}
 
 Result<capture::Capture> load_capture(const EvalOptions& o) {
     if (o.capture == "builtin") {
@@ -60,9 +63,9 @@ void finish_means(EvalReport& report) {
     }
 }
 
-Result<std::map<std::string, std::unique_ptr<Session>>> make_sessions(const EvalOptions& o, const FrameFormat& format,
-                                                                       const SessionParams& params_for,
-                                                                       std::unique_ptr<Engine>& engine, EvalReport& report) {
+Result<std::map<std::string, std::unique_ptr<Session>>>
+make_sessions(const EvalOptions& o, const FrameFormat& format, const SessionParams& params_for,
+              std::unique_ptr<Engine>& engine, EvalReport& report) {
     std::map<std::string, std::unique_ptr<Session>> sessions;
     for (const std::string& m : o.methods) {
         std::optional<Params> p = params_for(m);
@@ -95,32 +98,38 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
     }
     for (const std::string& m : o.methods)
         if (m != "fgsr" && m != "linear" && m != "blend" && m != "repeat")
-            return make_error(Errc::invalid_argument, "unknown method '" + m + "' (methods: fgsr, linear, blend, repeat)");
+            return make_error(Errc::invalid_argument,
+                              "unknown method '" + m + "' (methods: fgsr, linear, blend, repeat)");
     const bool extrap = o.mode == EvalMode::extrap;
     if (!std::isfinite(o.alpha) || o.alpha <= 0.f || o.alpha > 1.f || (!extrap && o.alpha >= 1.f))
-        return make_error(Errc::invalid_argument, fmt::format("alpha {} is outside {}", o.alpha, extrap ? "(0, 1]" : "(0, 1)"));
+        return make_error(Errc::invalid_argument,
+                          fmt::format("alpha {} is outside {}", o.alpha, extrap ? "(0, 1]" : "(0, 1)"));
 
     if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
     auto loaded = load_capture(o);
     if (!loaded) return loaded.error();
     capture::Capture cap = std::move(*loaded);
     if (cap.ground_truth_kind == capture::GroundTruth::consecutive) {
-        if (o.progress) std::fprintf(stderr, "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
+        if (o.progress)
+            std::fprintf(stderr,
+                         "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
         auto half = capture::make_half_rate(cap);
         if (!half) return half.error();
         cap = std::move(*half);
     }
     // Ground truth exists halfway between inputs only.
     if (std::abs(o.alpha - 0.5f) > 1e-6f)
-        return make_error(Errc::invalid_argument, fmt::format("capture '{}' has ground truth only halfway between inputs; "
-                                                              "use --alpha 0.5",
-                                                              cap.name));
+        return make_error(Errc::invalid_argument,
+                          fmt::format("capture '{}' has ground truth only halfway between inputs; "
+                                      "use --alpha 0.5",
+                                      cap.name));
     const size_t inputs = cap.inputs.size();
     // Interpolation: pair (k, k+1) -> gt[k]. Extrapolation: pair (k-1, k) -> gt[k] (k + 0.5).
     std::vector<size_t> targets;
     for (size_t k = extrap ? 1 : 0; k + 1 < inputs && k < cap.ground_truth.size(); ++k) targets.push_back(k);
     if (o.max_frames > 0 && targets.size() > size_t(o.max_frames)) targets.resize(size_t(o.max_frames));
-    if (targets.empty()) return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
+    if (targets.empty())
+        return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
 
     EvalReport rep;
     rep.capture = cap.name;
@@ -169,7 +178,8 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         if (i != newest) continue;
         ++next_target;
         if (o.progress)
-            std::fprintf(stderr, "[eval] %s %s: frame %zu/%zu\n", cap.name.c_str(), rep.mode.c_str(), next_target, targets.size());
+            std::fprintf(stderr, "[eval] %s %s: frame %zu/%zu\n", cap.name.c_str(), rep.mode.c_str(),
+                         next_target, targets.size());
         const ImageRGBA& gt = cap.ground_truth[k];
         const ImageRGBA i1 = capture::decode_color(cap.format, cap.inputs[newest]);
         const ImageRGBA i0 = capture::decode_color(cap.format, cap.inputs[newest - 1]);
@@ -243,16 +253,18 @@ std::string report_json(const EvalReport& r, bool per_frame) {
 }
 
 std::string report_table(const EvalReport& r) {
-    std::string s = fmt::format("capture {} ({}x{}), mode {}, alpha {}, {} frames{}{}\n", r.capture, r.width, r.height, r.mode,
-                                r.alpha, r.frames, r.composed_vectors ? ", composed two-frame vectors" : "",
-                                r.device.empty() ? "" : ", device " + r.device);
+    std::string s =
+        fmt::format("capture {} ({}x{}), mode {}, alpha {}, {} frames{}{}\n", r.capture, r.width, r.height,
+                    r.mode, r.alpha, r.frames, r.composed_vectors ? ", composed two-frame vectors" : "",
+                    r.device.empty() ? "" : ", device " + r.device);
     s += fmt::format("{:<8} {:>9} {:>7} {:>9}   per pass (ms)\n", "method", "PSNR dB", "SSIM", "GPU ms");
     for (const std::string& m : r.method_order) {
         const MethodScore& ms = r.methods.at(m);
         std::string passes;
         for (const char* p : kPassOrder)
             if (ms.pass_ms.count(p)) passes += fmt::format("{} {:.2f}  ", p, ms.pass_ms.at(p));
-        s += fmt::format("{:<8} {:>9.2f} {:>7.4f} {:>9.2f}   {}\n", m, ms.mean_psnr, ms.mean_ssim, ms.mean_ms, passes);
+        s += fmt::format("{:<8} {:>9.2f} {:>7.4f} {:>9.2f}   {}\n", m, ms.mean_psnr, ms.mean_ssim, ms.mean_ms,
+                         passes);
     }
     if (r.ingest_ms > 0) s += fmt::format("ingest: {:.2f} ms per input frame\n", r.ingest_ms);
     return s;

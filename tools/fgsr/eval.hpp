@@ -22,8 +22,8 @@ struct EvalOptions {
     std::vector<std::string> methods{"fgsr", "linear", "blend", "repeat"};
     std::optional<std::filesystem::path> out; // generated frames (EXR + PNG) and metrics.json
     bool json = false;
-    bool prefer_lr = false;      // Mob-FGSR captures: LR_Inputs instead of HR_Inputs
-    int max_frames = 0;          // 0: every frame the capture allows
+    bool prefer_lr = false; // Mob-FGSR captures: LR_Inputs instead of HR_Inputs
+    int max_frames = 0;     // 0: every frame the capture allows
     DeviceOptions device;
     Params params;
     bool progress = true;
@@ -32,8 +32,8 @@ struct EvalOptions {
 struct MethodScore {
     std::vector<double> psnr, ssim; // per generated frame
     double mean_psnr = 0, mean_ssim = 0;
-    double mean_ms = 0;                         // engine GPU milliseconds per generated frame (0 for baselines)
-    std::map<std::string, double> pass_ms;      // mean per pass
+    double mean_ms = 0;                    // engine GPU milliseconds per generated frame (0 for baselines)
+    std::map<std::string, double> pass_ms; // mean per pass
 };
 
 struct EvalReport {
@@ -58,9 +58,9 @@ void add_timing(MethodScore& score, const GeneratedFrame& frame);
 void finish_means(EvalReport& report);
 // One engine session per engine method of `methods` (those `params_for` returns a value for).
 using SessionParams = std::function<std::optional<Params>(const std::string& method)>;
-Result<std::map<std::string, std::unique_ptr<Session>>> make_sessions(const EvalOptions& o, const FrameFormat& format,
-                                                                       const SessionParams& params_for,
-                                                                       std::unique_ptr<Engine>& engine, EvalReport& report);
+Result<std::map<std::string, std::unique_ptr<Session>>>
+make_sessions(const EvalOptions& o, const FrameFormat& format, const SessionParams& params_for,
+              std::unique_ptr<Engine>& engine, EvalReport& report);
 // Mode sr on a loaded capture (eval_sr.cpp).
 Result<EvalReport> run_eval_sr(const EvalOptions& options, capture::Capture capture);
 // Modes isr / esr on a loaded capture (eval_sr.cpp).

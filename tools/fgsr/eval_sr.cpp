@@ -17,7 +17,9 @@ namespace fgsr::cli {
 
 namespace {
 
-bool is_engine_sr(const std::string& m) { return m == "fgsr" || m == "fgsr-bilinear" || m == "fgsr-bicubic"; }
+bool is_engine_sr(const std::string& m) {
+    return m == "fgsr" || m == "fgsr-bilinear" || m == "fgsr-bicubic";
+}
 
 Resample resample_of(const std::string& m) {
     if (m == "fgsr-bilinear" || m == "bilinear") return Resample::bilinear;
@@ -38,7 +40,8 @@ SessionParams sr_params_for(const EvalOptions& o, float scale) {
 
 } // namespace
 
-ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, Resample kind, float jitter_x, float jitter_y) {
+ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, Resample kind, float jitter_x,
+                          float jitter_y) {
     // Output pixel q sees the scene at LR position (q + 0.5) / s; the LR frame sampled the scene at
     // pixel centres + jitter, so the LR image coordinate of that point is (q + 0.5) / s - jitter.
     std::vector<glm::vec4> src(size_t(lr.width) * lr.height);
@@ -50,7 +53,8 @@ ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, R
         for (uint32_t x = 0; x < out_w; ++x) {
             const glm::vec2 pos((float(x) + 0.5f) * sx - jitter_x, (float(y) + 0.5f) * sy - jitter_y);
             const glm::vec4 c = ref::resample_at(src, lr.width, lr.height, pos, kind);
-            for (int k = 0; k < 4; ++k) out.rgba[(size_t(y) * out_w + x) * 4 + size_t(k)] = std::max(c[k], 0.f);
+            for (int k = 0; k < 4; ++k)
+                out.rgba[(size_t(y) * out_w + x) * 4 + size_t(k)] = std::max(c[k], 0.f);
         }
     }
     return out;
@@ -59,15 +63,18 @@ ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, R
 Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
     for (const std::string& m : o.methods)
         if (!is_engine_sr(m) && m != "bilinear" && m != "bicubic")
-            return make_error(Errc::invalid_argument, "unknown method '" + m +
-                                                          "' for sr (methods: fgsr, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic)");
+            return make_error(Errc::invalid_argument,
+                              "unknown method '" + m +
+                                  "' for sr (methods: fgsr, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic)");
     if (cap.hr_reference.size() != cap.inputs.size() || cap.hr_reference.empty())
-        return make_error(Errc::empty_input, "capture '" + cap.name + "' has no high-resolution reference per frame "
-                                                                      "(sr needs e.g. blender/orbit-sr or mobfgsr-bunker --lr)");
+        return make_error(Errc::empty_input, "capture '" + cap.name +
+                                                 "' has no high-resolution reference per frame "
+                                                 "(sr needs e.g. blender/orbit-sr or mobfgsr-bunker --lr)");
     const uint32_t out_w = cap.hr_reference[0].width, out_h = cap.hr_reference[0].height;
     const float scale = float(out_w) / float(cap.format.width);
     if (std::abs(float(out_h) / float(cap.format.height) - scale) > 1e-3f)
-        return make_error(Errc::unsupported, "reference size " + std::to_string(out_w) + "x" + std::to_string(out_h) +
+        return make_error(Errc::unsupported, "reference size " + std::to_string(out_w) + "x" +
+                                                 std::to_string(out_h) +
                                                  " is not a uniform scale of the input size");
 
     EvalReport rep;
@@ -91,7 +98,8 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
         if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
     }
     for (size_t k = 0; k < frames; ++k) {
-        if (o.progress) std::fprintf(stderr, "[eval] %s sr: frame %zu/%zu\n", cap.name.c_str(), k + 1, frames);
+        if (o.progress)
+            std::fprintf(stderr, "[eval] %s sr: frame %zu/%zu\n", cap.name.c_str(), k + 1, frames);
         FrameView view = cap.inputs[k].view();
         const ImageRGBA lr = capture::decode_color(cap.format, cap.inputs[k]);
         for (const std::string& m : o.methods) {
@@ -125,25 +133,32 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
     const bool extrap = o.mode == EvalMode::esr;
     for (const std::string& m : o.methods)
         if (!is_engine_sr(m) && m != "bilinear" && m != "bicubic")
-            return make_error(Errc::invalid_argument, "unknown method '" + m + "' for " + (extrap ? "esr" : "isr") +
-                                                          " (methods: fgsr, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic)");
+            return make_error(Errc::invalid_argument,
+                              "unknown method '" + m + "' for " + (extrap ? "esr" : "isr") +
+                                  " (methods: fgsr, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic)");
     if (cap.ground_truth_kind == capture::GroundTruth::consecutive) {
-        if (o.progress) std::fprintf(stderr, "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
+        if (o.progress)
+            std::fprintf(stderr,
+                         "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
         auto half = capture::make_half_rate(cap);
         if (!half) return half.error();
         cap = std::move(*half);
     }
     if (cap.hr_ground_truth.empty() || cap.hr_reference.size() != cap.inputs.size())
-        return make_error(Errc::empty_input, "capture '" + cap.name + "' has no high-resolution reference between inputs "
-                                                                      "(isr/esr need e.g. blender/orbit-sr)");
+        return make_error(Errc::empty_input, "capture '" + cap.name +
+                                                 "' has no high-resolution reference between inputs "
+                                                 "(isr/esr need e.g. blender/orbit-sr)");
     if (std::abs(o.alpha - 0.5f) > 1e-6f)
-        return make_error(Errc::invalid_argument, "references exist only halfway between inputs; use --alpha 0.5");
+        return make_error(Errc::invalid_argument,
+                          "references exist only halfway between inputs; use --alpha 0.5");
     const uint32_t out_w = cap.hr_ground_truth[0].width, out_h = cap.hr_ground_truth[0].height;
     const float scale = float(out_w) / float(cap.format.width);
     std::vector<size_t> targets;
-    for (size_t k = extrap ? 1 : 0; k + 1 < cap.inputs.size() && k < cap.hr_ground_truth.size(); ++k) targets.push_back(k);
+    for (size_t k = extrap ? 1 : 0; k + 1 < cap.inputs.size() && k < cap.hr_ground_truth.size(); ++k)
+        targets.push_back(k);
     if (o.max_frames > 0 && targets.size() > size_t(o.max_frames)) targets.resize(size_t(o.max_frames));
-    if (targets.empty()) return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames");
+    if (targets.empty())
+        return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames");
 
     EvalReport rep;
     rep.capture = cap.name;
@@ -176,7 +191,9 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
         const size_t k = targets[next];
         if (i != (extrap ? k : k + 1)) continue;
         ++next;
-        if (o.progress) std::fprintf(stderr, "[eval] %s %s: frame %zu/%zu\n", cap.name.c_str(), rep.mode.c_str(), next, targets.size());
+        if (o.progress)
+            std::fprintf(stderr, "[eval] %s %s: frame %zu/%zu\n", cap.name.c_str(), rep.mode.c_str(), next,
+                         targets.size());
         const float a[] = {o.alpha};
         std::optional<ImageRGBA> lr_frame;
         for (const std::string& m : o.methods) {

@@ -103,7 +103,8 @@ inline void lut_resample_backward(const RgbImage& src, glm::vec2 shift, std::spa
                 for (int i = 0; i < 4; ++i) {
                     const size_t p = row + size_t(ax.tap[x][size_t(i)]) * 3;
                     const size_t k = wbase + size_t(j * 4 + i);
-                    grad_lut[k] += double(g[0]) * src.rgb[p] + double(g[1]) * src.rgb[p + 1] + double(g[2]) * src.rgb[p + 2];
+                    grad_lut[k] += double(g[0]) * src.rgb[p] + double(g[1]) * src.rgb[p + 1] +
+                                   double(g[2]) * src.rgb[p + 2];
                     if (grad_src) {
                         const float wk = lut[k];
                         (*grad_src)[p] += wk * g[0];
@@ -152,17 +153,19 @@ inline std::vector<double> filter_valid_adjoint(const std::vector<double>& in, u
     std::vector<double> tmp(size_t(ow) * h, 0.0), out(size_t(w) * h, 0.0);
     for (uint32_t y = 0; y < oh; ++y)
         for (uint32_t x = 0; x < ow; ++x)
-            for (int t = 0; t < 11; ++t) tmp[(size_t(y) + size_t(t)) * ow + x] += g[size_t(t)] * in[size_t(y) * ow + x];
+            for (int t = 0; t < 11; ++t)
+                tmp[(size_t(y) + size_t(t)) * ow + x] += g[size_t(t)] * in[size_t(y) * ow + x];
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < ow; ++x)
-            for (int t = 0; t < 11; ++t) out[size_t(y) * w + x + size_t(t)] += g[size_t(t)] * tmp[size_t(y) * ow + x];
+            for (int t = 0; t < 11; ++t)
+                out[size_t(y) * w + x + size_t(t)] += g[size_t(t)] * tmp[size_t(y) * ow + x];
     return out;
 }
 
 // Mean SSIM of `a` against `ref` (w x h, w, h >= 11; values in display units, data range 1),
 // as capture::ssim computes it per channel; *grad (if non-null) receives d(mean SSIM)/d(a).
-inline double ssim_with_grad(const std::vector<double>& a, const std::vector<double>& ref, uint32_t w, uint32_t h,
-                             std::vector<double>* grad) {
+inline double ssim_with_grad(const std::vector<double>& a, const std::vector<double>& ref, uint32_t w,
+                             uint32_t h, std::vector<double>* grad) {
     constexpr double C1 = 0.01 * 0.01, C2 = 0.03 * 0.03;
     std::vector<double> aa(a.size()), rr(a.size()), ar(a.size());
     for (size_t i = 0; i < a.size(); ++i) {
@@ -193,7 +196,8 @@ inline double ssim_with_grad(const std::vector<double>& a, const std::vector<dou
         const auto gmu = filter_valid_adjoint(dmu, w, h), gxx = filter_valid_adjoint(dxx, w, h),
                    gxy = filter_valid_adjoint(dxy, w, h);
         grad->resize(a.size());
-        for (size_t i = 0; i < a.size(); ++i) (*grad)[i] = (gmu[i] + 2 * a[i] * gxx[i] + ref[i] * gxy[i]) / double(n);
+        for (size_t i = 0; i < a.size(); ++i)
+            (*grad)[i] = (gmu[i] + 2 * a[i] * gxx[i] + ref[i] * gxy[i]) / double(n);
     }
     return mean;
 }
@@ -345,7 +349,8 @@ inline RgbImage crop(const RgbImage& src, int m, glm::ivec2 offset = glm::ivec2(
 // Conversions to the engine's / metrics' types.
 inline std::vector<glm::vec4> to_vec4(const RgbImage& im) {
     std::vector<glm::vec4> v(size_t(im.width) * im.height);
-    for (size_t i = 0; i < v.size(); ++i) v[i] = glm::vec4(im.rgb[i * 3], im.rgb[i * 3 + 1], im.rgb[i * 3 + 2], 1.f);
+    for (size_t i = 0; i < v.size(); ++i)
+        v[i] = glm::vec4(im.rgb[i * 3], im.rgb[i * 3 + 1], im.rgb[i * 3 + 2], 1.f);
     return v;
 }
 inline RgbImage from_vec4(const std::vector<glm::vec4>& v, uint32_t w, uint32_t h) {

@@ -69,7 +69,8 @@ std::vector<double> bspline_basis() {
 // LUT of the parameters: w = w0 + sum_{a,b} c[tap][b][a] phi(fy)[b] phi(fx)[a], then each phase's
 // 16 weights shifted equally so that they sum to exactly 1 (up to float rounding), and phase (0, 0)
 // set to the identity as the engine does on loading.
-std::vector<float> lut_of(const std::vector<float>& w0, const std::vector<double>& c, const std::vector<double>& phi) {
+std::vector<float> lut_of(const std::vector<float>& w0, const std::vector<double>& c,
+                          const std::vector<double>& phi) {
     std::vector<float> w(kLutSize);
     for (uint32_t by = 0; by < kLutLevels; ++by)
         for (uint32_t bx = 0; bx < kLutLevels; ++bx) {
@@ -80,12 +81,14 @@ std::vector<float> lut_of(const std::vector<float>& w0, const std::vector<double
                     const double pb = phi[size_t(by) * kBasis + size_t(b)];
                     if (pb == 0) continue;
                     for (int a = 0; a < kBasis; ++a)
-                        d += c[(k * kBasis + size_t(b)) * kBasis + size_t(a)] * pb * phi[size_t(bx) * kBasis + size_t(a)];
+                        d += c[(k * kBasis + size_t(b)) * kBasis + size_t(a)] * pb *
+                             phi[size_t(bx) * kBasis + size_t(a)];
                 }
                 v[k] = d;
                 sum += d;
             }
-            for (size_t k = 0; k < 16; ++k) w[(size_t(by) * kLutLevels + bx) * 16 + k] = float(v[k] - (sum - 1) / 16);
+            for (size_t k = 0; k < 16; ++k)
+                w[(size_t(by) * kLutLevels + bx) * 16 + k] = float(v[k] - (sum - 1) / 16);
         }
     // Phase (0, 0) is the identity in every table the engine loads (fgsr::force_identity_phase).
     Lut l{1.f, std::move(w)};
@@ -131,10 +134,12 @@ std::vector<double> param_grad(const std::vector<double>& gw, const std::vector<
 
 // Loss (1 - mean SSIM over RGB, display values) of one six-fold sequence on `img`, adding the
 // gradient with respect to the LUT to gw.
-double sequence_loss(const RgbImage& img, const ShiftSequence& q, const std::vector<float>& lut, std::vector<double>& gw) {
+double sequence_loss(const RgbImage& img, const ShiftSequence& q, const std::vector<float>& lut,
+                     std::vector<double>& gw) {
     std::vector<RgbImage> chain(kSteps + 1);
     chain[0] = img;
-    for (int k = 0; k < kSteps; ++k) chain[size_t(k) + 1] = lut_resample(chain[size_t(k)], q.shift[size_t(k)], lut);
+    for (int k = 0; k < kSteps; ++k)
+        chain[size_t(k) + 1] = lut_resample(chain[size_t(k)], q.shift[size_t(k)], lut);
     const int m = q.margin;
     const RgbImage out = crop(chain[kSteps], m), gt = crop(img, m, q.total);
     const size_t n = size_t(out.width) * out.height;
@@ -157,7 +162,8 @@ double sequence_loss(const RgbImage& img, const ShiftSequence& q, const std::vec
     for (int k = kSteps; k >= 1; --k) {
         std::vector<float> gprev;
         if (k > 1) gprev.assign(img.rgb.size(), 0.f);
-        lut_resample_backward(chain[size_t(k) - 1], q.shift[size_t(k) - 1], lut, g, gw, k > 1 ? &gprev : nullptr);
+        lut_resample_backward(chain[size_t(k) - 1], q.shift[size_t(k) - 1], lut, g, gw,
+                              k > 1 ? &gprev : nullptr);
         g = std::move(gprev);
     }
     return 1 - ssim_sum / 3;
@@ -166,7 +172,8 @@ double sequence_loss(const RgbImage& img, const ShiftSequence& q, const std::vec
 RgbImage sub_image(const RgbImage& im, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) {
     RgbImage o{w, h, std::vector<float>(size_t(w) * h * 3)};
     for (uint32_t y = 0; y < h; ++y)
-        std::copy_n(&im.rgb[((size_t(y0) + y) * im.width + x0) * 3], size_t(w) * 3, &o.rgb[size_t(y) * w * 3]);
+        std::copy_n(&im.rgb[((size_t(y0) + y) * im.width + x0) * 3], size_t(w) * 3,
+                    &o.rgb[size_t(y) * w * 3]);
     return o;
 }
 
@@ -199,7 +206,8 @@ Result<std::pair<std::vector<Source>, std::vector<Source>>> capture_sources(cons
         const size_t f = i * (frames.size() - 1) / train;
         r.first.push_back(Source{fmt::format("{} frame {}", dir, f), from_rgba(frames[f]), 2});
     }
-    r.second.push_back(Source{fmt::format("{} frame {}", dir, frames.size() - 1), from_rgba(frames.back()), 2});
+    r.second.push_back(
+        Source{fmt::format("{} frame {}", dir, frames.size() - 1), from_rgba(frames.back()), 2});
     return r;
 }
 
@@ -210,9 +218,8 @@ struct EvalImage {
 
 // Six-fold repeated resampling of every image with every method through ref::resample_image (the
 // engine's CPU reference), scored on the interior against the exact result.
-std::map<std::string, std::map<std::string, MethodFigures>> evaluate(const std::vector<EvalImage>& images,
-                                                                     const std::vector<float>& lut, float scale,
-                                                                     int threads) {
+std::map<std::string, std::map<std::string, MethodFigures>>
+evaluate(const std::vector<EvalImage>& images, const std::vector<float>& lut, float scale, int threads) {
     std::vector<std::pair<std::string, ShiftSequence>> seqs{{"half", half_pixel_sequence()}};
     std::mt19937_64 rng(12345);
     for (int i = 0; i < 4; ++i) seqs.push_back({"random", random_sequence(rng, 0.0)});
@@ -262,7 +269,9 @@ std::map<std::string, std::map<std::string, MethodFigures>> evaluate(const std::
 }
 
 // Three history footprints per source: 1 (converged), (1 + S) / 2 and S output pixels.
-std::vector<double> footprints(float scale) { return {1.0, (1.0 + scale) / 2, double(scale)}; }
+std::vector<double> footprints(float scale) {
+    return {1.0, (1.0 + scale) / 2, double(scale)};
+}
 
 std::string utc_now() {
     const std::time_t t = std::time(nullptr);
@@ -291,7 +300,9 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
     if (o.batch < 1) return make_error(Errc::invalid_argument, "batch must be >= 1");
     if (o.threads < 1) return make_error(Errc::invalid_argument, "threads must be >= 1");
     const auto t0 = std::chrono::steady_clock::now();
-    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
     auto say = [&](const std::string& s) {
         if (o.progress) std::fprintf(stderr, "[lut-train] %s\n", s.c_str());
     };
@@ -308,8 +319,10 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
             specs.push_back({101, 2.0});
             specs.push_back({101, 7.0});
             std::vector<Source> made(specs.size());
-            parallel_for(specs.size(), 1, [&](size_t i) { made[i] = synthetic_source(specs[i].first, specs[i].second); });
-            for (size_t i = 0; i < made.size(); ++i) (specs[i].first == 101 ? held : train).push_back(std::move(made[i]));
+            parallel_for(specs.size(), 1,
+                         [&](size_t i) { made[i] = synthetic_source(specs[i].first, specs[i].second); });
+            for (size_t i = 0; i < made.size(); ++i)
+                (specs[i].first == 101 ? held : train).push_back(std::move(made[i]));
         } else {
             say("loading " + in);
             auto r = capture_sources(in);
@@ -330,13 +343,15 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
             if (h.width >= 64 && h.height >= 64) train_images.push_back(std::move(h));
         }
     }
-    if (train_images.empty()) return make_error(Errc::empty_input, "every training image is smaller than 64x64");
+    if (train_images.empty())
+        return make_error(Errc::empty_input, "every training image is smaller than 64x64");
     std::vector<EvalImage> eval_images;
     for (const Source& s : held) {
         rep.held_back_images.push_back(s.name);
         for (double f : {1.0, double(o.scale)}) {
             RgbImage h = make_history_image(s.hi, s.k, f);
-            if (h.width >= 64 && h.height >= 64) eval_images.push_back({fmt::format("{} footprint {}", s.name, f), std::move(h)});
+            if (h.width >= 64 && h.height >= 64)
+                eval_images.push_back({fmt::format("{} footprint {}", s.name, f), std::move(h)});
         }
     }
     say(fmt::format("{} training images ({} sources x {} history footprints), {} held-back images, {:.1f} s",
@@ -353,7 +368,8 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
     auto draw = [&](uint32_t seed, uint32_t step, uint32_t slot, ShiftSequence& q) {
         std::seed_seq ss{seed, step, slot};
         std::mt19937_64 rng(ss);
-        const RgbImage& im = train_images[std::uniform_int_distribution<size_t>(0, train_images.size() - 1)(rng)];
+        const RgbImage& im =
+            train_images[std::uniform_int_distribution<size_t>(0, train_images.size() - 1)(rng)];
         const uint32_t cw = std::min(kCrop, im.width), ch = std::min(kCrop, im.height);
         const uint32_t x0 = std::uniform_int_distribution<uint32_t>(0, im.width - cw)(rng);
         const uint32_t y0 = std::uniform_int_distribution<uint32_t>(0, im.height - ch)(rng);
@@ -395,7 +411,8 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
         losses.push_back(l);
         const std::vector<double> gc = param_grad(gw, phi);
         // Cosine decay to 5% of the initial rate.
-        const double lr = kLr * (0.05 + 0.95 * 0.5 * (1 + std::cos(3.14159265358979 * it / std::max(1, o.iterations))));
+        const double lr =
+            kLr * (0.05 + 0.95 * 0.5 * (1 + std::cos(3.14159265358979 * it / std::max(1, o.iterations))));
         const double bc1 = 1 - std::pow(kBeta1, it + 1), bc2 = 1 - std::pow(kBeta2, it + 1);
         for (size_t i = 0; i < np; ++i) {
             m1[i] = kBeta1 * m1[i] + (1 - kBeta1) * gc[i];
@@ -408,9 +425,10 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
             double recent = 0;
             for (size_t i = losses.size() - n; i < losses.size(); ++i) recent += losses[i] / double(n);
             const bool val = (it + 1) % 200 == 0 || it + 1 == o.iterations;
-            std::fprintf(stderr, "[lut-train] step %d/%d  batch loss (1-SSIM, last %zu) %.5f%s  lr %.2e  %.1f s\n",
-                         it + 1, o.iterations, n, recent,
-                         val ? fmt::format("  validation {:.5f}", validation_loss(lut)).c_str() : "", lr, elapsed());
+            std::fprintf(
+                stderr, "[lut-train] step %d/%d  batch loss (1-SSIM, last %zu) %.5f%s  lr %.2e  %.1f s\n",
+                it + 1, o.iterations, n, recent,
+                val ? fmt::format("  validation {:.5f}", validation_loss(lut)).c_str() : "", lr, elapsed());
         }
     }
     rep.final_loss = validation_loss(lut);
@@ -447,12 +465,14 @@ std::string lut_train_json(const LutTrainOptions& o, const LutTrainReport& r) {
     j["iterations"] = o.iterations;
     j["batch"] = o.batch;
     j["seed"] = o.seed;
-    j["model"] = fmt::format("Catmull-Rom LUT + per-tap cubic B-spline surface over the phase ({0}x{0} coefficients "
-                             "per tap), projected to sum 1 per phase, symmetric under transposition; Adam lr 2e-3 "
-                             "cosine-decayed, {1}x{1} crops, {2}% of sequences with +-1/2 px shifts",
-                             kBasis, kCrop, int(kHalfProb * 100));
-    j["loss"] = "1 - SSIM (display sRGB values, 11x11 Gaussian sigma 1.5, RGB mean) of six-fold repeated resampling "
-                "with sub-pixel shifts summing to whole pixels, against the first image translated by that sum";
+    j["model"] =
+        fmt::format("Catmull-Rom LUT + per-tap cubic B-spline surface over the phase ({0}x{0} coefficients "
+                    "per tap), projected to sum 1 per phase, symmetric under transposition; Adam lr 2e-3 "
+                    "cosine-decayed, {1}x{1} crops, {2}% of sequences with +-1/2 px shifts",
+                    kBasis, kCrop, int(kHalfProb * 100));
+    j["loss"] =
+        "1 - SSIM (display sRGB values, 11x11 Gaussian sigma 1.5, RGB mean) of six-fold repeated resampling "
+        "with sub-pixel shifts summing to whole pixels, against the first image translated by that sum";
     j["validation_loss_start"] = r.initial_loss; // Catmull-Rom LUT
     j["validation_loss_final"] = r.final_loss;
     j["seconds"] = r.seconds;
@@ -464,12 +484,15 @@ std::string lut_train_json(const LutTrainOptions& o, const LutTrainReport& r) {
 }
 
 CLI::App* add_lut_train_command(CLI::App& app, LutTrainOptions& o) {
-    auto* cmd = app.add_subcommand("lut-train", "Learn the SR history resampling LUT for one scale factor (six-fold "
-                                                "repeated resampling, 1-SSIM loss)");
-    cmd->add_option("--scale", o.scale, "Upscaling factor the table is for (1.5, 2, 3, 4)")->capture_default_str();
-    cmd->add_option("--images", o.images,
-                    "Training images: capture directories and/or 'builtin' (the synthetic scene); default builtin. "
-                    "Each capture's last frame is held back")
+    auto* cmd =
+        app.add_subcommand("lut-train", "Learn the SR history resampling LUT for one scale factor (six-fold "
+                                        "repeated resampling, 1-SSIM loss)");
+    cmd->add_option("--scale", o.scale, "Upscaling factor the table is for (1.5, 2, 3, 4)")
+        ->capture_default_str();
+    cmd->add_option(
+           "--images", o.images,
+           "Training images: capture directories and/or 'builtin' (the synthetic scene); default builtin. "
+           "Each capture's last frame is held back")
         ->delimiter(',');
     cmd->add_option("--out", o.out, "Write FILE.lut and FILE.json (provenance)");
     cmd->add_option("--iterations", o.iterations, "Adam steps")->capture_default_str();
@@ -488,11 +511,12 @@ int lut_train_main(LutTrainOptions& o, int argc, char** argv) {
         std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(r.error().code), r.error().message.c_str());
         return 1;
     }
-    std::printf("scale %g: validation loss (1-SSIM) %.5f -> %.5f in %.1f s\n", double(o.scale), r->initial_loss, r->final_loss,
-                r->seconds);
+    std::printf("scale %g: validation loss (1-SSIM) %.5f -> %.5f in %.1f s\n", double(o.scale),
+                r->initial_loss, r->final_loss, r->seconds);
     for (const auto& [proto, ms] : r->figures) {
         std::printf("six-fold, %s shifts (held back):\n", proto.c_str());
-        for (const auto& [name, f] : ms) std::printf("  %-16s SSIM %.4f  PSNR %.2f dB\n", name.c_str(), f.ssim, f.psnr);
+        for (const auto& [name, f] : ms)
+            std::printf("  %-16s SSIM %.4f  PSNR %.2f dB\n", name.c_str(), f.ssim, f.psnr);
     }
     if (!o.out.empty()) std::printf("wrote %s and its .json\n", o.out.c_str());
     return 0;

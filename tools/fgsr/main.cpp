@@ -31,31 +31,42 @@ int main(int argc, char** argv) {
     // fgsr eval
     fgsr::cli::EvalOptions eo;
     std::string mode = "interp", methods = "fgsr,linear,blend,repeat", out_dir;
-    auto* eval = app.add_subcommand("eval", "Score generated frames against ground truth, side by side with baselines");
-    eval->add_option("--capture", eo.capture,
-                     "Capture directory (Blender, Mob-FGSR PNG or fgsr format), or 'builtin' for the generated "
-                     "synthetic scene")
+    auto* eval = app.add_subcommand(
+        "eval", "Score generated frames against ground truth, side by side with baselines");
+    eval->add_option(
+            "--capture", eo.capture,
+            "Capture directory (Blender, Mob-FGSR PNG or fgsr format), or 'builtin' for the generated "
+            "synthetic scene")
         ->capture_default_str();
     eval->add_option("--mode", mode, "interp, extrap, sr, isr or esr")
         ->check(CLI::IsMember({"interp", "extrap", "sr", "isr", "esr"}))
         ->capture_default_str();
-    eval->add_option("--alpha", eo.alpha, "Generated instant: alpha (interp) or 1+alpha (extrap)")->capture_default_str();
-    eval->add_option("--methods", methods, "Comma-separated: fgsr, linear, blend, repeat")->capture_default_str();
+    eval->add_option("--alpha", eo.alpha, "Generated instant: alpha (interp) or 1+alpha (extrap)")
+        ->capture_default_str();
+    eval->add_option("--methods", methods, "Comma-separated: fgsr, linear, blend, repeat")
+        ->capture_default_str();
     eval->add_option("--out", out_dir, "Write generated frames (EXR and PNG) and metrics.json here");
     eval->add_flag("--json", eo.json, "Print one JSON object on stdout");
     eval->add_flag("--lr", eo.prefer_lr, "Mob-FGSR captures: use LR_Inputs (960x540) instead of HR_Inputs");
     eval->add_option("--frames", eo.max_frames, "Evaluate at most this many frames (0: all)");
-    eval->add_option("--device", eo.device.device, "Vulkan device index or name substring (default: FGSR_DEVICE, "
-                                                   "else first GPU, else lavapipe)");
-    eval->add_option("--t-depth", eo.params.t_depth, "T_D: relative depth difference for disocclusion")->capture_default_str();
-    eval->add_option("--sr-a", eo.params.sr_a, "SR: weight of the current samples (Eq. 2, a)")->capture_default_str();
-    eval->add_option("--sr-b", eo.params.sr_b, "SR: sample weight fall-off with distance (Eq. 2, b)")->capture_default_str();
-    eval->add_flag("--dilate", eo.params.dilate_mvs, "SR: depth-informed motion-vector dilation (frontmost of 3x3)");
-    eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")->capture_default_str();
+    eval->add_option("--device", eo.device.device,
+                     "Vulkan device index or name substring (default: FGSR_DEVICE, "
+                     "else first GPU, else lavapipe)");
+    eval->add_option("--t-depth", eo.params.t_depth, "T_D: relative depth difference for disocclusion")
+        ->capture_default_str();
+    eval->add_option("--sr-a", eo.params.sr_a, "SR: weight of the current samples (Eq. 2, a)")
+        ->capture_default_str();
+    eval->add_option("--sr-b", eo.params.sr_b, "SR: sample weight fall-off with distance (Eq. 2, b)")
+        ->capture_default_str();
+    eval->add_flag("--dilate", eo.params.dilate_mvs,
+                   "SR: depth-informed motion-vector dilation (frontmost of 3x3)");
+    eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")
+        ->capture_default_str();
     std::string blend = "mix";
     bool no_gaps = false, no_holes = false, quiet = false, separate = false;
-    eval->add_option("--blend", blend, "Where both warped frames agree: 'mix' (alpha-weighted) or 'select' (the "
-                                       "temporally closer, paper Eq. 1)")
+    eval->add_option("--blend", blend,
+                     "Where both warped frames agree: 'mix' (alpha-weighted) or 'select' (the "
+                     "temporally closer, paper Eq. 1)")
         ->check(CLI::IsMember({"mix", "select"}))
         ->capture_default_str();
     eval->add_flag("--no-gap-fill", no_gaps, "Disable refinement of splatting gaps");
@@ -67,7 +78,8 @@ int main(int argc, char** argv) {
     // fgsr convert
     std::string conv_in, conv_out;
     bool conv_lr = false;
-    auto* convert = app.add_subcommand("convert", "Convert any supported capture (or 'builtin') to fgsr's capture format");
+    auto* convert = app.add_subcommand(
+        "convert", "Convert any supported capture (or 'builtin') to fgsr's capture format");
     convert->add_option("--capture", conv_in, "Input capture directory or 'builtin'")->required();
     convert->add_option("--out", conv_out, "Output directory")->required();
     convert->add_flag("--lr", conv_lr, "Mob-FGSR captures: use LR_Inputs");
@@ -87,12 +99,13 @@ int main(int argc, char** argv) {
 
     if (*eval) {
         eo.mode = mode == "extrap" ? fgsr::cli::EvalMode::extrap
-                  : mode == "sr"     ? fgsr::cli::EvalMode::sr
-                  : mode == "isr"    ? fgsr::cli::EvalMode::isr
-                  : mode == "esr"    ? fgsr::cli::EvalMode::esr
-                                     : fgsr::cli::EvalMode::interp;
+                  : mode == "sr"   ? fgsr::cli::EvalMode::sr
+                  : mode == "isr"  ? fgsr::cli::EvalMode::isr
+                  : mode == "esr"  ? fgsr::cli::EvalMode::esr
+                                   : fgsr::cli::EvalMode::interp;
         eo.methods = split_list(methods);
-        if (eo.mode != fgsr::cli::EvalMode::interp && eo.mode != fgsr::cli::EvalMode::extrap && !eval->count("--methods"))
+        if (eo.mode != fgsr::cli::EvalMode::interp && eo.mode != fgsr::cli::EvalMode::extrap &&
+            !eval->count("--methods"))
             eo.methods = {"fgsr", "fgsr-bilinear", "fgsr-bicubic", "bilinear", "bicubic"};
         if (!out_dir.empty()) eo.out = out_dir;
         eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;
@@ -102,8 +115,10 @@ int main(int argc, char** argv) {
         eo.progress = !quiet;
         auto r = fgsr::cli::run_eval(eo);
         if (!r) return fail(r.error());
-        if (eo.json) std::fputs(fgsr::cli::report_json(*r, false).c_str(), stdout);
-        else std::fputs(fgsr::cli::report_table(*r).c_str(), stdout);
+        if (eo.json)
+            std::fputs(fgsr::cli::report_json(*r, false).c_str(), stdout);
+        else
+            std::fputs(fgsr::cli::report_table(*r).c_str(), stdout);
         if (eo.out && !eo.json) std::printf("frames and metrics.json written to %s\n", eo.out->c_str());
         return 0;
     }
@@ -111,7 +126,8 @@ int main(int argc, char** argv) {
         fgsr::cli::EvalOptions lo;
         lo.capture = conv_in;
         lo.prefer_lr = conv_lr;
-        auto c = conv_in == "builtin" ? fgsr::capture::make_synthetic_capture({}, 11) : fgsr::capture::load(conv_in, conv_lr);
+        auto c = conv_in == "builtin" ? fgsr::capture::make_synthetic_capture({}, 11)
+                                      : fgsr::capture::load(conv_in, conv_lr);
         if (!c) return fail(c.error());
         auto w = fgsr::capture::save_fgsr(*c, conv_out);
         if (!w) return fail(w.error());

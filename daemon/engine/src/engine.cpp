@@ -18,12 +18,23 @@ namespace {
 constexpr uint32_t kMaxAlphas = 64;
 constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
 
-enum PassId : uint32_t { kIngest, kSplat, kRefine, kDisocc, kWarp, kBlend, kGenerate, kSr, kGenerateSr, kPassCount };
-constexpr std::array<const char*, kPassCount> kPassNames = {"ingest", "splat", "refine", "disocc",     "warp",
-                                                            "blend",  "generate", "sr", "generate_sr"};
-constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT, SPLAT_COUNT,    REFINE_COUNT,
-                                                            DISOCC_COUNT, WARP_COUNT,     BLEND_COUNT,
-                                                            GENERATE_COUNT, SR_COUNT,     GENSR_COUNT};
+enum PassId : uint32_t {
+    kIngest,
+    kSplat,
+    kRefine,
+    kDisocc,
+    kWarp,
+    kBlend,
+    kGenerate,
+    kSr,
+    kGenerateSr,
+    kPassCount
+};
+constexpr std::array<const char*, kPassCount> kPassNames = {
+    "ingest", "splat", "refine", "disocc", "warp", "blend", "generate", "sr", "generate_sr"};
+constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT,   SPLAT_COUNT, REFINE_COUNT,
+                                                            DISOCC_COUNT,   WARP_COUNT,  BLEND_COUNT,
+                                                            GENERATE_COUNT, SR_COUNT,    GENSR_COUNT};
 // generate_sr's push block is GenParams followed by SrParams.
 struct GenSrPush {
     gpu::GenParams g;
@@ -31,10 +42,13 @@ struct GenSrPush {
 };
 static_assert(offsetof(GenSrPush, s) == sizeof(gpu::GenParams) && sizeof(GenSrPush) <= 128);
 constexpr std::array<uint32_t, kPassCount> kPassPush = {
-    sizeof(gpu::IngestParams), sizeof(gpu::GenParams), sizeof(gpu::GenParams), sizeof(gpu::GenParams), sizeof(gpu::GenParams),
-    sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::SrParams),  sizeof(GenSrPush)};
+    sizeof(gpu::IngestParams), sizeof(gpu::GenParams), sizeof(gpu::GenParams),
+    sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::GenParams),
+    sizeof(gpu::GenParams),    sizeof(gpu::SrParams),  sizeof(GenSrPush)};
 
-uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
+uint32_t groups(uint32_t n, uint32_t size) {
+    return (n + size - 1) / size;
+}
 
 } // namespace
 
@@ -55,7 +69,8 @@ Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
     // Measured on lavapipe (2 cores, 1080p interpolation): 8x8 groups 364 ms, 16x16 157 ms,
     // 32x32 28 ms; its cost per workgroup dominates, so CPU devices get the 32x32 build.
     if (impl->ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
-        impl->ctx->props.limits.maxComputeWorkGroupInvocations >= 1024 && impl->ctx->props.limits.maxComputeWorkGroupSize[0] >= 32 &&
+        impl->ctx->props.limits.maxComputeWorkGroupInvocations >= 1024 &&
+        impl->ctx->props.limits.maxComputeWorkGroupSize[0] >= 32 &&
         impl->ctx->props.limits.maxComputeWorkGroupSize[1] >= 32)
         impl->group = 32;
     for (uint32_t p = 0; p < kPassCount; ++p) {
@@ -68,10 +83,18 @@ Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
     return std::unique_ptr<Engine>(new Engine(std::move(impl)));
 }
 
-std::string Engine::device_name() const { return impl_->ctx->props.deviceName; }
-bool Engine::is_cpu_device() const { return impl_->ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
-uint64_t Engine::validation_errors() const { return impl_->ctx->validation_errors.load(); }
-Result<std::vector<std::string>> Engine::list_devices() { return vk::enumerate_devices(); }
+std::string Engine::device_name() const {
+    return impl_->ctx->props.deviceName;
+}
+bool Engine::is_cpu_device() const {
+    return impl_->ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+uint64_t Engine::validation_errors() const {
+    return impl_->ctx->validation_errors.load();
+}
+Result<std::vector<std::string>> Engine::list_devices() {
+    return vk::enumerate_devices();
+}
 
 struct Session::Impl {
     Engine::Impl* engine = nullptr;
@@ -101,7 +124,8 @@ struct Session::Impl {
     double sr_ms = 0;
 
     // Intermediates of one generated frame, reused by each alpha in turn.
-    vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1, warped_depth1;
+    vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1,
+        warped_depth1;
     std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
     bool last_extrapolate = false;
     bool last_separate = false;
@@ -222,10 +246,12 @@ struct Session::Impl {
     void barrier() {
         VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                           VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+        mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                           VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                           VK_ACCESS_HOST_READ_BIT;
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                                 VK_PIPELINE_STAGE_HOST_BIT,
                              0, 1, &mb, 0, nullptr, 0, nullptr);
     }
 
@@ -269,13 +295,15 @@ struct Session::Impl {
     // Milliseconds between consecutive timestamps [first, first + count].
     Result<std::vector<double>> read_times(uint32_t first, uint32_t count) {
         std::vector<uint64_t> ticks(count + 1);
-        FGSR_VK(vkGetQueryPoolResults(ctx->device, queries, first, count + 1, ticks.size() * 8, ticks.data(), 8,
-                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+        FGSR_VK(vkGetQueryPoolResults(ctx->device, queries, first, count + 1, ticks.size() * 8, ticks.data(),
+                                      8, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
                 "vkGetQueryPoolResults");
-        const uint64_t mask = ctx->timestamp_valid_bits >= 64 ? ~0ull : ((1ull << ctx->timestamp_valid_bits) - 1);
+        const uint64_t mask =
+            ctx->timestamp_valid_bits >= 64 ? ~0ull : ((1ull << ctx->timestamp_valid_bits) - 1);
         std::vector<double> ms(count);
         for (uint32_t i = 0; i < count; ++i)
-            ms[i] = double((ticks[i + 1] - ticks[i]) & mask) * double(ctx->props.limits.timestampPeriod) * 1e-6;
+            ms[i] =
+                double((ticks[i + 1] - ticks[i]) & mask) * double(ctx->props.limits.timestampPeriod) * 1e-6;
         return ms;
     }
 
@@ -299,12 +327,15 @@ struct Session::Impl {
 Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& format, const Params& params) {
     // Validate the format with an empty frame view of the right sizes.
     const size_t n = size_t(format.width) * format.height;
-    if (n == 0) return make_error(Errc::empty_input, "session frame size is " + std::to_string(format.width) + "x" +
-                                                         std::to_string(format.height));
+    if (n == 0)
+        return make_error(Errc::empty_input, "session frame size is " + std::to_string(format.width) + "x" +
+                                                 std::to_string(format.height));
     if (bytes_per_pixel(format.color_format) == 0)
-        return make_error(Errc::unsupported, "unknown colour format " + std::to_string(uint32_t(format.color_format)));
+        return make_error(Errc::unsupported,
+                          "unknown colour format " + std::to_string(uint32_t(format.color_format)));
     if (bytes_per_pixel(format.mv_format) == 0)
-        return make_error(Errc::unsupported, "unknown motion-vector format " + std::to_string(uint32_t(format.mv_format)));
+        return make_error(Errc::unsupported,
+                          "unknown motion-vector format " + std::to_string(uint32_t(format.mv_format)));
     auto impl = std::make_unique<Session::Impl>();
     impl->engine = impl_.get();
     impl->ctx = impl_->ctx.get();
@@ -312,15 +343,16 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     impl->params = params;
     impl->n = n;
     if (!(std::isfinite(params.scale) && params.scale >= 1.f && params.scale <= 4.f))
-        return make_error(Errc::invalid_argument, "scale factor " + std::to_string(params.scale) + " is outside [1, 4]");
+        return make_error(Errc::invalid_argument,
+                          "scale factor " + std::to_string(params.scale) + " is outside [1, 4]");
     impl->out_w = uint32_t(std::lround(double(format.width) * params.scale));
     impl->out_h = uint32_t(std::lround(double(format.height) * params.scale));
     if (impl->out_w > 16384 || impl->out_h > 16384)
         return make_error(Errc::invalid_argument, "output size " + std::to_string(impl->out_w) + "x" +
                                                       std::to_string(impl->out_h) + " exceeds 16384x16384");
     if (!params.lut.empty() && params.lut.size() != kLutSize)
-        return make_error(Errc::invalid_argument, "LUT has " + std::to_string(params.lut.size()) + " weights, expected " +
-                                                      std::to_string(kLutSize));
+        return make_error(Errc::invalid_argument, "LUT has " + std::to_string(params.lut.size()) +
+                                                      " weights, expected " + std::to_string(kLutSize));
     // A view with planes of exactly the right size validates conventions and limits.
     std::vector<std::byte> c(n * bytes_per_pixel(format.color_format)), d(n * 4);
     FGSR_TRY(ref::validate(format, FrameView{c, d, {}}));
@@ -330,8 +362,12 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
 
 Session::Session(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Session::~Session() = default;
-const FrameFormat& Session::format() const { return impl_->format; }
-const Params& Session::params() const { return impl_->params; }
+const FrameFormat& Session::format() const {
+    return impl_->format;
+}
+const Params& Session::params() const {
+    return impl_->params;
+}
 void Session::set_params(const Params& p) {
     // The scale (and so every buffer size) is fixed at creation.
     const float scale = impl_->params.scale;
@@ -340,10 +376,18 @@ void Session::set_params(const Params& p) {
     impl_->params.scale = scale;
     if (lut_changed && impl_->sr()) (void)impl_->upload_lut();
 }
-uint32_t Session::output_width() const { return impl_->out_w; }
-uint32_t Session::output_height() const { return impl_->out_h; }
-uint64_t Session::frames_submitted() const { return impl_->submitted; }
-double Session::last_ingest_ms() const { return impl_->ingest_ms; }
+uint32_t Session::output_width() const {
+    return impl_->out_w;
+}
+uint32_t Session::output_height() const {
+    return impl_->out_h;
+}
+uint64_t Session::frames_submitted() const {
+    return impl_->submitted;
+}
+double Session::last_ingest_ms() const {
+    return impl_->ingest_ms;
+}
 
 void Session::reset() {
     impl_->submitted = 0;
@@ -361,7 +405,8 @@ Result<void> Session::submit(const FrameView& frame) {
     if (!std::isfinite(frame.jitter_x) || !std::isfinite(frame.jitter_y) || std::abs(frame.jitter_x) > 1.f ||
         std::abs(frame.jitter_y) > 1.f)
         return make_error(Errc::invalid_argument, "jitter (" + std::to_string(frame.jitter_x) + ", " +
-                                                      std::to_string(frame.jitter_y) + ") is outside [-1, 1] pixels");
+                                                      std::to_string(frame.jitter_y) +
+                                                      ") is outside [-1, 1] pixels");
     const bool restart = frame.reset || s.submitted == 0;
     const int slot = 1 - s.newest;
     Impl::GpuFrame& f = s.frames[size_t(slot)];
@@ -377,11 +422,12 @@ Result<void> Session::submit(const FrameView& frame) {
     s.barrier();
     s.timestamp(1);
     if (s.sr()) {
-        gpu::SrParams sp = ref::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x, frame.jitter_y,
-                                          !restart && s.hr_valid && has_mv);
+        gpu::SrParams sp = ref::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x,
+                                          frame.jitter_y, !restart && s.hr_valid && has_mv);
         const vk::Buffer& history = s.hr[size_t(s.hr_newest)];
         const vk::Buffer& out = s.hr[size_t(1 - s.hr_newest)];
-        FGSR_TRY(s.dispatch(kSr, {&f.color, &f.depth, &f.mv, &prev.depth, &history, &s.lut, &out}, &sp, s.out_w, s.out_h));
+        FGSR_TRY(s.dispatch(kSr, {&f.color, &f.depth, &f.mv, &prev.depth, &history, &s.lut, &out}, &sp,
+                            s.out_w, s.out_h));
         s.barrier();
         s.timestamp(2);
     }
@@ -406,16 +452,19 @@ Result<void> Session::submit(const FrameView& frame) {
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     if (submitted < 2)
         return make_error(Errc::empty_input, std::string(extrapolate ? "extrapolation" : "interpolation") +
-                                                 " needs two submitted frames, the session has " + std::to_string(submitted));
+                                                 " needs two submitted frames, the session has " +
+                                                 std::to_string(submitted));
     if (alphas.empty()) return make_error(Errc::invalid_argument, "no alpha requested");
     if (alphas.size() > kMaxAlphas)
-        return make_error(Errc::invalid_argument, std::to_string(alphas.size()) + " alphas requested, at most " +
+        return make_error(Errc::invalid_argument, std::to_string(alphas.size()) +
+                                                      " alphas requested, at most " +
                                                       std::to_string(kMaxAlphas) + " per call");
     for (float a : alphas) {
         bool ok = extrapolate ? (a > 0.f && a <= 1.f) : (a > 0.f && a < 1.f);
         if (!std::isfinite(a) || !ok)
-            return make_error(Errc::invalid_argument, "alpha " + std::to_string(a) + " is outside " +
-                                                          (extrapolate ? "(0, 1] for extrapolation" : "(0, 1) for interpolation"));
+            return make_error(Errc::invalid_argument,
+                              "alpha " + std::to_string(a) + " is outside " +
+                                  (extrapolate ? "(0, 1] for extrapolation" : "(0, 1) for interpolation"));
     }
     FGSR_TRY(ensure_outputs(alphas.size()));
     const GpuFrame& f1 = frames[size_t(newest)];
@@ -424,7 +473,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     std::vector<std::vector<PassId>> timings(alphas.size()); // passes timed per generated frame, in order
     FGSR_TRY(begin());
     for (size_t k = 0; k < alphas.size(); ++k) {
-        const gpu::GenParams g = ref::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv);
+        const gpu::GenParams g =
+            ref::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv);
         const uint32_t q0 = uint32_t(k) * kQueriesPerFrame;
         uint32_t q = q0;
         const vk::Buffer& out = outputs[k];
@@ -437,8 +487,9 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         if (sr()) { // joint ISR / ESR at output resolution (always fused)
             GenSrPush push{g, ref::sr_params(format, params, out_w, out_h, jitter_x, jitter_y, true)};
             const vk::Buffer& src = hr[size_t(extrapolate ? hr_newest : 1 - hr_newest)];
-            FGSR_TRY(dispatch(kGenerateSr, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color, &f1.color, &src,
-                                            &lut, &out},
+            FGSR_TRY(dispatch(kGenerateSr,
+                              {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color, &f1.color,
+                               &src, &lut, &out},
                               &push, out_w, out_h));
             barrier();
             timestamp(q++);
@@ -446,31 +497,41 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             continue;
         }
         if (!params.separate_passes) {
-            FGSR_TRY(dispatch(kGenerate, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color, &f1.color, &out}, &g));
+            FGSR_TRY(dispatch(
+                kGenerate, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color, &f1.color, &out},
+                &g));
             barrier();
             timestamp(q++);
             timings[k] = {kSplat, kGenerate};
             continue;
         }
-        FGSR_TRY(dispatch(kRefine, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &field, &field_depth, &field_state}, &g));
+        FGSR_TRY(dispatch(
+            kRefine,
+            {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &field, &field_depth, &field_state}, &g));
         barrier();
         timestamp(q++);
         timings[k] = {kSplat, kRefine};
         if (params.fill_holes) {
-            FGSR_TRY(dispatch(kDisocc, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &field, &field_depth, &field_state}, &g));
+            FGSR_TRY(dispatch(
+                kDisocc,
+                {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &field, &field_depth, &field_state},
+                &g));
             barrier();
             timestamp(q++);
             timings[k].push_back(kDisocc);
         }
         const vk::Buffer& w1 = extrapolate ? out : warped_color1;
-        FGSR_TRY(dispatch(kWarp, {&field, &f0.color, &f1.color, &f0.depth, &f1.depth, &warped_color0, &warped_depth0, &w1,
-                                  &warped_depth1},
+        FGSR_TRY(dispatch(kWarp,
+                          {&field, &f0.color, &f1.color, &f0.depth, &f1.depth, &warped_color0, &warped_depth0,
+                           &w1, &warped_depth1},
                           &g));
         barrier();
         timestamp(q++);
         timings[k].push_back(kWarp);
         if (!extrapolate) {
-            FGSR_TRY(dispatch(kBlend, {&warped_color0, &warped_depth0, &warped_color1, &warped_depth1, &field_state, &out}, &g));
+            FGSR_TRY(dispatch(
+                kBlend, {&warped_color0, &warped_depth0, &warped_color1, &warped_depth1, &field_state, &out},
+                &g));
             barrier();
             timestamp(q++);
             timings[k].push_back(kBlend);
@@ -502,7 +563,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
 
 Result<GeneratedFrame> Session::super_resolved() {
     Impl& s = *impl_;
-    if (!s.sr()) return make_error(Errc::invalid_argument, "the session does not upscale (Params::scale is 1)");
+    if (!s.sr())
+        return make_error(Errc::invalid_argument, "the session does not upscale (Params::scale is 1)");
     if (!s.hr_valid) return make_error(Errc::empty_input, "no frame submitted yet");
     const size_t hpx = size_t(s.out_w) * s.out_h;
     auto px = s.download<float>(s.hr[size_t(s.hr_newest)], hpx * 4);
@@ -546,7 +608,8 @@ Result<Session::Intermediates> Session::read_intermediates() const {
     out.field_state = std::move(*st);
     FGSR_TRY(get_f(s.warped_color0, s.n * 4, out.warped_color0));
     FGSR_TRY(get_f(s.warped_depth0, s.n, out.warped_depth0));
-    FGSR_TRY(get_f(s.last_extrapolate ? s.outputs[s.last_output] : s.warped_color1, s.n * 4, out.warped_color1));
+    FGSR_TRY(
+        get_f(s.last_extrapolate ? s.outputs[s.last_output] : s.warped_color1, s.n * 4, out.warped_color1));
     FGSR_TRY(get_f(s.warped_depth1, s.n, out.warped_depth1));
     return out;
 }

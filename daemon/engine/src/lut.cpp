@@ -40,7 +40,8 @@ Result<Lut> parse_lut(std::span<const std::byte> bytes, const std::string& what)
         return make_error(Errc::unsupported, what + ": LUT has " + std::to_string(levels) + " levels and " +
                                                  std::to_string(taps) + " taps, the engine uses 32 and 16");
     if (!(std::isfinite(scale) && scale >= 1.f && scale <= 8.f))
-        return make_error(Errc::io, what + ": scale factor " + std::to_string(scale) + " out of range [1, 8]");
+        return make_error(Errc::io,
+                          what + ": scale factor " + std::to_string(scale) + " out of range [1, 8]");
     if (bytes.size() != kHeader + kLutSize * 4)
         return make_error(Errc::io, what + ": " + std::to_string(bytes.size()) + " bytes, expected " +
                                         std::to_string(kHeader + kLutSize * 4));
@@ -49,7 +50,8 @@ Result<Lut> parse_lut(std::span<const std::byte> bytes, const std::string& what)
     lut.weights.resize(kLutSize);
     std::memcpy(lut.weights.data(), bytes.data() + kHeader, kLutSize * 4);
     for (float w : lut.weights)
-        if (!std::isfinite(w) || std::abs(w) > 16.f) return make_error(Errc::io, what + ": non-finite or huge weight");
+        if (!std::isfinite(w) || std::abs(w) > 16.f)
+            return make_error(Errc::io, what + ": non-finite or huge weight");
     force_identity_phase(lut);
     return lut;
 }
@@ -63,8 +65,8 @@ Result<Lut> load_lut(const std::filesystem::path& path) {
 
 Result<void> save_lut(const std::filesystem::path& path, const Lut& lut) {
     if (lut.weights.size() != kLutSize)
-        return make_error(Errc::invalid_argument, "LUT has " + std::to_string(lut.weights.size()) + " weights, expected " +
-                                                      std::to_string(kLutSize));
+        return make_error(Errc::invalid_argument, "LUT has " + std::to_string(lut.weights.size()) +
+                                                      " weights, expected " + std::to_string(kLutSize));
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     if (!out) return make_error(Errc::io, path.string() + ": cannot write");
     const uint32_t levels = kLutLevels, taps = kLutTaps, reserved = 0;
@@ -82,10 +84,14 @@ Lut catmull_rom_lut(float scale) {
     auto cr = [](float t, int i) {
         const float t2 = t * t, t3 = t2 * t;
         switch (i) {
-        case 0: return -0.5f * t3 + t2 - 0.5f * t;
-        case 1: return 1.5f * t3 - 2.5f * t2 + 1.0f;
-        case 2: return -1.5f * t3 + 2.0f * t2 + 0.5f * t;
-        default: return 0.5f * t3 - 0.5f * t2;
+        case 0:
+            return -0.5f * t3 + t2 - 0.5f * t;
+        case 1:
+            return 1.5f * t3 - 2.5f * t2 + 1.0f;
+        case 2:
+            return -1.5f * t3 + 2.0f * t2 + 0.5f * t;
+        default:
+            return 0.5f * t3 - 0.5f * t2;
         }
     };
     Lut lut;
@@ -95,7 +101,9 @@ Lut catmull_rom_lut(float scale) {
         for (uint32_t bx = 0; bx < kLutLevels; ++bx) {
             const float fx = float(bx) / float(kLutLevels), fy = float(by) / float(kLutLevels);
             for (int j = 0; j < 4; ++j)
-                for (int i = 0; i < 4; ++i) lut.weights[(size_t(by) * kLutLevels + bx) * 16 + size_t(j * 4 + i)] = cr(fx, i) * cr(fy, j);
+                for (int i = 0; i < 4; ++i)
+                    lut.weights[(size_t(by) * kLutLevels + bx) * 16 + size_t(j * 4 + i)] =
+                        cr(fx, i) * cr(fy, j);
         }
     return lut;
 }

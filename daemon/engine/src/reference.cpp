@@ -8,6 +8,8 @@
 #include <limits>
 #include <string>
 
+// The algorithm headers are included inside structs in dependency order: keep them unsorted.
+// clang-format off
 namespace fgsr::gpu {
 
 namespace {
@@ -130,43 +132,51 @@ template <class F> void for_each_pixel(uint32_t w, uint32_t h, F&& f) {
 
 } // namespace
 } // namespace fgsr::gpu
+// clang-format on
 
 namespace fgsr::ref {
 
 using gpu::for_each_pixel;
 
-static_assert(kFieldSplatted == FIELD_SPLATTED && kFieldGapFilled == FIELD_GAP_FILLED && kFieldHole == FIELD_HOLE &&
-              kFieldHoleFilled == FIELD_HOLE_FILLED);
+static_assert(kFieldSplatted == FIELD_SPLATTED && kFieldGapFilled == FIELD_GAP_FILLED &&
+              kFieldHole == FIELD_HOLE && kFieldHoleFilled == FIELD_HOLE_FILLED);
 
 Result<void> validate(const FrameFormat& f, const FrameView& frame) {
     if (f.width == 0 || f.height == 0)
-        return make_error(Errc::empty_input, "frame size is " + std::to_string(f.width) + "x" + std::to_string(f.height));
+        return make_error(Errc::empty_input,
+                          "frame size is " + std::to_string(f.width) + "x" + std::to_string(f.height));
     if (f.width > 16384 || f.height > 16384)
         return make_error(Errc::invalid_argument, "frame size " + std::to_string(f.width) + "x" +
                                                       std::to_string(f.height) + " exceeds 16384x16384");
     if (bytes_per_pixel(f.color_format) == 0)
-        return make_error(Errc::unsupported, "unknown colour format " + std::to_string(uint32_t(f.color_format)));
+        return make_error(Errc::unsupported,
+                          "unknown colour format " + std::to_string(uint32_t(f.color_format)));
     if (bytes_per_pixel(f.mv_format) == 0)
-        return make_error(Errc::unsupported, "unknown motion-vector format " + std::to_string(uint32_t(f.mv_format)));
+        return make_error(Errc::unsupported,
+                          "unknown motion-vector format " + std::to_string(uint32_t(f.mv_format)));
     const Conventions& c = f.conventions;
     if (uint32_t(c.depth_kind) > uint32_t(DepthKind::device_reversed))
         return make_error(Errc::unsupported, "unknown depth kind " + std::to_string(uint32_t(c.depth_kind)));
-    if (uint32_t(c.mv_units) > uint32_t(MvUnits::uv) || uint32_t(c.mv_direction) > uint32_t(MvDirection::from_previous))
+    if (uint32_t(c.mv_units) > uint32_t(MvUnits::uv) ||
+        uint32_t(c.mv_direction) > uint32_t(MvDirection::from_previous))
         return make_error(Errc::unsupported, "unknown motion-vector units or direction");
     if (c.depth_kind != DepthKind::linear) {
-        bool far_ok = std::isinf(c.far_plane) || c.far_plane == 0.f || (std::isfinite(c.far_plane) && c.far_plane > c.near_plane);
+        bool far_ok = std::isinf(c.far_plane) || c.far_plane == 0.f ||
+                      (std::isfinite(c.far_plane) && c.far_plane > c.near_plane);
         if (!(std::isfinite(c.near_plane) && c.near_plane > 0.f) || !far_ok)
-            return make_error(Errc::invalid_argument, "device depth needs 0 < near < far (far may be 0 or inf for an "
-                                                      "infinite far plane); got near " +
-                                                          std::to_string(c.near_plane) + ", far " + std::to_string(c.far_plane));
+            return make_error(Errc::invalid_argument,
+                              "device depth needs 0 < near < far (far may be 0 or inf for an "
+                              "infinite far plane); got near " +
+                                  std::to_string(c.near_plane) + ", far " + std::to_string(c.far_plane));
     }
     const size_t n = size_t(f.width) * f.height;
     auto check = [&](std::span<const std::byte> plane, size_t bpp, const char* what) -> Result<void> {
         if (plane.empty()) return make_error(Errc::empty_input, std::string(what) + " plane is empty");
         if (plane.size() != n * bpp)
-            return make_error(Errc::size_mismatch, std::string(what) + " plane has " + std::to_string(plane.size()) +
-                                                       " bytes, expected " + std::to_string(n * bpp) + " for " +
-                                                       std::to_string(f.width) + "x" + std::to_string(f.height));
+            return make_error(Errc::size_mismatch,
+                              std::string(what) + " plane has " + std::to_string(plane.size()) +
+                                  " bytes, expected " + std::to_string(n * bpp) + " for " +
+                                  std::to_string(f.width) + "x" + std::to_string(f.height));
         return {};
     };
     FGSR_TRY(check(frame.color, bytes_per_pixel(f.color_format), "colour"));
@@ -210,8 +220,8 @@ InternalFrame ingest(const FrameFormat& f, const FrameView& frame) {
     return out;
 }
 
-GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate, bool frame0_has_mv,
-                     bool frame1_has_mv) {
+GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
+                     bool frame0_has_mv, bool frame1_has_mv) {
     GenParams g{};
     g.width = format.width;
     g.height = format.height;
@@ -259,7 +269,8 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
 }
 
 std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector<float>& prev_depth,
-                                     const std::vector<glm::vec4>& history, const SrParams& p, std::span<const float> lut) {
+                                     const std::vector<glm::vec4>& history, const SrParams& p,
+                                     std::span<const float> lut) {
     std::vector<glm::vec4> out(size_t(p.hr_width) * p.hr_height);
     gpu::SrCpu cpu{&cur, &prev_depth, &history, lut, p.lr_width, p.hr_width};
     for (uint32_t y = 0; y < p.hr_height; ++y)
@@ -328,7 +339,8 @@ std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const Gen
     std::vector<glm::vec4> out(n);
     gpu::BlendCpu cpu;
     for (size_t i = 0; i < n; ++i)
-        out[i] = cpu.select_blend(warped.color[i], warped.depth[i], warped.color[n + i], warped.depth[n + i], field.state[i], g);
+        out[i] = cpu.select_blend(warped.color[i], warped.depth[i], warped.color[n + i], warped.depth[n + i],
+                                  field.state[i], g);
     return out;
 }
 
@@ -352,8 +364,8 @@ std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1
     return blend(warped, field, g);
 }
 
-std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h, glm::vec2 shift,
-                                      Resample kind, std::span<const float> lut) {
+std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h,
+                                      glm::vec2 shift, Resample kind, std::span<const float> lut) {
     std::vector<glm::vec4> out(size_t(w) * h);
     if (kind == Resample::lut && lut.size() < kLutSize) return out;
     gpu::ResampleCpu cpu{&src, w, lut};

@@ -10,26 +10,38 @@ namespace fgsr::vk {
 
 std::string result_string(VkResult r) {
     switch (r) {
-    case VK_SUCCESS: return "VK_SUCCESS";
-    case VK_NOT_READY: return "VK_NOT_READY";
-    case VK_TIMEOUT: return "VK_TIMEOUT";
-    case VK_ERROR_OUT_OF_HOST_MEMORY: return "VK_ERROR_OUT_OF_HOST_MEMORY";
-    case VK_ERROR_OUT_OF_DEVICE_MEMORY: return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
-    case VK_ERROR_INITIALIZATION_FAILED: return "VK_ERROR_INITIALIZATION_FAILED";
-    case VK_ERROR_DEVICE_LOST: return "VK_ERROR_DEVICE_LOST";
-    case VK_ERROR_LAYER_NOT_PRESENT: return "VK_ERROR_LAYER_NOT_PRESENT";
-    case VK_ERROR_EXTENSION_NOT_PRESENT: return "VK_ERROR_EXTENSION_NOT_PRESENT";
-    case VK_ERROR_FEATURE_NOT_PRESENT: return "VK_ERROR_FEATURE_NOT_PRESENT";
-    case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
-    default: return "VkResult " + std::to_string(int(r));
+    case VK_SUCCESS:
+        return "VK_SUCCESS";
+    case VK_NOT_READY:
+        return "VK_NOT_READY";
+    case VK_TIMEOUT:
+        return "VK_TIMEOUT";
+    case VK_ERROR_OUT_OF_HOST_MEMORY:
+        return "VK_ERROR_OUT_OF_HOST_MEMORY";
+    case VK_ERROR_OUT_OF_DEVICE_MEMORY:
+        return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+    case VK_ERROR_INITIALIZATION_FAILED:
+        return "VK_ERROR_INITIALIZATION_FAILED";
+    case VK_ERROR_DEVICE_LOST:
+        return "VK_ERROR_DEVICE_LOST";
+    case VK_ERROR_LAYER_NOT_PRESENT:
+        return "VK_ERROR_LAYER_NOT_PRESENT";
+    case VK_ERROR_EXTENSION_NOT_PRESENT:
+        return "VK_ERROR_EXTENSION_NOT_PRESENT";
+    case VK_ERROR_FEATURE_NOT_PRESENT:
+        return "VK_ERROR_FEATURE_NOT_PRESENT";
+    case VK_ERROR_INCOMPATIBLE_DRIVER:
+        return "VK_ERROR_INCOMPATIBLE_DRIVER";
+    default:
+        return "VkResult " + std::to_string(int(r));
     }
 }
 
 namespace {
 
 VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                             VkDebugUtilsMessageTypeFlagsEXT, const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                             void* user) {
+                                             VkDebugUtilsMessageTypeFlagsEXT,
+                                             const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
     if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         static_cast<Context*>(user)->validation_errors.fetch_add(1);
         std::fprintf(stderr, "fgsr: vulkan validation error: %s\n", data->pMessage);
@@ -44,7 +56,8 @@ bool has_layer(const char* name) {
     vkEnumerateInstanceLayerProperties(&n, nullptr);
     std::vector<VkLayerProperties> layers(n);
     vkEnumerateInstanceLayerProperties(&n, layers.data());
-    return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+    return std::any_of(layers.begin(), layers.end(),
+                       [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
 bool has_instance_extension(const char* name) {
@@ -52,7 +65,9 @@ bool has_instance_extension(const char* name) {
     vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr);
     std::vector<VkExtensionProperties> ext(n);
     vkEnumerateInstanceExtensionProperties(nullptr, &n, ext.data());
-    return std::any_of(ext.begin(), ext.end(), [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+    return std::any_of(ext.begin(), ext.end(), [&](const VkExtensionProperties& e) {
+        return std::strcmp(e.extensionName, name) == 0;
+    });
 }
 
 std::string lower(std::string s) {
@@ -62,11 +77,16 @@ std::string lower(std::string s) {
 
 const char* type_name(VkPhysicalDeviceType t) {
     switch (t) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-    default: return "other";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+        return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+        return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+        return "CPU";
+    default:
+        return "other";
     }
 }
 
@@ -78,10 +98,12 @@ Result<VkInstance> make_instance(bool validation) {
     std::vector<const char*> layers, extensions;
     if (validation) {
         if (!has_layer("VK_LAYER_KHRONOS_validation"))
-            return make_error(Errc::unsupported, "validation requested but VK_LAYER_KHRONOS_validation is not installed "
-                                                 "(Debian package vulkan-validationlayers)");
+            return make_error(Errc::unsupported,
+                              "validation requested but VK_LAYER_KHRONOS_validation is not installed "
+                              "(Debian package vulkan-validationlayers)");
         layers.push_back("VK_LAYER_KHRONOS_validation");
-        if (has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME)) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+        if (has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME))
+            extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     }
     VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     ci.pApplicationInfo = &app;
@@ -90,7 +112,8 @@ Result<VkInstance> make_instance(bool validation) {
     ci.enabledExtensionCount = uint32_t(extensions.size());
     ci.ppEnabledExtensionNames = extensions.data();
     VkInstance instance = VK_NULL_HANDLE;
-    FGSR_VK(vkCreateInstance(&ci, nullptr, &instance), "vkCreateInstance (is a Vulkan driver such as mesa-vulkan-drivers installed?)");
+    FGSR_VK(vkCreateInstance(&ci, nullptr, &instance),
+            "vkCreateInstance (is a Vulkan driver such as mesa-vulkan-drivers installed?)");
     return instance;
 }
 
@@ -135,20 +158,25 @@ Result<std::unique_ptr<Context>> create_context(const DeviceOptions& options) {
     ctx->instance = *inst;
     if (validation && has_instance_extension(VK_EXT_DEBUG_UTILS_EXTENSION_NAME)) {
         VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-        mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
-        mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+        mi.messageSeverity =
+            VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+        mi.messageType =
+            VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
         mi.pfnUserCallback = on_validation;
         mi.pUserData = ctx.get();
         auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
             vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT"));
-        if (create) FGSR_VK(create(ctx->instance, &mi, nullptr, &ctx->messenger), "vkCreateDebugUtilsMessengerEXT");
+        if (create)
+            FGSR_VK(create(ctx->instance, &mi, nullptr, &ctx->messenger), "vkCreateDebugUtilsMessengerEXT");
     }
 
     uint32_t n = 0;
     vkEnumeratePhysicalDevices(ctx->instance, &n, nullptr);
     std::vector<VkPhysicalDevice> devs(n);
     vkEnumeratePhysicalDevices(ctx->instance, &n, devs.data());
-    if (n == 0) return make_error(Errc::no_device, "no Vulkan device found (install mesa-vulkan-drivers for lavapipe)");
+    if (n == 0)
+        return make_error(Errc::no_device,
+                          "no Vulkan device found (install mesa-vulkan-drivers for lavapipe)");
 
     std::string want = options.device;
     if (want.empty())
@@ -167,8 +195,10 @@ Result<std::unique_ptr<Context>> create_context(const DeviceOptions& options) {
         }
         if (chosen < 0) {
             std::string names;
-            for (uint32_t i = 0; i < n; ++i) names += (i ? ", " : "") + std::to_string(i) + ": " + props[i].deviceName;
-            return make_error(Errc::no_device, "no Vulkan device matches '" + want + "' (devices: " + names + ")");
+            for (uint32_t i = 0; i < n; ++i)
+                names += (i ? ", " : "") + std::to_string(i) + ": " + props[i].deviceName;
+            return make_error(Errc::no_device,
+                              "no Vulkan device matches '" + want + "' (devices: " + names + ")");
         }
     } else {
         for (uint32_t i = 0; i < n && chosen < 0; ++i)
@@ -190,15 +220,18 @@ Result<std::unique_ptr<Context>> create_context(const DeviceOptions& options) {
             ctx->timestamp_valid_bits = qf[i].timestampValidBits;
             found = true;
         }
-    if (!found) return make_error(Errc::unsupported, std::string(ctx->props.deviceName) + " has no compute queue");
+    if (!found)
+        return make_error(Errc::unsupported, std::string(ctx->props.deviceName) + " has no compute queue");
 
     VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     f2.pNext = &f12;
     vkGetPhysicalDeviceFeatures2(ctx->physical, &f2);
     if (!f2.features.shaderInt64 || !f12.shaderBufferInt64Atomics)
-        return make_error(Errc::unsupported, std::string(ctx->props.deviceName) +
-                                                 " lacks shaderInt64 / shaderBufferInt64Atomics (needed by depth-aware splatting)");
+        return make_error(
+            Errc::unsupported,
+            std::string(ctx->props.deviceName) +
+                " lacks shaderInt64 / shaderBufferInt64Atomics (needed by depth-aware splatting)");
     VkPhysicalDeviceVulkan12Features e12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     e12.shaderBufferInt64Atomics = VK_TRUE;
     VkPhysicalDeviceFeatures2 e2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
@@ -248,20 +281,26 @@ Result<Buffer> Buffer::create(Context& ctx, VkDeviceSize size, bool host) {
     b.size_ = size;
     VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     bi.size = std::max<VkDeviceSize>(size, 16);
-    bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+               VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     FGSR_VK(vkCreateBuffer(ctx.device, &bi, nullptr, &b.buffer_), "vkCreateBuffer");
     VkMemoryRequirements req;
     vkGetBufferMemoryRequirements(ctx.device, b.buffer_, &req);
-    const VkMemoryPropertyFlags host_flags = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    const VkMemoryPropertyFlags host_flags =
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     auto pick = [&](VkMemoryPropertyFlags want) -> int {
         for (uint32_t i = 0; i < ctx.memory.memoryTypeCount; ++i)
-            if ((req.memoryTypeBits & (1u << i)) && (ctx.memory.memoryTypes[i].propertyFlags & want) == want) return int(i);
+            if ((req.memoryTypeBits & (1u << i)) && (ctx.memory.memoryTypes[i].propertyFlags & want) == want)
+                return int(i);
         return -1;
     };
-    int type = host ? pick(host_flags | VK_MEMORY_PROPERTY_HOST_CACHED_BIT) : pick(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    int type = host ? pick(host_flags | VK_MEMORY_PROPERTY_HOST_CACHED_BIT)
+                    : pick(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     if (type < 0) type = host ? pick(host_flags) : pick(0);
-    if (type < 0) return make_error(Errc::vulkan, "no suitable memory type for a buffer of " + std::to_string(size) + " bytes");
+    if (type < 0)
+        return make_error(Errc::vulkan,
+                          "no suitable memory type for a buffer of " + std::to_string(size) + " bytes");
     VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     ai.allocationSize = req.size;
     ai.memoryTypeIndex = uint32_t(type);
@@ -294,9 +333,11 @@ void Pipeline::release() {
     ctx_ = nullptr;
 }
 
-Result<Pipeline> Pipeline::create(Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_size) {
+Result<Pipeline> Pipeline::create(Context& ctx, std::string_view shader, uint32_t bindings,
+                                  uint32_t push_size) {
     std::span<const uint32_t> code = shaders::spirv(shader);
-    if (code.empty()) return make_error(Errc::unsupported, "no embedded SPIR-V for pass '" + std::string(shader) + "'");
+    if (code.empty())
+        return make_error(Errc::unsupported, "no embedded SPIR-V for pass '" + std::string(shader) + "'");
     Pipeline p;
     p.ctx_ = &ctx;
     p.bindings_ = bindings;
@@ -315,7 +356,8 @@ Result<Pipeline> Pipeline::create(Context& ctx, std::string_view shader, uint32_
     VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dl.bindingCount = bindings;
     dl.pBindings = b.data();
-    FGSR_VK(vkCreateDescriptorSetLayout(ctx.device, &dl, nullptr, &p.set_layout_), "vkCreateDescriptorSetLayout");
+    FGSR_VK(vkCreateDescriptorSetLayout(ctx.device, &dl, nullptr, &p.set_layout_),
+            "vkCreateDescriptorSetLayout");
     VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size};
     VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     pl.setLayoutCount = 1;
@@ -329,7 +371,8 @@ Result<Pipeline> Pipeline::create(Context& ctx, std::string_view shader, uint32_
     ci.stage.module = p.module_;
     ci.stage.pName = "main";
     ci.layout = p.layout_;
-    FGSR_VK(vkCreateComputePipelines(ctx.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline_), "vkCreateComputePipelines");
+    FGSR_VK(vkCreateComputePipelines(ctx.device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline_),
+            "vkCreateComputePipelines");
     return p;
 }
 

@@ -82,7 +82,8 @@ class Pipeline {
     ~Pipeline() { release(); }
 
     // `shader` names an embedded SPIR-V module ("<pass>_g<group>").
-    static Result<Pipeline> create(Context& ctx, std::string_view shader, uint32_t bindings, uint32_t push_size);
+    static Result<Pipeline> create(Context& ctx, std::string_view shader, uint32_t bindings,
+                                   uint32_t push_size);
     VkPipeline handle() const { return pipeline_; }
     VkPipelineLayout layout() const { return layout_; }
     VkDescriptorSetLayout set_layout() const { return set_layout_; }

@@ -18,13 +18,14 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string> kColorChannels = {"ViewLayer.Combined.R", "ViewLayer.Combined.G",
                                                  "ViewLayer.Combined.B", "ViewLayer.Combined.A"};
-const std::vector<std::string> kAuxChannels = {"ViewLayer.Depth.Z", "ViewLayer.Vector.X", "ViewLayer.Vector.Y"};
+const std::vector<std::string> kAuxChannels = {"ViewLayer.Depth.Z", "ViewLayer.Vector.X",
+                                               "ViewLayer.Vector.Y"};
 
 Result<void> check_size(const fs::path& p, const ExrImage& img, uint32_t w, uint32_t h) {
     if (img.width != w || img.height != h)
         return make_error(Errc::size_mismatch, p.string() + ": image is " + std::to_string(img.width) + "x" +
-                                                   std::to_string(img.height) + ", expected " + std::to_string(w) +
-                                                   "x" + std::to_string(h));
+                                                   std::to_string(img.height) + ", expected " +
+                                                   std::to_string(w) + "x" + std::to_string(h));
     return {};
 }
 
@@ -34,7 +35,8 @@ Result<ImageRGBA> read_combined(const fs::path& path, uint32_t w, uint32_t h) {
     if (!img) return img.error();
     FGSR_TRY(check_size(path, *img, w, h));
     const auto& ch = img->channels;
-    return detail::make_image(w, h, ch[0].data.data(), ch[1].data.data(), ch[2].data.data(), ch[3].data.data());
+    return detail::make_image(w, h, ch[0].data.data(), ch[1].data.data(), ch[2].data.data(),
+                              ch[3].data.data());
 }
 
 struct BlenderMeta {
@@ -55,7 +57,8 @@ Result<BlenderMeta> parse_meta(const fs::path& file) {
         m.hr_height = j->value("hr_height", 0u);
         if (j->contains("jitter_camera_shift_px")) {
             for (const auto& e : j->at("jitter_camera_shift_px")) {
-                if (!e.is_array() || e.size() != 2) return io_error(file, "jitter_camera_shift_px entry is not [x, y]");
+                if (!e.is_array() || e.size() != 2)
+                    return io_error(file, "jitter_camera_shift_px entry is not [x, y]");
                 m.jitter.emplace_back(e.at(0).get<float>(), e.at(1).get<float>());
             }
         }
@@ -63,7 +66,8 @@ Result<BlenderMeta> parse_meta(const fs::path& file) {
         return io_error(file, std::string("malformed field: ") + e.what());
     }
     if (m.kind != "fg" && m.kind != "sr")
-        return make_error(Errc::unsupported, file.string() + ": unknown kind '" + m.kind + "' (expected fg or sr)");
+        return make_error(Errc::unsupported,
+                          file.string() + ": unknown kind '" + m.kind + "' (expected fg or sr)");
     return m;
 }
 
@@ -119,14 +123,16 @@ Result<Capture> load_blender(const fs::path& dir, size_t max_frames) {
         f.depth = detail::floats_to_bytes(aux->channels[base].data);
         // The first frame's vectors are all zero (no earlier frame was rendered): unknown.
         if (i > 0)
-            f.mv = detail::pack_rg32f(aux->channels[base + 1].data.data(), aux->channels[base + 2].data.data(), n);
+            f.mv = detail::pack_rg32f(aux->channels[base + 1].data.data(),
+                                      aux->channels[base + 2].data.data(), n);
         if (!fg && !meta->jitter.empty()) {
             // lr/N was rendered with camera shift jitter[N-1] (LR pixels, +y up). A camera shifted by
             // s samples the unshifted image at pixel centre + s, so the sample offset is (sx, -sy)
             // in x-right / y-down pixels.
             const long idx = nf.number - 1;
             if (idx < 0 || size_t(idx) >= meta->jitter.size())
-                return io_error(meta_file, "no jitter_camera_shift_px entry for " + nf.path.filename().string());
+                return io_error(meta_file,
+                                "no jitter_camera_shift_px entry for " + nf.path.filename().string());
             f.jitter_x = meta->jitter[size_t(idx)].first;
             f.jitter_y = -meta->jitter[size_t(idx)].second;
         }

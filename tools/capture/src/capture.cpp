@@ -72,9 +72,12 @@ float half_to_float(uint16_t bits) {
     return float(h);
 }
 
-uint16_t float_to_half(float f) { return Imath::half(f).bits(); }
+uint16_t float_to_half(float f) {
+    return Imath::half(f).bits();
+}
 
-std::vector<std::byte> pack_rgba16f(const float* r, const float* g, const float* b, const float* a, size_t n) {
+std::vector<std::byte> pack_rgba16f(const float* r, const float* g, const float* b, const float* a,
+                                    size_t n) {
     std::vector<std::byte> out(n * 8);
     const float* planes[4] = {r, g, b, a};
     for (size_t i = 0; i < n; ++i)
@@ -131,9 +134,15 @@ ImageRGBA decode_color(const FrameFormat& f, const Frame& frame) {
     const size_t n = size_t(f.width) * f.height;
     size_t bpp = 0;
     switch (f.color_format) {
-    case ColorFormat::rgba8_srgb: bpp = 4; break;
-    case ColorFormat::rgba16f_linear: bpp = 8; break;
-    case ColorFormat::rgba32f_linear: bpp = 16; break;
+    case ColorFormat::rgba8_srgb:
+        bpp = 4;
+        break;
+    case ColorFormat::rgba16f_linear:
+        bpp = 8;
+        break;
+    case ColorFormat::rgba32f_linear:
+        bpp = 16;
+        break;
     }
     if (n == 0 || bpp == 0 || frame.color.size() != n * bpp) return img;
     img.width = f.width;
@@ -154,7 +163,9 @@ ImageRGBA decode_color(const FrameFormat& f, const Frame& frame) {
             img.rgba[i] = detail::half_to_float(h);
         }
         break;
-    case ColorFormat::rgba32f_linear: std::memcpy(img.rgba.data(), src, n * 16); break;
+    case ColorFormat::rgba32f_linear:
+        std::memcpy(img.rgba.data(), src, n * 16);
+        break;
     }
     // As the engine's ingest: non-finite -> 0, negative light -> 0, at most the half maximum.
     for (float& v : img.rgba) v = std::isfinite(v) ? std::clamp(v, 0.f, 65504.f) : 0.f;

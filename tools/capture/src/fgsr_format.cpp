@@ -94,17 +94,22 @@ std::string frame_name(size_t i) {
 
 size_t color_bpp(ColorFormat f) {
     switch (f) {
-    case ColorFormat::rgba8_srgb: return 4;
-    case ColorFormat::rgba16f_linear: return 8;
-    case ColorFormat::rgba32f_linear: return 16;
+    case ColorFormat::rgba8_srgb:
+        return 4;
+    case ColorFormat::rgba16f_linear:
+        return 8;
+    case ColorFormat::rgba32f_linear:
+        return 16;
     }
     return 0;
 }
 
 size_t mv_bpp(MvFormat f) {
     switch (f) {
-    case MvFormat::rg16f: return 4;
-    case MvFormat::rg32f: return 8;
+    case MvFormat::rg16f:
+        return 4;
+    case MvFormat::rg32f:
+        return 8;
     }
     return 0;
 }
@@ -181,7 +186,8 @@ Result<Frame> exr_to_frame(const FrameFormat& fmt, const fs::path& p, bool has_m
     if (img->width != fmt.width || img->height != fmt.height)
         return make_error(Errc::size_mismatch, p.string() + ": image is " + std::to_string(img->width) + "x" +
                                                    std::to_string(img->height) + ", manifest says " +
-                                                   std::to_string(fmt.width) + "x" + std::to_string(fmt.height));
+                                                   std::to_string(fmt.width) + "x" +
+                                                   std::to_string(fmt.height));
     const size_t n = size_t(fmt.width) * fmt.height;
     const auto& ch = img->channels;
     Frame f;
@@ -230,7 +236,8 @@ Result<ImageRGBA> read_rgba(const fs::path& p, uint32_t w, uint32_t h) {
                                                    std::to_string(img->height) + ", manifest says " +
                                                    std::to_string(w) + "x" + std::to_string(h));
     const auto& ch = img->channels;
-    return detail::make_image(w, h, ch[0].data.data(), ch[1].data.data(), ch[2].data.data(), ch[3].data.data());
+    return detail::make_image(w, h, ch[0].data.data(), ch[1].data.data(), ch[2].data.data(),
+                              ch[3].data.data());
 }
 
 Result<void> check_image(const ImageRGBA& img, uint32_t w, uint32_t h, const std::string& what) {
@@ -256,7 +263,8 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
     const size_t cb = color_bpp(fmt.color_format), mb = mv_bpp(fmt.mv_format);
     if (cb == 0) return make_error(Errc::unsupported, "save_fgsr: unknown colour format");
     if (mb == 0) return make_error(Errc::unsupported, "save_fgsr: unknown vector format");
-    if (!enum_name(kDepthNames, fmt.conventions.depth_kind) || !enum_name(kUnitNames, fmt.conventions.mv_units) ||
+    if (!enum_name(kDepthNames, fmt.conventions.depth_kind) ||
+        !enum_name(kUnitNames, fmt.conventions.mv_units) ||
         !enum_name(kDirNames, fmt.conventions.mv_direction) || !enum_name(kGtNames, c.ground_truth_kind))
         return make_error(Errc::unsupported, "save_fgsr: unknown convention value");
     if (fmt.width == 0 || fmt.height == 0 || c.inputs.empty())
@@ -266,14 +274,18 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
         const Frame& f = c.inputs[i];
         const std::string what = "save_fgsr: frame " + std::to_string(i);
         if (f.color.size() != n * cb)
-            return make_error(Errc::size_mismatch, what + " colour has " + std::to_string(f.color.size()) + " bytes");
+            return make_error(Errc::size_mismatch,
+                              what + " colour has " + std::to_string(f.color.size()) + " bytes");
         if (f.depth.size() != n * 4)
-            return make_error(Errc::size_mismatch, what + " depth has " + std::to_string(f.depth.size()) + " bytes");
+            return make_error(Errc::size_mismatch,
+                              what + " depth has " + std::to_string(f.depth.size()) + " bytes");
         if (!f.mv.empty() && f.mv.size() != n * mb)
-            return make_error(Errc::size_mismatch, what + " vectors have " + std::to_string(f.mv.size()) + " bytes");
+            return make_error(Errc::size_mismatch,
+                              what + " vectors have " + std::to_string(f.mv.size()) + " bytes");
     }
     for (size_t i = 0; i < c.ground_truth.size(); ++i)
-        FGSR_TRY(check_image(c.ground_truth[i], fmt.width, fmt.height, "save_fgsr: ground truth " + std::to_string(i)));
+        FGSR_TRY(check_image(c.ground_truth[i], fmt.width, fmt.height,
+                             "save_fgsr: ground truth " + std::to_string(i)));
     const bool has_hr = c.hr_format.width > 0 || !c.hr_reference.empty() || !c.hr_ground_truth.empty();
     for (size_t i = 0; i < c.hr_reference.size(); ++i)
         FGSR_TRY(check_image(c.hr_reference[i], c.hr_format.width, c.hr_format.height,
@@ -293,11 +305,11 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
     m["color_format"] = enum_name(kColorNames, fmt.color_format);
     m["mv_format"] = enum_name(kMvNames, fmt.mv_format);
     m["conventions"] = ojson{{"depth_kind", enum_name(kDepthNames, fmt.conventions.depth_kind)},
-                            {"near_plane", float_to_json(fmt.conventions.near_plane)},
-                            {"far_plane", float_to_json(fmt.conventions.far_plane)},
-                            {"mv_units", enum_name(kUnitNames, fmt.conventions.mv_units)},
-                            {"mv_direction", enum_name(kDirNames, fmt.conventions.mv_direction)},
-                            {"mv_y_up", fmt.conventions.mv_y_up}};
+                             {"near_plane", float_to_json(fmt.conventions.near_plane)},
+                             {"far_plane", float_to_json(fmt.conventions.far_plane)},
+                             {"mv_units", enum_name(kUnitNames, fmt.conventions.mv_units)},
+                             {"mv_direction", enum_name(kDirNames, fmt.conventions.mv_direction)},
+                             {"mv_y_up", fmt.conventions.mv_y_up}};
     m["ground_truth_kind"] = enum_name(kGtNames, c.ground_truth_kind);
     m["composed_vectors"] = c.composed_vectors;
 
@@ -306,9 +318,9 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
         const std::string rel = "frames/" + frame_name(i);
         FGSR_TRY(write_exr(dir / rel, frame_to_exr(fmt, c.inputs[i])));
         frames.push_back(ojson{{"file", rel},
-                              {"mv", !c.inputs[i].mv.empty()},
-                              {"jitter", ojson::array({float_to_json(c.inputs[i].jitter_x),
-                                                      float_to_json(c.inputs[i].jitter_y)})}});
+                               {"mv", !c.inputs[i].mv.empty()},
+                               {"jitter", ojson::array({float_to_json(c.inputs[i].jitter_x),
+                                                        float_to_json(c.inputs[i].jitter_y)})}});
     }
     m["frames"] = std::move(frames);
 
@@ -332,9 +344,9 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
         auto hgt = write_list(c.hr_ground_truth, "hr_gt");
         if (!hgt) return hgt.error();
         m["hr"] = ojson{{"width", c.hr_format.width},
-                       {"height", c.hr_format.height},
-                       {"reference", std::move(*ref)},
-                       {"ground_truth", std::move(*hgt)}};
+                        {"height", c.hr_format.height},
+                        {"reference", std::move(*ref)},
+                        {"ground_truth", std::move(*hgt)}};
     }
 
     // The manifest goes last (write + rename): a directory with a manifest is a complete capture.
@@ -343,7 +355,8 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
     try {
         text = m.dump(1);
     } catch (const std::exception& e) { // name or source that is not valid UTF-8
-        return make_error(Errc::invalid_argument, "save_fgsr: cannot encode the manifest: " + std::string(e.what()));
+        return make_error(Errc::invalid_argument,
+                          "save_fgsr: cannot encode the manifest: " + std::string(e.what()));
     }
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -373,7 +386,8 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
     std::vector<std::string> gt_files, hr_files, hr_gt_files;
     try {
         if (m.value("format", std::string()) != kFormatName)
-            return io_error(mfile, std::string("not an fgsr capture manifest (format != \"") + kFormatName + "\")");
+            return io_error(mfile,
+                            std::string("not an fgsr capture manifest (format != \"") + kFormatName + "\")");
         const int version = m.at("version").get<int>();
         if (version != kFormatVersion)
             return make_error(Errc::unsupported,
@@ -383,12 +397,15 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
         c.format.width = m.at("width").get<uint32_t>();
         c.format.height = m.at("height").get<uint32_t>();
         const json& cv = m.at("conventions");
-        bool ok = enum_parse(kColorNames, m.at("color_format").get<std::string>(), c.format.color_format) &&
-                  enum_parse(kMvNames, m.at("mv_format").get<std::string>(), c.format.mv_format) &&
-                  enum_parse(kDepthNames, cv.at("depth_kind").get<std::string>(), c.format.conventions.depth_kind) &&
-                  enum_parse(kUnitNames, cv.at("mv_units").get<std::string>(), c.format.conventions.mv_units) &&
-                  enum_parse(kDirNames, cv.at("mv_direction").get<std::string>(), c.format.conventions.mv_direction) &&
-                  enum_parse(kGtNames, m.at("ground_truth_kind").get<std::string>(), c.ground_truth_kind);
+        bool ok =
+            enum_parse(kColorNames, m.at("color_format").get<std::string>(), c.format.color_format) &&
+            enum_parse(kMvNames, m.at("mv_format").get<std::string>(), c.format.mv_format) &&
+            enum_parse(kDepthNames, cv.at("depth_kind").get<std::string>(),
+                       c.format.conventions.depth_kind) &&
+            enum_parse(kUnitNames, cv.at("mv_units").get<std::string>(), c.format.conventions.mv_units) &&
+            enum_parse(kDirNames, cv.at("mv_direction").get<std::string>(),
+                       c.format.conventions.mv_direction) &&
+            enum_parse(kGtNames, m.at("ground_truth_kind").get<std::string>(), c.ground_truth_kind);
         if (!ok) return make_error(Errc::unsupported, mfile.string() + ": unknown format or convention name");
         c.format.conventions.near_plane = json_to_float(cv.at("near_plane"));
         c.format.conventions.far_plane = json_to_float(cv.at("far_plane"));
@@ -412,13 +429,15 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
             c.hr_format.height = hr.at("height").get<uint32_t>();
             c.hr_format.color_format = ColorFormat::rgba32f_linear;
             if (hr.contains("reference")) hr_files = hr.at("reference").get<std::vector<std::string>>();
-            if (hr.contains("ground_truth")) hr_gt_files = hr.at("ground_truth").get<std::vector<std::string>>();
+            if (hr.contains("ground_truth"))
+                hr_gt_files = hr.at("ground_truth").get<std::vector<std::string>>();
         }
     } catch (const std::exception& e) {
         return io_error(mfile, std::string("malformed manifest: ") + e.what());
     }
     if (c.format.width == 0 || c.format.height == 0 || c.format.width > 65536 || c.format.height > 65536)
-        return io_error(mfile, "invalid size " + std::to_string(c.format.width) + "x" + std::to_string(c.format.height));
+        return io_error(mfile, "invalid size " + std::to_string(c.format.width) + "x" +
+                                   std::to_string(c.format.height));
     if (entries.empty()) return make_error(Errc::empty_input, mfile.string() + ": no frames");
 
     const size_t keep = std::min(entries.size(), max_frames);
@@ -439,7 +458,7 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
         }
         return {};
     };
-    const size_t gt_limit = max_frames == kAllFrames ? kAllFrames
+    const size_t gt_limit = max_frames == kAllFrames                      ? kAllFrames
                             : c.ground_truth_kind == GroundTruth::halfway ? keep_between
                                                                           : keep;
     FGSR_TRY(read_list(gt_files, gt_limit, c.format.width, c.format.height, c.ground_truth));

@@ -87,7 +87,8 @@ std::vector<glm::vec2> compose_vectors(const ref::InternalFrame& fk, const ref::
             }
             // The anchor always belongs to its group; its weight may still be 0 (y on a pixel row
             // or column): then take the anchor's vector.
-            out[i] = m + (wsum > 0.f ? v / wsum : fk1.mv[size_t(ny[anchor]) * size_t(w) + size_t(nx[anchor])]);
+            out[i] =
+                m + (wsum > 0.f ? v / wsum : fk1.mv[size_t(ny[anchor]) * size_t(w) + size_t(nx[anchor])]);
         }
     }
     return out;
@@ -99,17 +100,20 @@ Result<Capture> make_half_rate(const Capture& c) {
     if (c.ground_truth_kind != GroundTruth::consecutive)
         return make_error(Errc::invalid_argument,
                           "make_half_rate: capture '" + c.name + "' is not a capture of consecutive frames");
-    if (c.inputs.empty()) return make_error(Errc::empty_input, "make_half_rate: capture '" + c.name + "' has no frames");
+    if (c.inputs.empty())
+        return make_error(Errc::empty_input, "make_half_rate: capture '" + c.name + "' has no frames");
     for (size_t i = 0; i < c.inputs.size(); ++i) {
         auto v = ref::validate(c.format, c.inputs[i].view());
-        if (!v) return make_error(v.error().code, "make_half_rate: capture '" + c.name + "' frame " +
-                                                      std::to_string(i) + ": " + v.error().message);
+        if (!v)
+            return make_error(v.error().code, "make_half_rate: capture '" + c.name + "' frame " +
+                                                  std::to_string(i) + ": " + v.error().message);
     }
     const bool split_hr = !c.hr_reference.empty();
     if (split_hr && c.hr_reference.size() != c.inputs.size())
         return make_error(Errc::size_mismatch, "make_half_rate: capture '" + c.name + "' has " +
-                                                   std::to_string(c.hr_reference.size()) + " hr references for " +
-                                                   std::to_string(c.inputs.size()) + " frames");
+                                                   std::to_string(c.hr_reference.size()) +
+                                                   " hr references for " + std::to_string(c.inputs.size()) +
+                                                   " frames");
 
     Capture out;
     out.name = c.name;

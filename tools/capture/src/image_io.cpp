@@ -4,13 +4,13 @@
 // is wrapped and turned into an Errc::io error naming the file.
 #include <fgsr/capture/image_io.hpp>
 
+#include <Imath/half.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfThreading.h>
-#include <Imath/half.h>
 #include <png.h>
 
 #include <algorithm>
@@ -37,8 +37,7 @@ Error io_error(const fs::path& p, const std::string& what) {
 }
 
 bool consistent(const ImageRGBA& img) {
-    return img.width > 0 && img.height > 0 &&
-           img.rgba.size() == size_t(img.width) * img.height * 4;
+    return img.width > 0 && img.height > 0 && img.rgba.size() == size_t(img.width) * img.height * 4;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -83,7 +82,8 @@ bool png_read_impl(PngState& s) {
     if (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(s.png);
     if (png_get_valid(s.png, s.info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(s.png);
     if (bit_depth == 16) png_set_strip_16(s.png);
-    if (color_type == PNG_COLOR_TYPE_GRAY || color_type == PNG_COLOR_TYPE_GRAY_ALPHA) png_set_gray_to_rgb(s.png);
+    if (color_type == PNG_COLOR_TYPE_GRAY || color_type == PNG_COLOR_TYPE_GRAY_ALPHA)
+        png_set_gray_to_rgb(s.png);
     if (!(color_type & PNG_COLOR_MASK_ALPHA) && !png_get_valid(s.png, s.info, PNG_INFO_tRNS))
         png_set_filler(s.png, 0xff, PNG_FILLER_AFTER);
     png_set_interlace_handling(s.png);
@@ -108,8 +108,9 @@ bool png_read_impl(PngState& s) {
 bool png_write_impl(PngState& s) {
     if (setjmp(png_jmpbuf(s.png))) return false;
     png_init_io(s.png, s.file);
-    png_set_IHDR(s.png, s.info, s.width, s.height, 8, s.channels == 4 ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(s.png, s.info, s.width, s.height, 8,
+                 s.channels == 4 ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(s.png, s.info);
     png_write_image(s.png, s.rows.data());
     png_write_end(s.png, nullptr);
@@ -129,7 +130,8 @@ Result<void> write_png_pixels(const fs::path& path, PngState& s) {
     if (s.png) png_destroy_write_struct(&s.png, s.info ? &s.info : nullptr);
     if (std::fclose(s.file) != 0) ok = false;
     s.file = nullptr;
-    if (!ok) return io_error(path, std::string("PNG write failed: ") + (s.message[0] ? s.message : "I/O error"));
+    if (!ok)
+        return io_error(path, std::string("PNG write failed: ") + (s.message[0] ? s.message : "I/O error"));
     return {};
 }
 
@@ -177,7 +179,8 @@ Result<ExrImage> read_exr_impl(const fs::path& path, const std::vector<std::stri
             const Imf::Channel* ch = header.channels().findChannel(wanted[i]);
             if (!ch) return io_error(path, "missing channel '" + wanted[i] + "'");
             if (ch->xSampling != 1 || ch->ySampling != 1)
-                return make_error(Errc::unsupported, path.string() + ": subsampled channel '" + wanted[i] + "'");
+                return make_error(Errc::unsupported,
+                                  path.string() + ": subsampled channel '" + wanted[i] + "'");
             ExrChannel& out = img.channels[i];
             out.name = wanted[i];
             if (ch->type == Imf::HALF) {
@@ -227,7 +230,8 @@ float srgb8_decode(uint8_t b) {
 }
 
 Result<void> write_png(const fs::path& path, const ImageRGBA& img) {
-    if (!consistent(img)) return make_error(Errc::invalid_argument, path.string() + ": empty or inconsistent image");
+    if (!consistent(img))
+        return make_error(Errc::invalid_argument, path.string() + ": empty or inconsistent image");
     PngState s;
     s.width = img.width;
     s.height = img.height;
@@ -236,7 +240,8 @@ Result<void> write_png(const fs::path& path, const ImageRGBA& img) {
     const size_t n = size_t(img.width) * img.height;
     for (size_t i = 0; i < n; ++i)
         for (int c = 0; c < 3; ++c)
-            s.pixels[i * 3 + size_t(c)] = uint8_t(std::lround(srgb_encode(img.rgba[i * 4 + size_t(c)]) * 255.f));
+            s.pixels[i * 3 + size_t(c)] =
+                uint8_t(std::lround(srgb_encode(img.rgba[i * 4 + size_t(c)]) * 255.f));
     return write_png_pixels(path, s);
 }
 
@@ -269,7 +274,9 @@ Result<Image8> read_png(const fs::path& path) {
     ok = s->png && s->info && png_read_impl(*s);
     if (s->png) png_destroy_read_struct(&s->png, s->info ? &s->info : nullptr, nullptr);
     std::fclose(s->file);
-    if (!ok) return io_error(path, std::string("PNG read failed: ") + (s->message[0] ? s->message : "out of memory"));
+    if (!ok)
+        return io_error(path,
+                        std::string("PNG read failed: ") + (s->message[0] ? s->message : "out of memory"));
     Image8 img;
     img.width = s->width;
     img.height = s->height;
@@ -283,7 +290,9 @@ const ExrChannel* ExrImage::find(std::string_view name) const {
     return nullptr;
 }
 
-Result<ExrImage> read_exr(const fs::path& path) { return read_exr_impl(path, nullptr); }
+Result<ExrImage> read_exr(const fs::path& path) {
+    return read_exr_impl(path, nullptr);
+}
 
 Result<ExrImage> read_exr(const fs::path& path, const std::vector<std::string>& names) {
     return read_exr_impl(path, &names);
@@ -314,12 +323,13 @@ Result<void> write_exr(const fs::path& path, const ExrImage& img) {
                 header.channels().insert(c.name, Imf::Channel(Imf::HALF));
                 auto& h = halves.emplace_back(count);
                 for (size_t i = 0; i < count; ++i) h[i] = Imath::half(c.data[i]);
-                fb.insert(c.name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(h.data()), sizeof(Imath::half),
-                                             sizeof(Imath::half) * img.width));
+                fb.insert(c.name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(h.data()),
+                                             sizeof(Imath::half), sizeof(Imath::half) * img.width));
             } else {
                 header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
-                fb.insert(c.name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(c.data.data())),
-                                             sizeof(float), sizeof(float) * img.width));
+                fb.insert(c.name,
+                          Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(c.data.data())),
+                                     sizeof(float), sizeof(float) * img.width));
             }
         }
         Imf::OutputFile file(path.c_str(), header);
@@ -334,7 +344,8 @@ Result<void> write_exr(const fs::path& path, const ExrImage& img) {
 }
 
 Result<void> write_exr(const fs::path& path, const ImageRGBA& img, ExrPixel type) {
-    if (!consistent(img)) return make_error(Errc::invalid_argument, path.string() + ": empty or inconsistent image");
+    if (!consistent(img))
+        return make_error(Errc::invalid_argument, path.string() + ": empty or inconsistent image");
     ExrImage e;
     e.width = img.width;
     e.height = img.height;

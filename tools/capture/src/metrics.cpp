@@ -30,13 +30,13 @@ Result<void> check_pair(const ImageRGBA& a, const ImageRGBA& ref, const char* wh
     for (const ImageRGBA* im : {&a, &ref}) {
         const size_t n = size_t(im->width) * im->height * 4;
         if (im->rgba.size() != n)
-            return make_error(Errc::size_mismatch,
-                              std::string(what) + ": image " + size_str(*im) + " holds " +
-                                  std::to_string(im->rgba.size()) + " floats, expected " + std::to_string(n));
+            return make_error(Errc::size_mismatch, std::string(what) + ": image " + size_str(*im) +
+                                                       " holds " + std::to_string(im->rgba.size()) +
+                                                       " floats, expected " + std::to_string(n));
     }
     if (a.width != ref.width || a.height != ref.height)
-        return make_error(Errc::size_mismatch,
-                          std::string(what) + ": image sizes differ: " + size_str(a) + " vs " + size_str(ref));
+        return make_error(Errc::size_mismatch, std::string(what) + ": image sizes differ: " + size_str(a) +
+                                                   " vs " + size_str(ref));
     if (a.width == 0 || a.height == 0)
         return make_error(Errc::empty_input, std::string(what) + ": empty image " + size_str(a));
     return {};
@@ -63,8 +63,8 @@ double psnr_from_mse(double mse) {
     return std::min(kPsnrIdentical, 10.0 * std::log10(1.0 / mse));
 }
 
-constexpr int kWin = 11;    // SSIM window size
-constexpr int kRadius = 5;  // (kWin - 1) / 2
+constexpr int kWin = 11;   // SSIM window size
+constexpr int kRadius = 5; // (kWin - 1) / 2
 constexpr double kSigma = 1.5;
 
 // SSIM moment accumulation type.
@@ -162,8 +162,12 @@ Result<double> ssim(const ImageRGBA& a, const ImageRGBA& ref) {
             for (int m = 0; m < 5; ++m) {
                 const Acc* src = nullptr;
                 switch (m) {
-                case 0: src = xr.data(); break;
-                case 1: src = yr.data(); break;
+                case 0:
+                    src = xr.data();
+                    break;
+                case 1:
+                    src = yr.data();
+                    break;
                 case 2:
                     for (size_t i = 0; i < w; ++i) prod[i] = xr[i] * xr[i];
                     src = prod.data();

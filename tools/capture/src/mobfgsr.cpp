@@ -31,8 +31,8 @@ Result<Image8> read_plane(const fs::path& p, uint32_t w, uint32_t h) {
     if (!img) return img.error();
     if (w != 0 && (img->width != w || img->height != h))
         return make_error(Errc::size_mismatch, p.string() + ": image is " + std::to_string(img->width) + "x" +
-                                                   std::to_string(img->height) + ", expected " + std::to_string(w) +
-                                                   "x" + std::to_string(h));
+                                                   std::to_string(img->height) + ", expected " +
+                                                   std::to_string(w) + "x" + std::to_string(h));
     return img;
 }
 
@@ -42,7 +42,8 @@ Result<Capture> load_mobfgsr(const fs::path& dir, bool lr, size_t max_frames) {
     const fs::path base = dir / (lr ? "LR_Inputs" : "HR_Inputs");
     auto files = detail::numbered_files(base / "view", ".png");
     if (!files) return files.error();
-    if (files->empty()) return make_error(Errc::empty_input, (base / "view").string() + ": no NNNN.png frames");
+    if (files->empty())
+        return make_error(Errc::empty_input, (base / "view").string() + ": no NNNN.png frames");
     if (files->size() > max_frames) files->resize(max_frames);
 
     Capture c;

@@ -40,12 +40,18 @@ glm::vec3 hsv(double h, double s, double v) {
     const double f = hh - std::floor(hh);
     const double p = v * (1 - s), q = v * (1 - s * f), r = v * (1 - s * (1 - f));
     switch (i) {
-    case 0: return {float(v), float(r), float(p)};
-    case 1: return {float(q), float(v), float(p)};
-    case 2: return {float(p), float(v), float(r)};
-    case 3: return {float(p), float(q), float(v)};
-    case 4: return {float(r), float(p), float(v)};
-    default: return {float(v), float(p), float(q)};
+    case 0:
+        return {float(v), float(r), float(p)};
+    case 1:
+        return {float(q), float(v), float(p)};
+    case 2:
+        return {float(p), float(v), float(r)};
+    case 3:
+        return {float(p), float(q), float(v)};
+    case 4:
+        return {float(r), float(p), float(v)};
+    default:
+        return {float(v), float(p), float(q)};
     }
 }
 
@@ -54,9 +60,9 @@ struct Design {
     const char* name;
     LayerShape shape;
     float depth;
-    double hx, hy;     // half extents (design px); for a disc hx is the radius
-    int thin_axis;     // -1: none; 0: x half extent is thin_half output pixels; 1: same for y
-    double thin_half;  // output pixels
+    double hx, hy;    // half extents (design px); for a disc hx is the radius
+    int thin_axis;    // -1: none; 0: x half extent is thin_half output pixels; 1: same for y
+    double thin_half; // output pixels
     double px, py, vx, vy, ax, ay;
 };
 
@@ -79,14 +85,14 @@ constexpr Design kDesign[] = {
 
 Result<void> validate(const SceneOptions& o) {
     if (o.width < 1 || o.width > 16384)
-        return make_error(Errc::invalid_argument, "SceneOptions.width " + std::to_string(o.width) +
-                                                      " outside [1, 16384]");
+        return make_error(Errc::invalid_argument,
+                          "SceneOptions.width " + std::to_string(o.width) + " outside [1, 16384]");
     if (o.height < 1 || o.height > 16384)
-        return make_error(Errc::invalid_argument, "SceneOptions.height " + std::to_string(o.height) +
-                                                      " outside [1, 16384]");
+        return make_error(Errc::invalid_argument,
+                          "SceneOptions.height " + std::to_string(o.height) + " outside [1, 16384]");
     if (o.supersample < 1 || o.supersample > 16)
-        return make_error(Errc::invalid_argument, "SceneOptions.supersample " +
-                                                      std::to_string(o.supersample) + " outside [1, 16]");
+        return make_error(Errc::invalid_argument,
+                          "SceneOptions.supersample " + std::to_string(o.supersample) + " outside [1, 16]");
     if (!std::isfinite(o.speed) || o.speed < 0.0f)
         return make_error(Errc::invalid_argument,
                           "SceneOptions.speed " + std::to_string(o.speed) + " must be finite and >= 0");
@@ -165,19 +171,32 @@ glm::dvec2 SyntheticScene::layer_velocity(size_t i, double t) const {
     return l.v + l.a * t;
 }
 
-glm::dvec2 SyntheticScene::layer_acceleration(size_t i) const { return layers_.at(i).a; }
-float SyntheticScene::layer_depth(size_t i) const { return layers_.at(i).depth; }
-LayerShape SyntheticScene::layer_shape(size_t i) const { return layers_.at(i).shape; }
-glm::dvec2 SyntheticScene::layer_half_size(size_t i) const { return layers_.at(i).half; }
-std::string_view SyntheticScene::layer_name(size_t i) const { return layers_.at(i).name; }
+glm::dvec2 SyntheticScene::layer_acceleration(size_t i) const {
+    return layers_.at(i).a;
+}
+float SyntheticScene::layer_depth(size_t i) const {
+    return layers_.at(i).depth;
+}
+LayerShape SyntheticScene::layer_shape(size_t i) const {
+    return layers_.at(i).shape;
+}
+glm::dvec2 SyntheticScene::layer_half_size(size_t i) const {
+    return layers_.at(i).half;
+}
+std::string_view SyntheticScene::layer_name(size_t i) const {
+    return layers_.at(i).name;
+}
 
 namespace {
 
 inline bool covers(LayerShape shape, glm::dvec2 half, glm::dvec2 local) {
     switch (shape) {
-    case LayerShape::plane: return true;
-    case LayerShape::rect: return std::abs(local.x) <= half.x && std::abs(local.y) <= half.y;
-    case LayerShape::disc: return local.x * local.x + local.y * local.y <= half.x * half.x;
+    case LayerShape::plane:
+        return true;
+    case LayerShape::rect:
+        return std::abs(local.x) <= half.x && std::abs(local.y) <= half.y;
+    case LayerShape::disc:
+        return local.x * local.x + local.y * local.y <= half.x * half.x;
     }
     return false;
 }

@@ -74,12 +74,12 @@ struct PassTiming {
     // "splat", then "generate" (fused) or "refine", "disocc", "warp", "blend" (separate passes);
     // ingest is timed at submit (Session::last_ingest_ms).
     std::string name;
-    double ms = 0;    // GPU time from timestamp queries
+    double ms = 0; // GPU time from timestamp queries
 };
 
 struct GeneratedFrame {
-    float time = 0;    // alpha for interpolation, 1 + alpha for extrapolation
-    ImageRGBA color;   // linear RGBA, the session's resolution
+    float time = 0;  // alpha for interpolation, 1 + alpha for extrapolation
+    ImageRGBA color; // linear RGBA, the session's resolution
     std::vector<PassTiming> passes;
     double gpu_ms = 0; // sum of passes
 };
@@ -146,8 +146,8 @@ class Session {
     // the other vectors are filled when Params::separate_passes was set.
     struct Intermediates {
         std::vector<uint64_t> keys;
-        std::vector<float> motion;      // 4 per frame-1 pixel: v0.xy, v1.xy (see ref::Splat)
-        std::vector<float> field;       // 4 per pixel: v0.xy, v1.xy
+        std::vector<float> motion; // 4 per frame-1 pixel: v0.xy, v1.xy (see ref::Splat)
+        std::vector<float> field;  // 4 per pixel: v0.xy, v1.xy
         std::vector<float> field_depth;
         std::vector<uint32_t> field_state;
         std::vector<float> warped_color0, warped_color1; // 4 per pixel

@@ -42,9 +42,9 @@ struct Splat {
 
 // Reconstructed motion field of one generated frame (see shaders/field.h).
 struct Field {
-    std::vector<glm::vec4> v;     // (v0.xy, v1.xy) per target pixel
-    std::vector<float> depth;     // frame-1 depth of the surface, FGSR_FAR_DEPTH if unknown
-    std::vector<uint32_t> state;  // FIELD_* values
+    std::vector<glm::vec4> v;    // (v0.xy, v1.xy) per target pixel
+    std::vector<float> depth;    // frame-1 depth of the surface, FGSR_FAR_DEPTH if unknown
+    std::vector<uint32_t> state; // FIELD_* values
 };
 
 // Warped frames: index frame * N + pixel, frame 0 then frame 1; negative depth = off screen.
@@ -63,8 +63,8 @@ IngestParams ingest_params(const FrameFormat& format, bool has_mv);
 InternalFrame ingest(const FrameFormat& format, const FrameView& frame);
 
 // The push constants the engine uses for one generated frame.
-GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate, bool frame0_has_mv,
-                     bool frame1_has_mv);
+GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
+                     bool frame0_has_mv, bool frame1_has_mv);
 
 // The push constants of the `sr` pass for a frame (has_history: a previous output exists and
 // the frame is no reset).
@@ -74,7 +74,8 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
 // One frame of super resolution on the CPU: `cur` the new LR frame, `prev_depth` the previous LR
 // depth, `history` the previous output (out_width x out_height), `lut` for Resample::lut.
 std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector<float>& prev_depth,
-                                     const std::vector<glm::vec4>& history, const SrParams& p, std::span<const float> lut);
+                                     const std::vector<glm::vec4>& history, const SrParams& p,
+                                     std::span<const float> lut);
 
 // The joint pass: interpolation (ISR) or extrapolation (ESR) at output resolution from the
 // motion field of `splat`; `src` is the previous SR output (ISR) or the newest one (ESR).
@@ -84,8 +85,7 @@ std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame&
 
 // Passes of frame generation; f0 is the older frame, f1 the newer one.
 Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
-Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
-             const GenParams& g);
+Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, const GenParams& g);
 void disocc(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, Field& field,
             const GenParams& g);
 Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field, const GenParams& g);
@@ -101,8 +101,8 @@ std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1
 // Resamples `src` (w x h) at every pixel centre + shift (pixels, x right, y down), with the
 // engine's resampling (shaders/resample.h): out(x, y) = resample(src, (x + 0.5, y + 0.5) + shift).
 // `lut` (kLutSize weights) is read only for Resample::lut.
-std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h, glm::vec2 shift,
-                                      Resample kind, std::span<const float> lut = {});
+std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h,
+                                      glm::vec2 shift, Resample kind, std::span<const float> lut = {});
 
 // One resampled value of `src` (w x h) at `pos` (pixels, centres at +0.5); for spatial upscaling.
 glm::vec4 resample_at(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h, glm::vec2 pos, Resample kind,

@@ -29,13 +29,13 @@ enum class GroundTruth {
 };
 
 struct Capture {
-    std::string name;              // short name for reports ("toss-fg", "mobfgsr-bunker", ...)
-    std::string source;            // "blender", "mobfgsr", "fgsr", "synthetic"
-    FrameFormat format;            // of every input frame
-    std::vector<Frame> inputs;     // rendered frames in time order
+    std::string name;          // short name for reports ("toss-fg", "mobfgsr-bunker", ...)
+    std::string source;        // "blender", "mobfgsr", "fgsr", "synthetic"
+    FrameFormat format;        // of every input frame
+    std::vector<Frame> inputs; // rendered frames in time order
     GroundTruth ground_truth_kind = GroundTruth::consecutive;
     std::vector<ImageRGBA> ground_truth; // halfway only: linear RGBA
-    bool composed_vectors = false; // set by make_half_rate()
+    bool composed_vectors = false;       // set by make_half_rate()
 
     // Optional high-resolution reference (super resolution captures), one per input.
     FrameFormat hr_format{};
@@ -53,7 +53,8 @@ inline constexpr size_t kAllFrames = static_cast<size_t>(-1);
 //   manifest.json (fgsr's own format). `prefer_lr` picks LR_Inputs for Mob-FGSR captures.
 // `max_frames` keeps only the first frames (inputs, with their ground truth / references).
 // Errors: Errc::io naming the file or directory that is missing or malformed.
-Result<Capture> load(const std::filesystem::path& dir, bool prefer_lr = false, size_t max_frames = kAllFrames);
+Result<Capture> load(const std::filesystem::path& dir, bool prefer_lr = false,
+                     size_t max_frames = kAllFrames);
 
 // Blender capture (capture.json kind "fg" or "sr", see shared/captures/README.md). Colour is
 // rgba16f_linear, depth linear, vectors rg32f {pixels, to_previous, mv_y_up = true} exactly as

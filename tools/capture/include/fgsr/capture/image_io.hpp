@@ -47,9 +47,9 @@ Result<Image8> read_png(const std::filesystem::path& path);
 enum class ExrPixel { half, float32 };
 
 struct ExrChannel {
-    std::string name;        // full channel name, e.g. "ViewLayer.Combined.R"
+    std::string name;                  // full channel name, e.g. "ViewLayer.Combined.R"
     ExrPixel type = ExrPixel::float32; // storage type in the file
-    std::vector<float> data; // width*height values, top row first (half values widened exactly)
+    std::vector<float> data;           // width*height values, top row first (half values widened exactly)
 };
 
 struct ExrImage {
@@ -74,6 +74,7 @@ Result<void> write_exr(const std::filesystem::path& path, const ExrImage& img);
 
 // Writes `img` as an RGBA OpenEXR (ZIP compression), half floats by default (values that do not
 // fit a half become +-inf, as the half conversion does) or 32-bit floats (exact).
-Result<void> write_exr(const std::filesystem::path& path, const ImageRGBA& img, ExrPixel type = ExrPixel::half);
+Result<void> write_exr(const std::filesystem::path& path, const ImageRGBA& img,
+                       ExrPixel type = ExrPixel::half);
 
 } // namespace fgsr::capture

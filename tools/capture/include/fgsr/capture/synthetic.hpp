@@ -29,10 +29,10 @@ namespace fgsr::capture {
 
 struct SceneOptions {
     uint32_t width = 480, height = 270; // output size in pixels, each in [1, 16384]
-    uint32_t seed = 1;                  // varies colours, textures and (slightly) paths; same seed = same scene
-    bool accelerated = true;            // false: every path has uniform velocity (a = 0)
-    float speed = 1.0f;                 // scales all motion (velocity and acceleration); finite, >= 0
-    uint32_t supersample = 4;           // colour samples per axis per pixel (box filter), in [1, 16]
+    uint32_t seed = 1;        // varies colours, textures and (slightly) paths; same seed = same scene
+    bool accelerated = true;  // false: every path has uniform velocity (a = 0)
+    float speed = 1.0f;       // scales all motion (velocity and acceleration); finite, >= 0
+    uint32_t supersample = 4; // colour samples per axis per pixel (box filter), in [1, 16]
 };
 
 // Checks the ranges documented on SceneOptions (invalid_argument naming the field otherwise).
@@ -50,11 +50,11 @@ class SyntheticScene {
     explicit SyntheticScene(SceneOptions o);
 
     struct Sample {
-        ImageRGBA color;             // linear RGBA, alpha 1, supersample^2 box-filtered over each pixel
-        std::vector<float> depth;    // linear view depth of the frontmost layer at each pixel centre
-        std::vector<glm::vec2> mv;   // pixels, y down: position at t_prev minus position at t of the
-                                     // surface point seen at the pixel centre (internal convention)
-        std::vector<uint8_t> layer;  // index of the frontmost layer at each pixel centre
+        ImageRGBA color;            // linear RGBA, alpha 1, supersample^2 box-filtered over each pixel
+        std::vector<float> depth;   // linear view depth of the frontmost layer at each pixel centre
+        std::vector<glm::vec2> mv;  // pixels, y down: position at t_prev minus position at t of the
+                                    // surface point seen at the pixel centre (internal convention)
+        std::vector<uint8_t> layer; // index of the frontmost layer at each pixel centre
     };
 
     // Colour at time t, depth / layer at t, and vectors from t towards t_prev (any two instants).
@@ -88,19 +88,19 @@ class SyntheticScene {
 
   private:
     struct Wave {
-        glm::dvec2 k;      // radians per design pixel
+        glm::dvec2 k; // radians per design pixel
         double phase;
         double amp;
-        glm::vec3 tint;    // per-channel weight of this wave
+        glm::vec3 tint; // per-channel weight of this wave
     };
     struct Layer {
         std::string_view name;
         LayerShape shape;
         float depth;
-        glm::dvec2 half;    // pixels
+        glm::dvec2 half;     // pixels
         glm::dvec2 p0, v, a; // pixels, pixels/frame, pixels/frame^2 (speed and `accelerated` applied)
-        glm::vec3 c1, c2;   // checker colours, linear
-        double cell;        // checker cell, design pixels
+        glm::vec3 c1, c2;    // checker colours, linear
+        double cell;         // checker cell, design pixels
         Wave waves[3];
     };
 
@@ -110,7 +110,7 @@ class SyntheticScene {
     void render_rows(const Tables& tab, uint32_t y0, uint32_t y1, float* rgba) const;
 
     SceneOptions opt_;
-    double tex_scale_ = 1.0;      // design pixels per output pixel (textures)
+    double tex_scale_ = 1.0; // design pixels per output pixel (textures)
     std::vector<Layer> layers_;
     std::vector<size_t> by_depth_; // layer indices, nearest first
 };
