@@ -92,28 +92,6 @@ std::string frame_name(size_t i) {
     return buf;
 }
 
-size_t color_bpp(ColorFormat f) {
-    switch (f) {
-    case ColorFormat::rgba8_srgb:
-        return 4;
-    case ColorFormat::rgba16f_linear:
-        return 8;
-    case ColorFormat::rgba32f_linear:
-        return 16;
-    }
-    return 0;
-}
-
-size_t mv_bpp(MvFormat f) {
-    switch (f) {
-    case MvFormat::rg16f:
-        return 4;
-    case MvFormat::rg32f:
-        return 8;
-    }
-    return 0;
-}
-
 std::vector<std::string> color_channel_names(ColorFormat f) {
     if (f == ColorFormat::rgba8_srgb) return {"sRGB.R", "sRGB.G", "sRGB.B", "sRGB.A"};
     return {"R", "G", "B", "A"};
@@ -191,7 +169,7 @@ Result<Frame> exr_to_frame(const FrameFormat& fmt, const fs::path& p, bool has_m
     const size_t n = size_t(fmt.width) * fmt.height;
     const auto& ch = img->channels;
     Frame f;
-    f.color.resize(n * color_bpp(fmt.color_format));
+    f.color.resize(n * bytes_per_pixel(fmt.color_format));
     for (size_t c = 0; c < 4; ++c) {
         const float* src = ch[c].data.data();
         switch (fmt.color_format) {
@@ -260,7 +238,7 @@ Result<void> ensure_dir(const fs::path& d) {
 
 Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
     const FrameFormat& fmt = c.format;
-    const size_t cb = color_bpp(fmt.color_format), mb = mv_bpp(fmt.mv_format);
+    const size_t cb = bytes_per_pixel(fmt.color_format), mb = bytes_per_pixel(fmt.mv_format);
     if (cb == 0) return make_error(Errc::unsupported, "save_fgsr: unknown colour format");
     if (mb == 0) return make_error(Errc::unsupported, "save_fgsr: unknown vector format");
     if (!enum_name(kDepthNames, fmt.conventions.depth_kind) ||
