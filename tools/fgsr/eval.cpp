@@ -38,6 +38,13 @@ Result<capture::Capture> load_capture(const EvalOptions& o) {
 
 } // namespace
 
+std::vector<size_t> halfway_targets(size_t inputs, size_t references, bool extrapolate, int max_frames) {
+    std::vector<size_t> targets;
+    for (size_t k = extrapolate ? 1 : 0; k + 1 < inputs && k < references; ++k) targets.push_back(k);
+    if (max_frames > 0 && targets.size() > size_t(max_frames)) targets.resize(size_t(max_frames));
+    return targets;
+}
+
 Result<void> score_image(MethodScore& score, const ImageRGBA& image, const ImageRGBA& reference) {
     auto p = capture::psnr(image, reference);
     if (!p) return p.error();
@@ -123,11 +130,8 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
                           fmt::format("capture '{}' has ground truth only halfway between inputs; "
                                       "use --alpha 0.5",
                                       cap.name));
-    const size_t inputs = cap.inputs.size();
-    // Interpolation: pair (k, k+1) -> gt[k]. Extrapolation: pair (k-1, k) -> gt[k] (k + 0.5).
-    std::vector<size_t> targets;
-    for (size_t k = extrap ? 1 : 0; k + 1 < inputs && k < cap.ground_truth.size(); ++k) targets.push_back(k);
-    if (o.max_frames > 0 && targets.size() > size_t(o.max_frames)) targets.resize(size_t(o.max_frames));
+    const std::vector<size_t> targets =
+        halfway_targets(cap.inputs.size(), cap.ground_truth.size(), extrap, o.max_frames);
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
 

@@ -51,6 +51,10 @@ struct EvalReport {
 
 Result<EvalReport> run_eval(const EvalOptions& options);
 
+// Targets of halfway ground truth: interpolation pair (k, k+1) -> reference k; extrapolation
+// pair (k-1, k) -> reference k (instant k + 0.5). At most max_frames (0: all).
+std::vector<size_t> halfway_targets(size_t inputs, size_t references, bool extrapolate, int max_frames);
+
 // Shared by every mode: scores one generated image against its reference (PSNR and SSIM appended
 // to `score`), adds a generated frame's engine timings, and turns the sums into means.
 Result<void> score_image(MethodScore& score, const ImageRGBA& image, const ImageRGBA& reference);

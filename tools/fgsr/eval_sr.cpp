@@ -153,10 +153,8 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
                           "references exist only halfway between inputs; use --alpha 0.5");
     const uint32_t out_w = cap.hr_ground_truth[0].width, out_h = cap.hr_ground_truth[0].height;
     const float scale = float(out_w) / float(cap.format.width);
-    std::vector<size_t> targets;
-    for (size_t k = extrap ? 1 : 0; k + 1 < cap.inputs.size() && k < cap.hr_ground_truth.size(); ++k)
-        targets.push_back(k);
-    if (o.max_frames > 0 && targets.size() > size_t(o.max_frames)) targets.resize(size_t(o.max_frames));
+    const std::vector<size_t> targets =
+        halfway_targets(cap.inputs.size(), cap.hr_ground_truth.size(), extrap, o.max_frames);
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames");
 

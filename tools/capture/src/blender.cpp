@@ -139,15 +139,14 @@ Result<Capture> load_blender(const fs::path& dir, size_t max_frames) {
         c.inputs.push_back(std::move(f));
     }
 
-    c.format.width = w;
-    c.format.height = h;
-    c.format.color_format = ColorFormat::rgba16f_linear;
-    c.format.mv_format = MvFormat::rg32f;
-    c.format.conventions = Conventions{};
-    c.format.conventions.depth_kind = DepthKind::linear;
-    c.format.conventions.mv_units = MvUnits::pixels;
-    c.format.conventions.mv_direction = MvDirection::to_previous;
-    c.format.conventions.mv_y_up = true;
+    c.format = FrameFormat{.width = w,
+                           .height = h,
+                           .color_format = ColorFormat::rgba16f_linear,
+                           .mv_format = MvFormat::rg32f,
+                           .conventions = Conventions{.depth_kind = DepthKind::linear,
+                                                      .mv_units = MvUnits::pixels,
+                                                      .mv_direction = MvDirection::to_previous,
+                                                      .mv_y_up = true}};
 
     if (fg) {
         // gt/N lies halfway between in/N and the next input: one per input except the last.

@@ -84,15 +84,14 @@ Result<Capture> load_mobfgsr(const fs::path& dir, bool lr, size_t max_frames) {
         c.inputs.push_back(std::move(f));
     }
 
-    c.format.width = w;
-    c.format.height = h;
-    c.format.color_format = ColorFormat::rgba8_srgb;
-    c.format.mv_format = MvFormat::rg32f;
-    c.format.conventions = Conventions{};
-    c.format.conventions.depth_kind = DepthKind::linear;
-    c.format.conventions.mv_units = MvUnits::uv;
-    c.format.conventions.mv_direction = MvDirection::from_previous;
-    c.format.conventions.mv_y_up = true;
+    c.format = FrameFormat{.width = w,
+                           .height = h,
+                           .color_format = ColorFormat::rgba8_srgb,
+                           .mv_format = MvFormat::rg32f,
+                           .conventions = Conventions{.depth_kind = DepthKind::linear,
+                                                      .mv_units = MvUnits::uv,
+                                                      .mv_direction = MvDirection::from_previous,
+                                                      .mv_y_up = true}};
 
     // The HR views are the authors' reference for super resolution.
     std::error_code ec;
