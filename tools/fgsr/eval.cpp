@@ -29,18 +29,30 @@ bool is_engine_method(const std::string& m) {
 }
 
 Result<capture::Capture> load_capture(const EvalOptions& o) {
-    if (o.capture == "builtin") {
-        capture::SceneOptions so;
-        return capture::make_synthetic_capture(so, 11);
-    }
-    return capture::load(o.capture, o.prefer_lr);
+    if (o.preloaded) return *o.preloaded;
+    return load_eval_capture(o);
 }
 
 } // namespace
 
+Result<capture::Capture> load_eval_capture(const EvalOptions& o, size_t max_frames) {
+    if (o.capture == "builtin") {
+        capture::SceneOptions so;
+        return capture::make_synthetic_capture(so, uint32_t(std::clamp<size_t>(max_frames, 2, 11)));
+    }
+    return capture::load(o.capture, o.prefer_lr, max_frames);
+}
+
 std::vector<size_t> halfway_targets(size_t inputs, size_t references, bool extrapolate, int max_frames) {
     std::vector<size_t> targets;
     for (size_t k = extrapolate ? 1 : 0; k + 1 < inputs && k < references; ++k) targets.push_back(k);
+    if (max_frames > 0 && targets.size() > size_t(max_frames)) targets.resize(size_t(max_frames));
+    return targets;
+}
+
+std::vector<size_t> skip_first(std::vector<size_t> targets, int skip, int max_frames) {
+    targets.erase(targets.begin(),
+                  targets.begin() + std::min<ptrdiff_t>(std::max(skip, 0), ptrdiff_t(targets.size())));
     if (max_frames > 0 && targets.size() > size_t(max_frames)) targets.resize(size_t(max_frames));
     return targets;
 }
@@ -57,7 +69,11 @@ Result<void> score_image(MethodScore& score, const ImageRGBA& image, const Image
 
 void add_timing(MethodScore& score, const GeneratedFrame& frame) {
     score.mean_ms += frame.gpu_ms;
-    for (const PassTiming& p : frame.passes) score.pass_ms[p.name] += p.ms;
+    score.ms_samples.push_back(frame.gpu_ms);
+    for (const PassTiming& p : frame.passes) {
+        score.pass_ms[p.name] += p.ms;
+        score.pass_samples[p.name].push_back(p.ms);
+    }
 }
 
 void finish_means(EvalReport& report) {
@@ -65,9 +81,20 @@ void finish_means(EvalReport& report) {
         const double n = double(s.psnr.size());
         for (double v : s.psnr) s.mean_psnr += v / n;
         for (double v : s.ssim) s.mean_ssim += v / n;
-        s.mean_ms /= n;
-        for (auto& [pass, ms] : s.pass_ms) ms /= n;
+        if (!s.ms_samples.empty()) s.mean_ms /= double(s.ms_samples.size());
+        for (auto& [pass, ms] : s.pass_ms) ms /= double(std::max<size_t>(s.pass_samples[pass].size(), 1));
     }
+}
+
+Result<Engine*> eval_engine(const EvalOptions& o, std::unique_ptr<Engine>& owned, EvalReport& report) {
+    if (!o.engine && !owned) {
+        auto e = Engine::create(o.device);
+        if (!e) return e.error();
+        owned = std::move(*e);
+    }
+    Engine* e = o.engine ? o.engine : owned.get();
+    report.device = e->device_name();
+    return e;
 }
 
 Result<std::map<std::string, std::unique_ptr<Session>>>
@@ -77,13 +104,9 @@ make_sessions(const EvalOptions& o, const FrameFormat& format, const SessionPara
     for (const std::string& m : o.methods) {
         std::optional<Params> p = params_for(m);
         if (!p) continue;
-        if (!engine) {
-            auto e = Engine::create(o.device);
-            if (!e) return e.error();
-            engine = std::move(*e);
-            report.device = engine->device_name();
-        }
-        auto s = engine->create_session(format, *p);
+        auto e = eval_engine(o, engine, report);
+        if (!e) return e.error();
+        auto s = (*e)->create_session(format, *p);
         if (!s) return s.error();
         sessions[m] = std::move(*s);
     }
@@ -130,8 +153,8 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
                           fmt::format("capture '{}' has ground truth only halfway between inputs; "
                                       "use --alpha 0.5",
                                       cap.name));
-    const std::vector<size_t> targets =
-        halfway_targets(cap.inputs.size(), cap.ground_truth.size(), extrap, o.max_frames);
+    const std::vector<size_t> targets = skip_first(
+        halfway_targets(cap.inputs.size(), cap.ground_truth.size(), extrap, 0), o.skip_targets, o.max_frames);
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
 
@@ -151,7 +174,7 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         [&](const std::string& m) -> std::optional<Params> {
             if (!is_engine_method(m)) return std::nullopt;
             Params p = o.params;
-            p.motion = m == "fgsr" ? MotionModel::quadratic : MotionModel::linear;
+            if (m == "linear") p.motion = MotionModel::linear;
             return p;
         },
         engine, rep);
@@ -196,6 +219,11 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
                 if (!out) return out.error();
                 add_timing(score, (*out)[0]);
                 img = std::move((*out)[0].color);
+                for (int r = 1; r < o.timing_repeats; ++r) {
+                    auto again = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
+                    if (!again) return again.error();
+                    add_timing(score, (*again)[0]);
+                }
             } else if (m == "blend") {
                 img = extrap ? i1 : lerp(i0, i1, o.alpha);
             } else { // repeat: the nearest input in time

@@ -25,8 +25,21 @@ struct EvalOptions {
     bool prefer_lr = false; // Mob-FGSR captures: LR_Inputs instead of HR_Inputs
     int max_frames = 0;     // 0: every frame the capture allows
     DeviceOptions device;
-    Params params;
+    Params params; // method `fgsr` runs these as given; `linear` forces MotionModel::linear, the SR
+                   // methods fgsr-bilinear / fgsr-bicubic their history resampling
     bool progress = true;
+    // Engine calls per generated frame (interp, extrap, isr, esr; >= 1): every call is timed, the
+    // first one's image is scored (the engine is deterministic). sr times each frame once (its
+    // history cannot be replayed).
+    int timing_repeats = 1;
+    // interp, extrap, isr, esr: leave out the first targets (e.g. 1: the pair whose frame 0 has no
+    // vectors, so uniform acceleration falls back to uniform velocity there); max_frames counts
+    // the targets after them.
+    int skip_targets = 0;
+    // Not owned; when set, evaluated instead of loading `capture` (must outlive run_eval).
+    const capture::Capture* preloaded = nullptr;
+    // Not owned; when set, sessions are made on it instead of a new engine (`device` unused).
+    Engine* engine = nullptr;
 };
 
 struct MethodScore {
@@ -34,6 +47,9 @@ struct MethodScore {
     double mean_psnr = 0, mean_ssim = 0;
     double mean_ms = 0;                    // engine GPU milliseconds per generated frame (0 for baselines)
     std::map<std::string, double> pass_ms; // mean per pass
+    // Every timed engine call (frames x timing_repeats): total and per-pass GPU milliseconds.
+    std::vector<double> ms_samples;
+    std::map<std::string, std::vector<double>> pass_samples;
 };
 
 struct EvalReport {
@@ -51,15 +67,24 @@ struct EvalReport {
 
 Result<EvalReport> run_eval(const EvalOptions& options);
 
+// The capture `options` names ("builtin": the synthetic scene of 11 inputs), at most max_frames
+// inputs (capture::kAllFrames: all).
+Result<capture::Capture> load_eval_capture(const EvalOptions& options,
+                                           size_t max_frames = capture::kAllFrames);
+
 // Targets of halfway ground truth: interpolation pair (k, k+1) -> reference k; extrapolation
 // pair (k-1, k) -> reference k (instant k + 0.5). At most max_frames (0: all).
 std::vector<size_t> halfway_targets(size_t inputs, size_t references, bool extrapolate, int max_frames);
+// targets without its first `skip` entries, then at most max_frames of them (0: all).
+std::vector<size_t> skip_first(std::vector<size_t> targets, int skip, int max_frames);
 
 // Shared by every mode: scores one generated image against its reference (PSNR and SSIM appended
 // to `score`), adds a generated frame's engine timings, and turns the sums into means.
 Result<void> score_image(MethodScore& score, const ImageRGBA& image, const ImageRGBA& reference);
 void add_timing(MethodScore& score, const GeneratedFrame& frame);
 void finish_means(EvalReport& report);
+// The engine to make sessions on: o.engine, else `owned` (created from o.device on first use).
+Result<Engine*> eval_engine(const EvalOptions& o, std::unique_ptr<Engine>& owned, EvalReport& report);
 // One engine session per engine method of `methods` (those `params_for` returns a value for).
 using SessionParams = std::function<std::optional<Params>(const std::string& method)>;
 Result<std::map<std::string, std::unique_ptr<Session>>>

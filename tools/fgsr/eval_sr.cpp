@@ -21,10 +21,11 @@ bool is_engine_sr(const std::string& m) {
     return m == "fgsr" || m == "fgsr-bilinear" || m == "fgsr-bicubic";
 }
 
-Resample resample_of(const std::string& m) {
+// History resampling of a method; `fgsr` keeps `preset` (EvalOptions::params.resample).
+Resample resample_of(const std::string& m, Resample preset = Resample::lut) {
     if (m == "fgsr-bilinear" || m == "bilinear") return Resample::bilinear;
     if (m == "fgsr-bicubic" || m == "bicubic") return Resample::catmull_rom;
-    return Resample::lut;
+    return preset;
 }
 
 // Sessions of the engine methods: the same pipeline with the method's history resampling.
@@ -33,7 +34,7 @@ SessionParams sr_params_for(const EvalOptions& o, float scale) {
         if (!is_engine_sr(m)) return std::nullopt;
         Params p = o.params;
         p.scale = scale;
-        p.resample = resample_of(m);
+        p.resample = resample_of(m, o.params.resample);
         return p;
     };
 }
@@ -154,7 +155,8 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
     const uint32_t out_w = cap.hr_ground_truth[0].width, out_h = cap.hr_ground_truth[0].height;
     const float scale = float(out_w) / float(cap.format.width);
     const std::vector<size_t> targets =
-        halfway_targets(cap.inputs.size(), cap.hr_ground_truth.size(), extrap, o.max_frames);
+        skip_first(halfway_targets(cap.inputs.size(), cap.hr_ground_truth.size(), extrap, 0), o.skip_targets,
+                   o.max_frames);
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames");
 
@@ -172,13 +174,9 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
     auto made = make_sessions(o, cap.format, sr_params_for(o, scale), engine, rep);
     if (!made) return made.error();
     auto& sessions = *made;
-    if (!engine) {
-        auto e = Engine::create(o.device);
-        if (!e) return e.error();
-        engine = std::move(*e);
-        rep.device = engine->device_name();
-    }
-    auto lr_session = engine->create_session(cap.format, o.params); // for the spatial baselines
+    auto lr_engine = eval_engine(o, engine, rep);
+    if (!lr_engine) return lr_engine.error();
+    auto lr_session = (*lr_engine)->create_session(cap.format, o.params); // for the spatial baselines
     if (!lr_session) return lr_session.error();
 
     const size_t last_input = targets.back() + (extrap ? 0 : 1);
@@ -202,6 +200,11 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
                 if (!out) return out.error();
                 add_timing(score, (*out)[0]);
                 img = std::move((*out)[0].color);
+                for (int r = 1; r < o.timing_repeats; ++r) {
+                    auto again = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
+                    if (!again) return again.error();
+                    add_timing(score, (*again)[0]);
+                }
             } else {
                 if (!lr_frame) {
                     auto out = extrap ? (*lr_session)->extrapolate(a) : (*lr_session)->interpolate(a);

@@ -1,4 +1,5 @@
 // build/bin/fgsr: command-line front end of the fgsr engine.
+#include "bench.hpp"
 #include "calibrate.hpp"
 #include "cli_util.hpp"
 #include "eval.hpp"
@@ -7,6 +8,7 @@
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/presets.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -74,6 +76,11 @@ int main(int argc, char** argv) {
     eval->add_flag("--separate-passes", separate,
                    "Run refine, disocc, warp and blend as separate passes (per-pass timings; same frames)");
     eval->add_flag("--quiet", quiet, "No progress on stderr");
+    std::string preset;
+    eval->add_option("--preset", preset,
+                     "Start from a quality preset (performance, balanced, quality; "
+                     "fgsr/engine/presets.hpp); the other options given override it")
+        ->check(CLI::IsMember({"performance", "balanced", "quality"}));
 
     // fgsr convert
     std::string conv_in, conv_out;
@@ -92,6 +99,10 @@ int main(int argc, char** argv) {
     fgsr::cli::CalibrateCli cal;
     auto* calibrate = fgsr::cli::add_calibrate_command(app, cal);
 
+    // fgsr bench
+    fgsr::cli::BenchCli bench_cli;
+    auto* bench = fgsr::cli::add_bench_command(app, bench_cli);
+
     // fgsr devices
     auto* devices = app.add_subcommand("devices", "List Vulkan devices");
 
@@ -108,10 +119,21 @@ int main(int argc, char** argv) {
             !eval->count("--methods"))
             eo.methods = {"fgsr", "fgsr-bilinear", "fgsr-bicubic", "bilinear", "bicubic"};
         if (!out_dir.empty()) eo.out = out_dir;
-        eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;
-        eo.params.fill_gaps = !no_gaps;
-        eo.params.fill_holes = !no_holes;
-        eo.params.separate_passes = separate;
+        if (!preset.empty()) {
+            // The preset, then every option that was given on the command line.
+            fgsr::Params p = *fgsr::preset_params(preset);
+            if (eval->count("--t-depth")) p.t_depth = eo.params.t_depth;
+            if (eval->count("--t-bright")) p.t_bright = eo.params.t_bright;
+            if (eval->count("--sr-a")) p.sr_a = eo.params.sr_a;
+            if (eval->count("--sr-b")) p.sr_b = eo.params.sr_b;
+            if (eval->count("--dilate")) p.dilate_mvs = true;
+            eo.params = p;
+        }
+        if (preset.empty() || eval->count("--blend"))
+            eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;
+        if (preset.empty() || no_gaps) eo.params.fill_gaps = !no_gaps;
+        if (preset.empty() || no_holes) eo.params.fill_holes = !no_holes;
+        if (preset.empty() || separate) eo.params.separate_passes = separate;
         eo.progress = !quiet;
         auto r = fgsr::cli::run_eval(eo);
         if (!r) return fail(r.error());
@@ -134,6 +156,7 @@ int main(int argc, char** argv) {
         std::printf("wrote %zu frames of '%s' to %s\n", c->inputs.size(), c->name.c_str(), conv_out.c_str());
         return 0;
     }
+    if (*bench) return fgsr::cli::bench_main(bench_cli, bench);
     if (*calibrate) return fgsr::cli::calibrate_main(cal, calibrate, argc, argv);
     if (*lut_train) return fgsr::cli::lut_train_main(lut_opts, argc, argv);
     if (*devices) {

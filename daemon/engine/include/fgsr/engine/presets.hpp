@@ -1,0 +1,155 @@
+// Quality presets and named single switches of fgsr::Params, defined once for every front end
+// (`fgsr eval --preset`, `fgsr bench`, the daemon).
+//
+// Presets span the run-time / error trade-off (figures: docs/PERFORMANCE.md):
+//   performance  uniform-velocity motion (Eqs. 14-15, no frame-0 vector lookups), no gap refinement,
+//                the paper's select blend, bilinear SR history resampling, fused passes.
+//   balanced     uniform-acceleration motion, gap and hole filling, mix blend, bilinear SR history
+//                resampling (on orbit-sr as good as the LUT and cheaper), fused passes.
+//   quality      everything on: uniform acceleration, gap and hole filling, mix blend, the learned
+//                LUT for SR history, depth-informed vector dilation, fused passes (the separate
+//                passes give the same frames, only slower).
+// Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset.
+//
+// Switches are "key=value" settings of one field each, e.g. "motion=linear", "resample=lut",
+// "fill_gaps=off", "passes=separate"; kSwitches lists every key and its values, and
+// switch_toggles() names the settings that differ from a base (what `fgsr bench` toggles one at a
+// time from `balanced`).
+//
+// Thread-safety: every function here is pure (no shared state).
+#pragma once
+
+#include <fgsr/engine/engine.hpp>
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace fgsr {
+
+enum class Preset : uint32_t { performance = 0, balanced = 1, quality = 2 };
+
+inline constexpr std::array<std::string_view, 3> kPresetNames{"performance", "balanced", "quality"};
+
+inline Params preset_params(Preset preset) {
+    Params p;
+    p.separate_passes = false;
+    switch (preset) {
+    case Preset::performance:
+        p.motion = MotionModel::linear;
+        p.fill_gaps = false;
+        p.fill_holes = true; // without it holes keep garbage vectors: large error for little time
+        p.blend = BlendMode::select;
+        p.resample = Resample::bilinear;
+        p.dilate_mvs = false;
+        break;
+    case Preset::balanced:
+        p.motion = MotionModel::quadratic;
+        p.fill_gaps = true;
+        p.fill_holes = true;
+        p.blend = BlendMode::mix;
+        p.resample = Resample::bilinear;
+        p.dilate_mvs = false;
+        break;
+    case Preset::quality:
+        p.motion = MotionModel::quadratic;
+        p.fill_gaps = true;
+        p.fill_holes = true;
+        p.blend = BlendMode::mix;
+        p.resample = Resample::lut;
+        p.dilate_mvs = true;
+        break;
+    }
+    return p;
+}
+
+// By name (one of kPresetNames); invalid_argument naming the known presets otherwise.
+inline Result<Params> preset_params(std::string_view name) {
+    for (size_t i = 0; i < kPresetNames.size(); ++i)
+        if (name == kPresetNames[i]) return preset_params(Preset(i));
+    return make_error(Errc::invalid_argument,
+                      "unknown preset '" + std::string(name) + "' (presets: performance, balanced, quality)");
+}
+
+// One named switch: a Params field and the values it can take.
+struct SwitchInfo {
+    std::string_view key;
+    std::array<std::string_view, 3> values; // empty entries unused
+    std::string_view meaning;
+};
+
+inline constexpr std::array<SwitchInfo, 7> kSwitches{{
+    {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
+    {"resample", {"bilinear", "catmull_rom", "lut"}, "SR history resampling"},
+    {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
+    {"fill_holes", {"on", "off", ""}, "disocc: give disocclusion holes a vector"},
+    {"blend", {"select", "mix", ""}, "where both warped frames agree: closer frame or alpha mix"},
+    {"dilate_mvs", {"on", "off", ""}, "SR: vector of the frontmost 3x3 neighbour"},
+    {"passes", {"fused", "separate", ""}, "one fused generate pass or refine/disocc/warp/blend"},
+}};
+
+// The value of switch `key` in p ("" for an unknown key).
+inline std::string_view switch_value(const Params& p, std::string_view key) {
+    auto onoff = [](bool b) { return b ? std::string_view("on") : std::string_view("off"); };
+    if (key == "motion") return p.motion == MotionModel::linear ? "linear" : "quadratic";
+    if (key == "resample")
+        return p.resample == Resample::bilinear      ? "bilinear"
+               : p.resample == Resample::catmull_rom ? "catmull_rom"
+                                                     : "lut";
+    if (key == "fill_gaps") return onoff(p.fill_gaps);
+    if (key == "fill_holes") return onoff(p.fill_holes);
+    if (key == "blend") return p.blend == BlendMode::select ? "select" : "mix";
+    if (key == "dilate_mvs") return onoff(p.dilate_mvs);
+    if (key == "passes") return p.separate_passes ? "separate" : "fused";
+    return "";
+}
+
+// Applies one "key=value" setting; invalid_argument naming the key or value otherwise (p unchanged).
+inline Result<void> apply_switch(Params& p, std::string_view setting) {
+    const size_t eq = setting.find('=');
+    const std::string_view key = setting.substr(0, eq);
+    const std::string_view value = eq == std::string_view::npos ? std::string_view() : setting.substr(eq + 1);
+    const SwitchInfo* info = nullptr;
+    for (const SwitchInfo& s : kSwitches)
+        if (s.key == key) info = &s;
+    if (!info)
+        return make_error(
+            Errc::invalid_argument,
+            "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
+                "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, passes)");
+    bool known = false;
+    for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
+    if (!known) {
+        std::string values;
+        for (std::string_view v : info->values)
+            if (!v.empty()) values += (values.empty() ? "" : ", ") + std::string(v);
+        return make_error(Errc::invalid_argument, "switch " + std::string(key) + " has no value '" +
+                                                      std::string(value) + "' (values: " + values + ")");
+    }
+    const bool on = value == "on";
+    if (key == "motion") p.motion = value == "linear" ? MotionModel::linear : MotionModel::quadratic;
+    if (key == "resample")
+        p.resample = value == "bilinear" ? Resample::bilinear
+                     : value == "lut"    ? Resample::lut
+                                         : Resample::catmull_rom;
+    if (key == "fill_gaps") p.fill_gaps = on;
+    if (key == "fill_holes") p.fill_holes = on;
+    if (key == "blend") p.blend = value == "select" ? BlendMode::select : BlendMode::mix;
+    if (key == "dilate_mvs") p.dilate_mvs = on;
+    if (key == "passes") p.separate_passes = value == "separate";
+    return {};
+}
+
+// Every "key=value" setting of kSwitches whose value differs from base's, in kSwitches order.
+inline std::vector<std::string> switch_toggles(const Params& base) {
+    std::vector<std::string> out;
+    for (const SwitchInfo& s : kSwitches) {
+        for (std::string_view v : s.values)
+            if (!v.empty() && v != switch_value(base, s.key))
+                out.push_back(std::string(s.key) + "=" + std::string(v));
+    }
+    return out;
+}
+
+} // namespace fgsr

@@ -1,0 +1,232 @@
+// `fgsr bench` and the quality presets: what can fail without timing. The Pareto front on
+// hand-made points, the memory-traffic formula on a known size, the presets' Params against what
+// presets.hpp claims, and a --quick run of the real binary (CSV rows and finite numbers).
+#include "../tools/fgsr/bench.hpp" // median, pareto_front, parse_resolution, frame_bytes are inline
+#include "run_process.hpp"
+
+#include <fgsr/engine/presets.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using fgsr::cli::pareto_front;
+using fgsr::cli::ParetoPoint;
+
+TEST(Bench, MedianOddEvenEmpty) {
+    EXPECT_EQ(fgsr::cli::median({5, 1, 3}), 3);
+    EXPECT_EQ(fgsr::cli::median({4, 1, 3, 2}), 2.5);
+    EXPECT_TRUE(std::isnan(fgsr::cli::median({})));
+}
+
+TEST(Bench, ParetoFrontOfHandMadePoints) {
+    // ms, PSNR: a fast/poor, b slow/good, c dominated by a (slower and worse), d dominated by b
+    // (same time, worse), e equal to b (both stay), f NaN (never on the front, dominates nothing).
+    const std::vector<ParetoPoint> pts{{10, 30}, {20, 35}, {12, 29}, {20, 34}, {20, 35}, {NAN, 40}, {15, 33}};
+    const std::vector<bool> front = pareto_front(pts);
+    const std::vector<bool> expected{true, true, false, false, true, false, true};
+    EXPECT_EQ(front, expected);
+}
+
+TEST(Bench, ParetoFrontSinglePointAndTies) {
+    EXPECT_EQ(pareto_front({{5, 20}}), std::vector<bool>{true});
+    // Same accuracy: only the fastest; same time: only the most accurate.
+    EXPECT_EQ(pareto_front({{5, 20}, {6, 20}, {5, 19}}), (std::vector<bool>{true, false, false}));
+    EXPECT_TRUE(pareto_front({}).empty());
+}
+
+TEST(Bench, ResolutionNames) {
+    auto r = fgsr::cli::parse_resolution("720p");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->width, 1280u);
+    EXPECT_EQ(r->height, 720u);
+    EXPECT_EQ(fgsr::cli::parse_resolution("540p")->width, 960u);
+    EXPECT_EQ(fgsr::cli::parse_resolution("2160p")->width, 3840u);
+    EXPECT_EQ(fgsr::cli::parse_resolution("640x360")->height, 360u);
+    EXPECT_FALSE(fgsr::cli::parse_resolution("720"));
+    EXPECT_FALSE(fgsr::cli::parse_resolution("0p"));
+    EXPECT_FALSE(fgsr::cli::parse_resolution("20000x10"));
+    EXPECT_FALSE(fgsr::cli::parse_resolution("-5p"));
+}
+
+TEST(Bench, FrameBytesOnKnownSize) {
+    // 100x50 = 5000 pixels. Fused quadratic interpolation: splat R 32 W 32, generate R 48 W 16 per
+    // pixel (bench.hpp formula) = 128 B/px.
+    fgsr::Params p = fgsr::preset_params(fgsr::Preset::balanced);
+    auto b = fgsr::cli::frame_bytes(fgsr::cli::EvalMode::interp, p, 100, 50);
+    ASSERT_EQ(b.size(), 2u);
+    EXPECT_EQ(b[0].pass, "splat");
+    EXPECT_EQ(b[0].read, 32u * 5000);
+    EXPECT_EQ(b[0].written, 32u * 5000);
+    EXPECT_EQ(b[1].pass, "generate");
+    EXPECT_EQ(b[1].read, 48u * 5000);
+    EXPECT_EQ(b[1].written, 16u * 5000);
+    EXPECT_EQ(fgsr::cli::total_bytes(b), 128u * 5000);
+    // Linear motion reads no frame-0 vectors / depth (12 B/px less); extrapolation no frame 0.
+    p.motion = fgsr::MotionModel::linear;
+    EXPECT_EQ(fgsr::cli::total_bytes(fgsr::cli::frame_bytes(fgsr::cli::EvalMode::extrap, p, 100, 50)),
+              (20u + 32 + 36 + 16) * 5000);
+    // Separate passes of interpolation with holes: splat 64 + refine 48 + disocc 48 + warp 80 + blend 60.
+    p = fgsr::preset_params(fgsr::Preset::balanced);
+    p.separate_passes = true;
+    auto sep = fgsr::cli::frame_bytes(fgsr::cli::EvalMode::interp, p, 100, 50);
+    ASSERT_EQ(sep.size(), 5u);
+    EXPECT_EQ(fgsr::cli::total_bytes(sep), (64u + 48 + 48 + 80 + 60) * 5000);
+    // SR 2x: 24 B per input pixel + 32 B per output pixel.
+    EXPECT_EQ(fgsr::cli::total_bytes(fgsr::cli::frame_bytes(fgsr::cli::EvalMode::sr, p, 100, 50, 200, 100)),
+              24u * 5000 + 32u * 20000);
+}
+
+TEST(Presets, MapToTheParamsTheyClaim) {
+    // What presets.hpp's comment promises, field by field.
+    const fgsr::Params perf = *fgsr::preset_params("performance");
+    EXPECT_EQ(perf.motion, fgsr::MotionModel::linear);
+    EXPECT_EQ(perf.resample, fgsr::Resample::bilinear);
+    EXPECT_FALSE(perf.fill_gaps);
+    EXPECT_TRUE(perf.fill_holes);
+    EXPECT_EQ(perf.blend, fgsr::BlendMode::select);
+    EXPECT_FALSE(perf.dilate_mvs);
+    EXPECT_FALSE(perf.separate_passes);
+
+    const fgsr::Params bal = *fgsr::preset_params("balanced");
+    EXPECT_EQ(bal.motion, fgsr::MotionModel::quadratic);
+    EXPECT_EQ(bal.resample, fgsr::Resample::bilinear);
+    EXPECT_TRUE(bal.fill_gaps);
+    EXPECT_TRUE(bal.fill_holes);
+    EXPECT_EQ(bal.blend, fgsr::BlendMode::mix);
+    EXPECT_FALSE(bal.dilate_mvs);
+    EXPECT_FALSE(bal.separate_passes);
+
+    const fgsr::Params q = *fgsr::preset_params("quality");
+    EXPECT_EQ(q.motion, fgsr::MotionModel::quadratic);
+    EXPECT_EQ(q.resample, fgsr::Resample::lut);
+    EXPECT_TRUE(q.fill_gaps);
+    EXPECT_TRUE(q.fill_holes);
+    EXPECT_EQ(q.blend, fgsr::BlendMode::mix);
+    EXPECT_TRUE(q.dilate_mvs);
+    EXPECT_FALSE(q.separate_passes);
+
+    // Calibrated thresholds in every preset.
+    for (const fgsr::Params& p : {perf, bal, q}) {
+        EXPECT_EQ(p.t_depth, fgsr::defaults::t_depth);
+        EXPECT_EQ(p.sr_a, fgsr::defaults::sr_a);
+        EXPECT_EQ(p.scale, 1.f);
+    }
+    auto bad = fgsr::preset_params("fastest");
+    ASSERT_FALSE(bad);
+    EXPECT_NE(bad.error().message.find("fastest"), std::string::npos);
+}
+
+TEST(Presets, SwitchesApplyAndToggle) {
+    fgsr::Params p = *fgsr::preset_params("balanced");
+    ASSERT_TRUE(fgsr::apply_switch(p, "motion=linear"));
+    EXPECT_EQ(p.motion, fgsr::MotionModel::linear);
+    ASSERT_TRUE(fgsr::apply_switch(p, "resample=catmull_rom"));
+    EXPECT_EQ(p.resample, fgsr::Resample::catmull_rom);
+    ASSERT_TRUE(fgsr::apply_switch(p, "passes=separate"));
+    EXPECT_TRUE(p.separate_passes);
+    ASSERT_TRUE(fgsr::apply_switch(p, "fill_holes=off"));
+    EXPECT_FALSE(p.fill_holes);
+    const fgsr::Params before = p;
+    auto e = fgsr::apply_switch(p, "motion=cubic");
+    ASSERT_FALSE(e);
+    EXPECT_NE(e.error().message.find("cubic"), std::string::npos);
+    EXPECT_FALSE(fgsr::apply_switch(p, "warp=fast"));
+    EXPECT_FALSE(fgsr::apply_switch(p, "fill_gaps"));
+    EXPECT_EQ(p.motion, before.motion); // errors leave p unchanged
+    EXPECT_EQ(p.fill_gaps, before.fill_gaps);
+
+    // From balanced, every toggle changes exactly the switch it names.
+    const fgsr::Params base = *fgsr::preset_params("balanced");
+    const std::vector<std::string> toggles = fgsr::switch_toggles(base);
+    const std::set<std::string> expected{"motion=linear", "resample=catmull_rom", "resample=lut",
+                                         "fill_gaps=off", "fill_holes=off",       "blend=select",
+                                         "dilate_mvs=on", "passes=separate"};
+    EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
+    for (const std::string& t : toggles) {
+        fgsr::Params x = base;
+        ASSERT_TRUE(fgsr::apply_switch(x, t));
+        const std::string key = t.substr(0, t.find('='));
+        for (const fgsr::SwitchInfo& s : fgsr::kSwitches)
+            if (s.key == key)
+                EXPECT_EQ(fgsr::switch_value(x, s.key), t.substr(t.find('=') + 1)) << t;
+            else
+                EXPECT_EQ(fgsr::switch_value(x, s.key), fgsr::switch_value(base, s.key))
+                    << t << " changed " << s.key;
+    }
+}
+
+std::vector<std::map<std::string, std::string>> read_csv(const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::string line;
+    std::vector<std::string> header;
+    std::vector<std::map<std::string, std::string>> rows;
+    auto split = [](const std::string& s) {
+        std::vector<std::string> out;
+        std::stringstream ss(s);
+        std::string item;
+        while (std::getline(ss, item, ',')) out.push_back(item);
+        if (!s.empty() && s.back() == ',') out.push_back("");
+        return out;
+    };
+    if (!std::getline(in, line)) return rows;
+    header = split(line);
+    while (std::getline(in, line)) {
+        const std::vector<std::string> cells = split(line);
+        EXPECT_EQ(cells.size(), header.size()) << line;
+        std::map<std::string, std::string> row;
+        for (size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+TEST(Bench, QuickRunWritesExpectedCsv) {
+    const std::filesystem::path out = std::filesystem::path(testing::TempDir()) / "fgsr_bench_quick";
+    std::filesystem::remove_all(out);
+    const fgsr::test::ProcessRun r = fgsr::test::run_process(
+        std::string(FGSR_BIN_DIR) + "/fgsr bench --quick --no-plots --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.out;
+    const auto rows = read_csv(out / "bench.csv");
+    // builtin: interp (3 presets + 5 switches that act on it), extrap (no blend switch).
+    std::set<std::string> got, expected;
+    for (const char* c : {"performance", "balanced", "quality", "balanced+motion=linear",
+                          "balanced+fill_gaps=off", "balanced+fill_holes=off", "balanced+passes=separate"}) {
+        expected.insert(std::string("interp ") + c);
+        expected.insert(std::string("extrap ") + c);
+    }
+    expected.insert("interp balanced+blend=select");
+    size_t pareto = 0;
+    for (const auto& row : rows) {
+        EXPECT_EQ(row.at("capture"), "synthetic-toss");
+        got.insert(row.at("mode") + " " + row.at("config"));
+        for (const char* k : {"ms_median", "psnr", "ssim", "splat_ms"}) {
+            const double v = std::stod(row.at(k));
+            EXPECT_TRUE(std::isfinite(v) && v > 0) << k << " = " << row.at(k) << " in " << row.at("config");
+        }
+        EXPECT_LE(std::stod(row.at("ssim")), 1.0);
+        EXPECT_GT(std::stod(row.at("psnr")), 15.0); // generated frames resemble the ground truth
+        pareto += row.at("pareto") == "yes";
+    }
+    EXPECT_EQ(got, expected);
+    EXPECT_EQ(rows.size(), expected.size());
+    EXPECT_GE(pareto, 2u); // at least one per mode
+    const auto scaling = read_csv(out / "scaling.csv");
+    ASSERT_EQ(scaling.size(), 1u);
+    EXPECT_EQ(scaling[0].at("width"), "320");
+    EXPECT_GT(std::stod(scaling[0].at("x_memcpy")), 0.0);
+    EXPECT_EQ(read_csv(out / "alphas.csv").size(), 2u);
+    EXPECT_TRUE(std::filesystem::exists(out / "bench.md"));
+    std::filesystem::remove_all(out);
+}
+
+} // namespace

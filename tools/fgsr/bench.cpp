@@ -1,0 +1,693 @@
+// `fgsr bench` (see bench.hpp): run time against error on captures, resolution scaling, frames per
+// pair, the memcpy roofline and still against moving; CSV, Markdown and gnuplot outputs.
+#include "bench.hpp"
+
+#include "cli_util.hpp"
+
+#include <fgsr/capture/synthetic.hpp>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <set>
+#include <thread>
+
+namespace fgsr::cli {
+
+namespace {
+
+// Engine passes in pipeline order (the CSV columns and the bar plot's stack order).
+constexpr const char* kPasses[] = {"sr",     "splat",  "generate", "generate_sr",
+                                   "refine", "disocc", "warp",     "blend"};
+
+using Clock = std::chrono::steady_clock;
+
+void progress(const BenchOptions& o, const std::string& line) {
+    if (o.progress) std::fprintf(stderr, "[bench] %s\n", line.c_str());
+}
+
+// A capture to benchmark: spec as given, and the modes it is limited to (empty: all it supports).
+struct CaptureEntry {
+    std::string spec;
+    std::string dir;
+    bool lr = false;
+    std::vector<std::string> modes;
+};
+
+std::vector<CaptureEntry> capture_entries(const BenchOptions& o) {
+    std::vector<CaptureEntry> out;
+    auto parse = [](const std::string& spec) {
+        CaptureEntry e{spec, spec, false, {}};
+        const std::string suffix = "@lr";
+        if (spec.size() > suffix.size() &&
+            spec.compare(spec.size() - suffix.size(), suffix.size(), suffix) == 0) {
+            e.dir = spec.substr(0, spec.size() - suffix.size());
+            e.lr = true;
+        }
+        return e;
+    };
+    if (!o.captures.empty()) {
+        for (const std::string& s : o.captures) out.push_back(parse(s));
+        return out;
+    }
+    out.push_back({"builtin", "builtin", false, {"interp", "extrap"}});
+    if (o.quick) return out;
+    const std::filesystem::path root = o.shared_captures;
+    auto add = [&](const std::string& rel, bool lr, std::vector<std::string> modes) {
+        const std::filesystem::path dir = root / rel;
+        if (!std::filesystem::is_directory(dir)) {
+            progress(o, "default capture " + dir.string() + " is absent: skipped");
+            return;
+        }
+        out.push_back({dir.string() + (lr ? "@lr" : ""), dir.string(), lr, std::move(modes)});
+    };
+    add("blender/toss-fg", false, {"interp", "extrap"});
+    add("blender/orbit-sr", false, {"sr", "isr", "esr"});
+    add("mobfgsr-bunker", false, {"interp", "extrap"});
+    add("mobfgsr-bunker", true, {"sr"});
+    return out;
+}
+
+EvalMode mode_of(const std::string& m) {
+    return m == "extrap" ? EvalMode::extrap
+           : m == "sr"   ? EvalMode::sr
+           : m == "isr"  ? EvalMode::isr
+           : m == "esr"  ? EvalMode::esr
+                         : EvalMode::interp;
+}
+
+// Whether the capture holds the ground truth `mode` is scored against.
+bool supports(const capture::Capture& c, const std::string& mode) {
+    const bool consecutive = c.ground_truth_kind == capture::GroundTruth::consecutive;
+    const bool fg = consecutive ? c.inputs.size() >= 3 : !c.ground_truth.empty();
+    const bool sr = !c.hr_reference.empty() && c.hr_reference.size() == c.inputs.size();
+    if (mode == "interp" || mode == "extrap") return fg;
+    if (mode == "sr") return sr;
+    return sr && (consecutive ? c.inputs.size() >= 3 : !c.hr_ground_truth.empty());
+}
+
+// Whether switch `key` changes anything in `mode` (the passes that read the field).
+bool switch_applies(const std::string& key, const std::string& mode) {
+    const bool fg = mode == "interp" || mode == "extrap";
+    const bool joint = mode == "isr" || mode == "esr";
+    if (key == "motion" || key == "fill_gaps" || key == "fill_holes") return fg || joint;
+    if (key == "blend") return mode == "interp" || mode == "isr"; // extrapolation shows frame 1 only
+    if (key == "passes") return fg;                               // SR passes are always fused
+    if (key == "resample") return mode == "sr" || joint;
+    if (key == "dilate_mvs") return mode == "sr";
+    return false;
+}
+
+struct Config {
+    std::string name, preset, toggle;
+    Params params;
+};
+
+Result<std::vector<Config>> configs_for(const BenchOptions& o, const std::string& mode) {
+    std::vector<Config> out;
+    for (const std::string& p : o.presets) {
+        auto params = preset_params(p);
+        if (!params) return params.error();
+        out.push_back({p, p, "", *params});
+    }
+    if (!o.toggles) return out;
+    const Params base = preset_params(Preset::balanced);
+    for (const std::string& t : switch_toggles(base)) {
+        if (!switch_applies(t.substr(0, t.find('=')), mode)) continue;
+        Params p = base;
+        FGSR_TRY(apply_switch(p, t));
+        out.push_back({"balanced+" + t, "balanced", t, p});
+    }
+    return out;
+}
+
+// A session holding every input of `c` (the last two are frames 0 and 1).
+Result<std::unique_ptr<Session>> primed_session(Engine& engine, const capture::Capture& c, const Params& p) {
+    auto s = engine.create_session(c.format, p);
+    if (!s) return s.error();
+    for (const capture::Frame& f : c.inputs) FGSR_TRY((*s)->submit(f.view()));
+    return std::move(*s);
+}
+
+// One interpolation call of `alphas`: the call's total GPU ms (sum over its frames), and per pass.
+Result<double> timed_call(Session& s, const std::vector<float>& alphas,
+                          std::map<std::string, double>* passes) {
+    auto out = s.interpolate(alphas);
+    if (!out) return out.error();
+    double ms = 0;
+    for (const GeneratedFrame& f : *out) {
+        ms += f.gpu_ms;
+        if (passes)
+            for (const PassTiming& p : f.passes) (*passes)[p.name] += p.ms;
+    }
+    return ms;
+}
+
+capture::SceneOptions timing_scene(const Resolution& r, float speed) {
+    capture::SceneOptions so;
+    so.width = r.width;
+    so.height = r.height;
+    so.supersample = 1; // timing inputs only: no need for antialiased colour
+    so.speed = speed;
+    return so;
+}
+
+Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& rep) {
+    const std::set<std::string> wanted(o.modes.begin(), o.modes.end());
+    for (const CaptureEntry& e : capture_entries(o)) {
+        EvalOptions eo;
+        eo.capture = e.dir;
+        eo.prefer_lr = e.lr;
+        progress(o, "loading " + e.spec);
+        // Half-rate captures use inputs 0, 2, 4, ...: 2 frames + 6 cover `frames` targets of any mode
+        // after the skipped first one.
+        auto loaded = load_eval_capture(eo, size_t(2 * o.frames + 6));
+        if (!loaded) return make_error(loaded.error().code, e.spec + ": " + loaded.error().message);
+        const capture::Capture& cap = *loaded;
+        const std::string label = cap.name + (e.lr ? "-lr" : "");
+        for (const std::string mode : {"interp", "extrap", "sr", "isr", "esr"}) {
+            if (!wanted.count(mode)) continue;
+            if (!e.modes.empty() && std::find(e.modes.begin(), e.modes.end(), mode) == e.modes.end())
+                continue;
+            if (!supports(cap, mode)) {
+                rep.skipped.push_back(label + " " + mode + ": no ground truth for this mode");
+                continue;
+            }
+            auto configs = configs_for(o, mode);
+            if (!configs) return configs.error();
+            const size_t first_row = rep.rows.size();
+            for (size_t ci = 0; ci < configs->size(); ++ci) {
+                const Config& c = (*configs)[ci];
+                EvalOptions run = eo;
+                run.mode = mode_of(mode);
+                run.methods = {"fgsr"};
+                run.params = c.params;
+                run.max_frames = o.frames;
+                run.timing_repeats = o.repeats;
+                run.skip_targets = mode == "sr" ? 0 : 1; // frame 0 of the first pair has no vectors
+                run.preloaded = &cap;
+                run.engine = &engine;
+                run.progress = false;
+                auto r = run_eval(run);
+                if (!r)
+                    return make_error(r.error().code,
+                                      label + " " + mode + " " + c.name + ": " + r.error().message);
+                const MethodScore& s = r->methods.at("fgsr");
+                BenchRow row;
+                row.capture = label;
+                row.mode = mode;
+                row.config = c.name;
+                row.preset = c.preset;
+                row.toggle = c.toggle;
+                row.width = r->width;
+                row.height = r->height;
+                row.frames = r->frames;
+                row.samples = s.ms_samples.size();
+                row.ms = median(s.ms_samples);
+                row.ms_mean = s.mean_ms;
+                for (const auto& [pass, v] : s.pass_samples) row.pass_ms[pass] = median(v);
+                row.psnr = s.mean_psnr;
+                row.ssim = s.mean_ssim;
+                row.bytes = total_bytes(frame_bytes(run.mode, c.params, cap.format.width, cap.format.height,
+                                                    r->width, r->height));
+                rep.device = r->device;
+                progress(o, fmt::format("{} {} {}/{} {}: {:.2f} ms (median of {}), {:.2f} dB, SSIM {:.4f}",
+                                        label, mode, ci + 1, configs->size(), c.name, row.ms, row.samples,
+                                        row.psnr, row.ssim));
+                rep.rows.push_back(std::move(row));
+            }
+            std::vector<ParetoPoint> pts;
+            for (size_t i = first_row; i < rep.rows.size(); ++i)
+                pts.push_back({rep.rows[i].ms, rep.rows[i].psnr});
+            const std::vector<bool> front = pareto_front(pts);
+            for (size_t i = 0; i < front.size(); ++i) rep.rows[first_row + i].pareto = front[i];
+        }
+    }
+    return {};
+}
+
+Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep) {
+    const Params balanced = preset_params(Preset::balanced);
+    const int reps = std::max(o.repeats, 1);
+    const std::vector<float> half{0.5f};
+    std::vector<Resolution> resolutions;
+    for (const std::string& s : o.resolutions) {
+        auto r = parse_resolution(s);
+        if (!r) return make_error(Errc::invalid_argument, "resolution '" + s + "' is not <H>p or <W>x<H>");
+        resolutions.push_back(*r);
+    }
+    if (resolutions.empty()) return {};
+    rep.headline = resolutions[0];
+    for (const Resolution& r : resolutions)
+        if (r.name == "720p") rep.headline = r;
+
+    for (const Resolution& r : resolutions) {
+        progress(o, fmt::format("resolution {} ({}x{}): rendering the synthetic scene", r.name, r.width,
+                                r.height));
+        auto cap = capture::make_synthetic_capture(timing_scene(r, 1.f), 3);
+        if (!cap) return cap.error();
+        auto s = primed_session(engine, *cap, balanced);
+        if (!s) return s.error();
+        std::vector<double> samples;
+        std::map<std::string, std::vector<double>> pass_samples;
+        for (int i = 0; i < reps; ++i) {
+            std::map<std::string, double> passes;
+            auto ms = timed_call(**s, half, &passes);
+            if (!ms) return ms.error();
+            samples.push_back(*ms);
+            for (const auto& [p, v] : passes) pass_samples[p].push_back(v);
+        }
+        ScaleRow row;
+        row.res = r;
+        row.ms = median(samples);
+        for (const auto& [p, v] : pass_samples) row.pass_ms[p] = median(v);
+        row.bytes = total_bytes(frame_bytes(EvalMode::interp, balanced, r.width, r.height));
+        row.copy_ms = time_copy_ms(row.bytes, std::max(reps, 5), rep.copy_threads);
+        progress(o, fmt::format(
+                        "resolution {}: {:.2f} ms per frame, memcpy of {:.1f} MB traffic {:.2f} ms ({:.1f}x)",
+                        r.name, row.ms, double(row.bytes) / 1e6, row.copy_ms, row.ms / row.copy_ms));
+        rep.scaling.push_back(row);
+
+        if (r.name != rep.headline.name) continue;
+        // Frames per pair: one call generating `count` evenly spaced frames.
+        for (int count : o.alpha_counts) {
+            if (count < 1 || count > 64)
+                return make_error(Errc::invalid_argument, "alpha count outside [1, 64]");
+            std::vector<float> alphas;
+            for (int k = 1; k <= count; ++k) alphas.push_back(float(k) / float(count + 1));
+            std::vector<double> calls;
+            for (int i = 0; i < reps; ++i) {
+                auto ms = timed_call(**s, alphas, nullptr);
+                if (!ms) return ms.error();
+                calls.push_back(*ms);
+            }
+            rep.alphas.push_back({count, median(calls)});
+            progress(o, fmt::format("{} frames per pair: {:.2f} ms per call", count, rep.alphas.back().ms));
+        }
+        // Still (no motion, identical frames, zero vectors) against moving, alternating calls.
+        auto still_cap = capture::make_synthetic_capture(timing_scene(r, 0.f), 3);
+        if (!still_cap) return still_cap.error();
+        auto still = primed_session(engine, *still_cap, balanced);
+        if (!still) return still.error();
+        std::vector<double> st, mv;
+        for (int i = 0; i < reps; ++i) {
+            auto a = timed_call(**still, half, nullptr);
+            if (!a) return a.error();
+            auto b = timed_call(**s, half, nullptr);
+            if (!b) return b.error();
+            st.push_back(*a);
+            mv.push_back(*b);
+        }
+        rep.still_ms = median(st);
+        rep.moving_ms = median(mv);
+        progress(o, fmt::format("still {:.2f} ms, moving {:.2f} ms: ratio {:.2f}", rep.still_ms,
+                                rep.moving_ms, rep.still_ms / rep.moving_ms));
+    }
+    return {};
+}
+
+std::string num(double v, int digits) {
+    if (!std::isfinite(v)) return "nan";
+    return fmt::format("{:.{}f}", v, digits);
+}
+
+std::string passes_text(const std::map<std::string, double>& pass_ms) {
+    std::string s;
+    for (const char* p : kPasses)
+        if (pass_ms.count(p)) s += fmt::format("{}{} {:.2f}", s.empty() ? "" : ", ", p, pass_ms.at(p));
+    return s;
+}
+
+Result<void> write_text(const std::filesystem::path& p, const std::string& text) {
+    std::ofstream f(p, std::ios::binary);
+    if (!f) return make_error(Errc::io, "cannot write " + p.string());
+    f << text;
+    if (!f) return make_error(Errc::io, "cannot write " + p.string());
+    return {};
+}
+
+std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// gnuplot data (one block per capture / mode, separated by two blank lines) and the script.
+struct PlotFiles {
+    std::string points, front, passes, script;
+};
+
+PlotFiles plot_files(const BenchReport& r) {
+    PlotFiles f;
+    std::vector<std::pair<std::string, std::string>> groups; // capture, mode in row order
+    for (const BenchRow& row : r.rows)
+        if (groups.empty() || groups.back() != std::make_pair(row.capture, row.mode))
+            groups.emplace_back(row.capture, row.mode);
+    std::vector<std::string> titles;
+    for (const auto& [cap, mode] : groups) {
+        std::vector<const BenchRow*> rows, front;
+        for (const BenchRow& row : r.rows)
+            if (row.capture == cap && row.mode == mode) {
+                rows.push_back(&row);
+                if (row.pareto) front.push_back(&row);
+            }
+        std::sort(front.begin(), front.end(),
+                  [](const BenchRow* a, const BenchRow* b) { return a->ms < b->ms; });
+        f.points += "# " + cap + " " + mode + "\n# ms psnr pareto preset label\n";
+        for (const BenchRow* row : rows)
+            f.points +=
+                fmt::format("{} {} {} {} \"{}\"\n", num(row->ms, 4), num(row->psnr, 4), row->pareto ? 1 : 0,
+                            row->toggle.empty() ? 1 : 0, row->toggle.empty() ? row->config : row->toggle);
+        f.points += "\n\n";
+        f.front += "# " + cap + " " + mode + "\n";
+        for (const BenchRow* row : front)
+            f.front += fmt::format("{} {}\n", num(row->ms, 4), num(row->psnr, 4));
+        f.front += "\n\n";
+        titles.push_back(fmt::format("{} {} ({}x{}, {} frames)", cap, mode, rows[0]->width, rows[0]->height,
+                                     rows[0]->frames));
+    }
+    // Per-pass bars: presets and the separate-passes toggle, one block per capture.
+    std::vector<std::string> caps;
+    for (const auto& g : groups)
+        if (std::find(caps.begin(), caps.end(), g.first) == caps.end()) caps.push_back(g.first);
+    for (const std::string& cap : caps) {
+        f.passes += "# " + cap + "\n# label";
+        for (const char* p : kPasses) f.passes += std::string(" ") + p;
+        f.passes += "\n";
+        for (const BenchRow& row : r.rows) {
+            if (row.capture != cap || !(row.toggle.empty() || row.toggle == "passes=separate")) continue;
+            std::string label = row.mode + " " + (row.toggle.empty() ? row.config : "separate");
+            f.passes += "\"" + label + "\"";
+            for (const char* p : kPasses)
+                f.passes += " " + num(row.pass_ms.count(p) ? row.pass_ms.at(p) : 0.0, 4);
+            f.passes += "\n";
+        }
+        f.passes += "\n\n";
+    }
+
+    const size_t n = groups.size();
+    const size_t cols = n <= 1 ? 1 : n <= 4 ? 2 : 3;
+    const size_t rows_n = (n + cols - 1) / cols;
+    const size_t pcols = caps.size() <= 1 ? 1 : 2;
+    const size_t prows = (caps.size() + pcols - 1) / pcols;
+    std::string& s = f.script;
+    s += "# Generated by `fgsr bench`: gnuplot plots.gp (in this directory) redraws the plots.\n";
+    s += "set encoding utf8\nset grid lc rgb '#dddddd'\nset key top left box opaque font ',9'\n";
+    for (const char* term : {"png", "svg"}) {
+        const std::string tsize = fmt::format("{},{}", 560 * cols, 420 * rows_n);
+        s += std::string(term) == "png"
+                 ? "set terminal pngcairo noenhanced size " + tsize + " font 'sans,10'\n"
+                 : "set terminal svg noenhanced size " + tsize + " dynamic font 'sans,10'\n";
+        s += std::string("set output 'time_vs_error.") + term + "'\n";
+        s += fmt::format(
+            "set multiplot layout {},{} title 'fgsr bench: run time against error ({}, median of {} "
+            "engine calls per frame; Pareto front in red)' font ',12'\n",
+            rows_n, cols, r.device, r.repeats);
+        s += "set xlabel 'GPU ms per frame (median)'\nset ylabel 'PSNR (dB)'\nset offsets graph 0.08, graph "
+             "0.3, "
+             "graph 0.1, graph 0.1\n";
+        for (size_t i = 0; i < n; ++i) {
+            s += "set title '" + titles[i] + "'\n";
+            s += fmt::format(
+                "plot 'front.dat' index {0} using 1:2 with lines lw 2 lc rgb '#cc3311' title 'Pareto front', "
+                "'points.dat' index {0} using 1:($4==1?$2:NaN) with points pt 7 ps 1.2 lc rgb '#0077bb' "
+                "title 'preset', "
+                "'points.dat' index {0} using 1:($4==0?$2:NaN) with points pt 5 ps 0.9 lc rgb '#999999' "
+                "title 'balanced + one switch', "
+                "'points.dat' index {0} using 1:($3==1?$2:NaN) with points pt 6 ps 2 lw 2 lc rgb '#cc3311' "
+                "notitle, "
+                "'points.dat' index {0} using 1:2:5 with labels font ',8' offset 0.6,0.6 left notitle\n",
+                i);
+        }
+        s += "unset multiplot\n";
+        // Per-pass bars.
+        const std::string psize = fmt::format("{},{}", 700 * pcols, 460 * prows);
+        s += std::string(term) == "png"
+                 ? "set terminal pngcairo noenhanced size " + psize + " font 'sans,10'\n"
+                 : "set terminal svg noenhanced size " + psize + " dynamic font 'sans,10'\n";
+        s += std::string("set output 'passes.") + term + "'\n";
+        s += fmt::format(
+            "set multiplot layout {},{} title 'fgsr bench: GPU ms per pass (median, {})' font ',12'\n", prows,
+            pcols, r.device);
+        s +=
+            "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.85 border -1\n"
+            "set boxwidth 0.75\nset xtics rotate by -35 font ',8'\nset key outside right top box font ',8'\n"
+            "set xlabel ''\nset ylabel 'GPU ms per frame'\nset offsets 0, 0, graph 0.25, 0\nset yrange "
+            "[0:*]\n";
+        for (size_t i = 0; i < caps.size(); ++i) {
+            s += "set title '" + caps[i] + "'\n";
+            // Only the passes this capture's rows have (the others would be empty key entries).
+            std::string plot = "plot ";
+            bool first = true;
+            for (size_t p = 0; p < std::size(kPasses); ++p) {
+                bool used = false;
+                for (const BenchRow& row : r.rows)
+                    used = used || (row.capture == caps[i] && row.pass_ms.count(kPasses[p]));
+                if (!used) continue;
+                plot += fmt::format("{}'passes.dat' index {} using {}{} title '{}'", first ? "" : ", ", i,
+                                    p + 2, first ? ":xtic(1)" : "", kPasses[p]);
+                first = false;
+            }
+            s += plot + "\n";
+        }
+        s += "unset multiplot\nunset style\nunset xtics\nset xtics\nunset offsets\nset autoscale\n"
+             "set key top left box opaque font ',9'\n";
+    }
+    return f;
+}
+
+} // namespace
+
+double time_copy_ms(uint64_t bytes, int repeats, unsigned threads) {
+    const size_t size = std::max<size_t>(size_t(bytes / 2), 1);
+    std::unique_ptr<std::byte[]> src(new std::byte[size]), dst(new std::byte[size]);
+    std::memset(src.get(), 1, size); // fault the pages in before timing
+    std::memset(dst.get(), 2, size);
+    threads = std::max(threads, 1u);
+    auto copy_once = [&] {
+        const auto t0 = Clock::now();
+        std::vector<std::thread> pool;
+        const size_t chunk = (size + threads - 1) / threads;
+        for (unsigned t = 0; t < threads; ++t) {
+            const size_t begin = std::min(size, size_t(t) * chunk), end = std::min(size, begin + chunk);
+            pool.emplace_back(
+                [&, begin, end] { std::memcpy(dst.get() + begin, src.get() + begin, end - begin); });
+        }
+        for (std::thread& th : pool) th.join();
+        return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    };
+    copy_once(); // warm-up
+    std::vector<double> t;
+    for (int i = 0; i < std::max(repeats, 1); ++i) t.push_back(copy_once());
+    return median(t);
+}
+
+Result<BenchReport> run_bench(const BenchOptions& o) {
+    if (o.repeats < 1 || o.frames < 1)
+        return make_error(Errc::invalid_argument, "--repeats and --frames must be at least 1");
+    for (const std::string& m : o.modes)
+        if (m != "interp" && m != "extrap" && m != "sr" && m != "isr" && m != "esr")
+            return make_error(Errc::invalid_argument,
+                              "unknown mode '" + m + "' (modes: interp, extrap, sr, isr, esr)");
+    const auto t0 = Clock::now();
+    BenchReport rep;
+    rep.repeats = o.repeats;
+    rep.frames = o.frames;
+    rep.copy_threads = std::max(std::thread::hardware_concurrency(), 1u);
+    auto engine = Engine::create(o.device);
+    if (!engine) return engine.error();
+    rep.device = (*engine)->device_name();
+    progress(o, "device: " + rep.device);
+    FGSR_TRY(run_captures(o, **engine, rep));
+    FGSR_TRY(run_timing(o, **engine, rep));
+    rep.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return rep;
+}
+
+std::string bench_csv(const BenchReport& r) {
+    std::string s = "capture,mode,config,preset,switch,width,height,frames,samples,ms_median,ms_mean";
+    for (const char* p : kPasses) s += std::string(",") + p + "_ms";
+    s += ",bytes_per_frame,psnr,ssim,pareto\n";
+    for (const BenchRow& row : r.rows) {
+        s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}", row.capture, row.mode, row.config, row.preset,
+                         row.toggle, row.width, row.height, row.frames, row.samples, num(row.ms, 4),
+                         num(row.ms_mean, 4));
+        for (const char* p : kPasses)
+            s += "," + (row.pass_ms.count(p) ? num(row.pass_ms.at(p), 4) : std::string());
+        s += fmt::format(",{},{},{},{}\n", row.bytes, num(row.psnr, 4), num(row.ssim, 5),
+                         row.pareto ? "yes" : "no");
+    }
+    return s;
+}
+
+std::string bench_markdown(const BenchReport& r) {
+    std::string s = "# fgsr bench\n\n";
+    s += fmt::format(
+        "Device: {}. Engine GPU time from timestamp queries, median over {} frames x {} engine calls "
+        "(sr: one call per frame); PSNR / SSIM mean over the frames. Run took {:.0f} s.\n\n",
+        r.device, r.frames, r.repeats, r.seconds);
+    s += "## Run time against error\n\n";
+    s += "| capture | mode | config | GPU ms (median) | per pass (ms) | PSNR dB | SSIM | Pareto |\n";
+    s += "|---|---|---|---:|---|---:|---:|:-:|\n";
+    for (const BenchRow& row : r.rows)
+        s += fmt::format("| {} ({}x{}) | {} | {} | {} | {} | {} | {} | {} |\n", row.capture, row.width,
+                         row.height, row.mode, row.config, num(row.ms, 2), passes_text(row.pass_ms),
+                         num(row.psnr, 2), num(row.ssim, 4), row.pareto ? "yes" : "");
+    for (const std::string& k : r.skipped) s += "\nSkipped: " + k + "\n";
+    if (!r.scaling.empty()) {
+        s += "\n## Resolution scaling and roofline (balanced interpolation, synthetic scene)\n\n";
+        s +=
+            fmt::format("memcpy: {} thread(s) copying bytes/2 (bytes/2 read + bytes/2 written = the engine's "
+                        "estimated traffic per frame, tools/fgsr/bench.hpp frame_bytes).\n\n",
+                        r.copy_threads);
+        s += "| resolution | pixels | GPU ms | pixel ratio | time ratio | traffic MB | memcpy ms | x memcpy "
+             "|\n";
+        s += "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+        for (size_t i = 0; i < r.scaling.size(); ++i) {
+            const ScaleRow& row = r.scaling[i];
+            const double px = double(row.res.width) * row.res.height;
+            std::string pr = "", tr = "";
+            if (i > 0) {
+                const ScaleRow& prev = r.scaling[i - 1];
+                pr = num(px / (double(prev.res.width) * prev.res.height), 2);
+                tr = num(row.ms / prev.ms, 2);
+            }
+            s += fmt::format("| {} ({}x{}) | {} | {} | {} | {} | {} | {} | {} |\n", row.res.name,
+                             row.res.width, row.res.height, uint64_t(px), num(row.ms, 2), pr, tr,
+                             num(double(row.bytes) / 1e6, 1), num(row.copy_ms, 2),
+                             num(row.ms / row.copy_ms, 1));
+        }
+    }
+    if (!r.alphas.empty()) {
+        s += fmt::format("\n## Frames generated per pair ({}, one interpolate() call)\n\n", r.headline.name);
+        s += "| frames per call | GPU ms per call | ms per frame | call time / 1-frame call "
+             "|\n|---:|---:|---:|---:|\n";
+        for (const AlphaRow& a : r.alphas)
+            s += fmt::format("| {} | {} | {} | {} |\n", a.count, num(a.ms, 2), num(a.ms / a.count, 2),
+                             num(a.ms / r.alphas[0].ms, 2));
+    }
+    if (r.moving_ms > 0)
+        s += fmt::format(
+            "\n## Still against moving ({}, balanced interpolation)\n\nstill (identical frames, zero "
+            "vectors) {} ms, moving {} ms: still / moving = {}\n",
+            r.headline.name, num(r.still_ms, 2), num(r.moving_ms, 2), num(r.still_ms / r.moving_ms, 2));
+    return s;
+}
+
+Result<void> write_bench_outputs(const BenchOptions& o, const BenchReport& r) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.out, ec);
+    if (ec) return make_error(Errc::io, "cannot create " + o.out.string() + ": " + ec.message());
+    FGSR_TRY(write_text(o.out / "bench.csv", bench_csv(r)));
+    FGSR_TRY(write_text(o.out / "bench.md", bench_markdown(r)));
+    std::string sc = "resolution,width,height,pixels,ms_median,bytes_per_frame,memcpy_ms,x_memcpy\n";
+    for (const ScaleRow& row : r.scaling)
+        sc += fmt::format("{},{},{},{},{},{},{},{}\n", row.res.name, row.res.width, row.res.height,
+                          uint64_t(row.res.width) * row.res.height, num(row.ms, 4), row.bytes,
+                          num(row.copy_ms, 4), num(row.ms / row.copy_ms, 3));
+    FGSR_TRY(write_text(o.out / "scaling.csv", sc));
+    std::string al = "frames_per_call,ms_per_call,ms_per_frame\n";
+    for (const AlphaRow& a : r.alphas)
+        al += fmt::format("{},{},{}\n", a.count, num(a.ms, 4), num(a.ms / a.count, 4));
+    FGSR_TRY(write_text(o.out / "alphas.csv", al));
+    if (!o.plots || r.rows.empty()) return {};
+    const PlotFiles pf = plot_files(r);
+    FGSR_TRY(write_text(o.out / "points.dat", pf.points));
+    FGSR_TRY(write_text(o.out / "front.dat", pf.front));
+    FGSR_TRY(write_text(o.out / "passes.dat", pf.passes));
+    FGSR_TRY(write_text(o.out / "plots.gp", pf.script));
+    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+        progress(o, "gnuplot not found (Debian: gnuplot-nox): plots.gp written, plots not drawn");
+        return {};
+    }
+    progress(o, "drawing plots (gnuplot)");
+    const std::string cmd = "cd " + shell_quote(o.out.string()) + " && gnuplot plots.gp";
+    if (std::system(cmd.c_str()) != 0)
+        return make_error(Errc::io, "gnuplot failed on " + (o.out / "plots.gp").string());
+    return {};
+}
+
+CLI::App* add_bench_command(CLI::App& app, BenchCli& c) {
+    BenchOptions& o = c.options;
+    auto* cmd =
+        app.add_subcommand("bench", "Run time against error: every mode and quality preset on captures, "
+                                    "resolution scaling, roofline, still vs moving");
+    cmd->add_option("--captures", c.captures,
+                    "Comma-separated: 'builtin', capture directories, DIR@lr (Mob-FGSR LR inputs). Default: "
+                    "builtin, toss-fg, orbit-sr, mobfgsr-bunker (HR; @lr for sr) under --shared-captures");
+    cmd->add_option("--shared-captures", o.shared_captures, "Where the default captures live")
+        ->capture_default_str();
+    cmd->add_option("--modes", c.modes, "Comma-separated subset of interp,extrap,sr,isr,esr");
+    cmd->add_option("--presets", c.presets,
+                    "Comma-separated presets (default: performance,balanced,quality)");
+    cmd->add_flag("--no-toggles", c.no_toggles, "Do not toggle each single switch from balanced");
+    cmd->add_option(
+        "--resolutions", c.resolutions,
+        "Comma-separated <H>p or <W>x<H> for scaling and roofline (default: 540p,720p,1080p,2160p); "
+        "the headline is 720p when listed, else the first");
+    cmd->add_option("--alphas", c.alphas, "Frames per pair to time, comma-separated (default: 1,2,4,8)");
+    cmd->add_option("--repeats", o.repeats, "Engine calls per generated frame (median)")
+        ->capture_default_str();
+    cmd->add_option("--frames", o.frames, "Generated frames per capture and mode")->capture_default_str();
+    cmd->add_option("--out", c.out, "Output directory (CSV, Markdown, plots)")->capture_default_str();
+    cmd->add_flag(
+        "--quick", o.quick,
+        "Small run: builtin capture, 1 frame, 2 repeats, 180p, 1 and 2 frames per pair (unless given)");
+    cmd->add_flag("--no-plots", c.no_plots, "Do not draw plots");
+    cmd->add_option("--device", o.device.device, "Vulkan device index or name substring");
+    cmd->add_flag("--quiet", c.quiet, "No progress on stderr");
+    return cmd;
+}
+
+int bench_main(BenchCli& c, CLI::App* cmd) {
+    BenchOptions& o = c.options;
+    if (!c.captures.empty()) o.captures = split_list(c.captures);
+    if (!c.modes.empty()) o.modes = split_list(c.modes);
+    if (!c.presets.empty()) o.presets = split_list(c.presets);
+    if (!c.out.empty()) o.out = c.out;
+    o.toggles = !c.no_toggles;
+    o.plots = !c.no_plots;
+    o.progress = !c.quiet;
+    if (o.quick) {
+        if (!cmd->count("--frames")) o.frames = 1;
+        if (!cmd->count("--repeats")) o.repeats = 2;
+        if (c.resolutions.empty()) o.resolutions = {"180p"};
+        if (c.alphas.empty()) o.alpha_counts = {1, 2};
+    }
+    if (!c.resolutions.empty()) o.resolutions = split_list(c.resolutions);
+    if (!c.alphas.empty()) {
+        o.alpha_counts.clear();
+        for (const std::string& a : split_list(c.alphas)) {
+            char* end = nullptr;
+            const long v = std::strtol(a.c_str(), &end, 10);
+            if (!end || *end != '\0' || v < 1 || v > 64) {
+                std::fprintf(stderr, "fgsr: invalid_argument: --alphas entry '%s' is not in [1, 64]\n",
+                             a.c_str());
+                return 1;
+            }
+            o.alpha_counts.push_back(int(v));
+        }
+    }
+    auto r = run_bench(o);
+    if (!r) {
+        std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(r.error().code), r.error().message.c_str());
+        return 1;
+    }
+    auto w = write_bench_outputs(o, *r);
+    if (!w) {
+        std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(w.error().code), w.error().message.c_str());
+        return 1;
+    }
+    std::fputs(bench_markdown(*r).c_str(), stdout);
+    std::printf("\nwritten to %s (bench.csv, bench.md, scaling.csv, alphas.csv%s)\n", o.out.c_str(),
+                o.plots ? ", time_vs_error.png/svg, passes.png/svg" : "");
+    return 0;
+}
+
+} // namespace fgsr::cli
