@@ -42,6 +42,10 @@ TEST(Bench, ParetoFrontSinglePointAndTies) {
     // Same accuracy: only the fastest; same time: only the most accurate.
     EXPECT_EQ(pareto_front({{5, 20}, {6, 20}, {5, 19}}), (std::vector<bool>{true, false, false}));
     EXPECT_TRUE(pareto_front({}).empty());
+    // Within the PSNR tolerance (0.01 dB by default) the faster point wins; beyond it both stay.
+    EXPECT_EQ(pareto_front({{5, 30.000}, {6, 30.005}}), (std::vector<bool>{true, false}));
+    EXPECT_EQ(pareto_front({{5, 30.000}, {6, 30.005}}, 0.0), (std::vector<bool>{true, true}));
+    EXPECT_EQ(pareto_front({{5, 30.00}, {6, 30.02}}), (std::vector<bool>{true, true}));
 }
 
 TEST(Bench, ResolutionNames) {

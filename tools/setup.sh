@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config git glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers
           vulkan-validationlayers libopenexr-dev libpng-dev libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-          libgtest-dev libusb-1.0-0-dev)
+          libgtest-dev libusb-1.0-0-dev gnuplot-nox)
 
 install_missing() {
     local missing=()

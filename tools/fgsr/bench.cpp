@@ -158,6 +158,66 @@ capture::SceneOptions timing_scene(const Resolution& r, float speed) {
     return so;
 }
 
+// Per-config timing samples of one capture and mode.
+struct Samples {
+    std::vector<double> ms;
+    std::map<std::string, std::vector<double>> passes;
+    void add(const GeneratedFrame& f) {
+        ms.push_back(f.gpu_ms);
+        for (const PassTiming& p : f.passes) passes[p.name].push_back(p.ms);
+    }
+};
+
+// Times every config on the frames run_eval scores (`cap` as run_eval sees it: half-rate already
+// applied for frame generation), interleaved: per frame, `repeats` rounds that call each config's
+// session once, so that load from other processes falls on all configs alike.
+Result<std::vector<Samples>> time_configs(const BenchOptions& o, Engine& engine, const capture::Capture& cap,
+                                          const std::string& mode, const std::vector<Config>& configs,
+                                          float scale) {
+    std::vector<std::unique_ptr<Session>> sessions;
+    for (const Config& c : configs) {
+        Params p = c.params;
+        if (mode == "sr" || mode == "isr" || mode == "esr") p.scale = scale;
+        auto s = engine.create_session(cap.format, p);
+        if (!s) return s.error();
+        sessions.push_back(std::move(*s));
+    }
+    std::vector<Samples> out(configs.size());
+    const int reps = std::max(o.repeats, 1);
+    if (mode == "sr") { // the history is temporal: replay the frames from a reset, `repeats` times
+        const size_t frames = std::min(cap.inputs.size(), size_t(o.frames));
+        for (int r = 0; r < reps; ++r)
+            for (size_t k = 0; k < frames; ++k)
+                for (size_t c = 0; c < sessions.size(); ++c) {
+                    FrameView v = cap.inputs[k].view();
+                    v.reset = k == 0;
+                    FGSR_TRY(sessions[c]->submit(v));
+                    auto f = sessions[c]->super_resolved();
+                    if (!f) return f.error();
+                    out[c].add(*f);
+                }
+        return out;
+    }
+    const bool extrap = mode == "extrap" || mode == "esr";
+    const size_t refs = mode == "isr" || mode == "esr" ? cap.hr_ground_truth.size() : cap.ground_truth.size();
+    const std::vector<size_t> targets =
+        skip_first(halfway_targets(cap.inputs.size(), refs, extrap, 0), 1, o.frames);
+    const float alpha[] = {0.5f};
+    size_t next_input = 0;
+    for (size_t t : targets) {
+        const size_t newest = extrap ? t : t + 1;
+        for (; next_input <= newest; ++next_input)
+            for (auto& s : sessions) FGSR_TRY(s->submit(cap.inputs[next_input].view()));
+        for (int r = 0; r < reps; ++r)
+            for (size_t c = 0; c < sessions.size(); ++c) {
+                auto f = extrap ? sessions[c]->extrapolate(alpha) : sessions[c]->interpolate(alpha);
+                if (!f) return f.error();
+                out[c].add((*f)[0]);
+            }
+    }
+    return out;
+}
+
 Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& rep) {
     const std::set<std::string> wanted(o.modes.begin(), o.modes.end());
     for (const CaptureEntry& e : capture_entries(o)) {
@@ -170,6 +230,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
         auto loaded = load_eval_capture(eo, size_t(2 * o.frames + 6));
         if (!loaded) return make_error(loaded.error().code, e.spec + ": " + loaded.error().message);
         const capture::Capture& cap = *loaded;
+        std::optional<capture::Capture> half; // frame generation on consecutive captures (made once)
         const std::string label = cap.name + (e.lr ? "-lr" : "");
         for (const std::string mode : {"interp", "extrap", "sr", "isr", "esr"}) {
             if (!wanted.count(mode)) continue;
@@ -178,6 +239,16 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
             if (!supports(cap, mode)) {
                 rep.skipped.push_back(label + " " + mode + ": no ground truth for this mode");
                 continue;
+            }
+            const capture::Capture* input = &cap;
+            if (mode != "sr" && cap.ground_truth_kind == capture::GroundTruth::consecutive) {
+                if (!half) {
+                    progress(o, label + ": half-rate inputs with composed vectors");
+                    auto h = capture::make_half_rate(cap);
+                    if (!h) return make_error(h.error().code, label + ": " + h.error().message);
+                    half = std::move(*h);
+                }
+                input = &*half;
             }
             auto configs = configs_for(o, mode);
             if (!configs) return configs.error();
@@ -189,9 +260,8 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 run.methods = {"fgsr"};
                 run.params = c.params;
                 run.max_frames = o.frames;
-                run.timing_repeats = o.repeats;
                 run.skip_targets = mode == "sr" ? 0 : 1; // frame 0 of the first pair has no vectors
-                run.preloaded = &cap;
+                run.preloaded = input;
                 run.engine = &engine;
                 run.progress = false;
                 auto r = run_eval(run);
@@ -208,23 +278,34 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 row.width = r->width;
                 row.height = r->height;
                 row.frames = r->frames;
-                row.samples = s.ms_samples.size();
-                row.ms = median(s.ms_samples);
-                row.ms_mean = s.mean_ms;
-                for (const auto& [pass, v] : s.pass_samples) row.pass_ms[pass] = median(v);
                 row.psnr = s.mean_psnr;
                 row.ssim = s.mean_ssim;
-                row.bytes = total_bytes(frame_bytes(run.mode, c.params, cap.format.width, cap.format.height,
-                                                    r->width, r->height));
+                row.bytes = total_bytes(frame_bytes(run.mode, c.params, input->format.width,
+                                                    input->format.height, r->width, r->height));
                 rep.device = r->device;
-                progress(o, fmt::format("{} {} {}/{} {}: {:.2f} ms (median of {}), {:.2f} dB, SSIM {:.4f}",
-                                        label, mode, ci + 1, configs->size(), c.name, row.ms, row.samples,
-                                        row.psnr, row.ssim));
+                progress(o, fmt::format("{} {} {}/{} {}: {:.2f} dB, SSIM {:.4f}", label, mode, ci + 1,
+                                        configs->size(), c.name, row.psnr, row.ssim));
                 rep.rows.push_back(std::move(row));
             }
+            progress(o, fmt::format("{} {}: timing {} configurations x {} frames x {} repeats (interleaved)",
+                                    label, mode, configs->size(), rep.rows.back().frames, o.repeats));
+            const float scale = float(rep.rows.back().width) / float(input->format.width);
+            auto samples = time_configs(o, engine, *input, mode, *configs, scale);
+            if (!samples)
+                return make_error(samples.error().code, label + " " + mode + ": " + samples.error().message);
             std::vector<ParetoPoint> pts;
-            for (size_t i = first_row; i < rep.rows.size(); ++i)
-                pts.push_back({rep.rows[i].ms, rep.rows[i].psnr});
+            for (size_t i = first_row; i < rep.rows.size(); ++i) {
+                BenchRow& row = rep.rows[i];
+                const Samples& sm = (*samples)[i - first_row];
+                row.samples = sm.ms.size();
+                row.ms = median(sm.ms);
+                row.ms_mean = 0;
+                for (double v : sm.ms) row.ms_mean += v / double(sm.ms.size());
+                for (const auto& [pass, v] : sm.passes) row.pass_ms[pass] = median(v);
+                pts.push_back({row.ms, row.psnr});
+                progress(o, fmt::format("{} {} {}: {:.2f} ms (median of {})", label, mode, row.config, row.ms,
+                                        row.samples));
+            }
             const std::vector<bool> front = pareto_front(pts);
             for (size_t i = 0; i < front.size(); ++i) rep.rows[first_row + i].pareto = front[i];
         }
@@ -398,7 +479,7 @@ PlotFiles plot_files(const BenchReport& r) {
     const size_t prows = (caps.size() + pcols - 1) / pcols;
     std::string& s = f.script;
     s += "# Generated by `fgsr bench`: gnuplot plots.gp (in this directory) redraws the plots.\n";
-    s += "set encoding utf8\nset grid lc rgb '#dddddd'\nset key top left box opaque font ',9'\n";
+    s += "set encoding utf8\nset grid lc rgb '#dddddd'\nset key below horizontal font ',9'\n";
     for (const char* term : {"png", "svg"}) {
         const std::string tsize = fmt::format("{},{}", 560 * cols, 420 * rows_n);
         s += std::string(term) == "png"
@@ -407,7 +488,7 @@ PlotFiles plot_files(const BenchReport& r) {
         s += std::string("set output 'time_vs_error.") + term + "'\n";
         s += fmt::format(
             "set multiplot layout {},{} title 'fgsr bench: run time against error ({}, median of {} "
-            "engine calls per frame; Pareto front in red)' font ',12'\n",
+            "calls per frame; Pareto front in red)' font ',12'\n",
             rows_n, cols, r.device, r.repeats);
         s += "set xlabel 'GPU ms per frame (median)'\nset ylabel 'PSNR (dB)'\nset offsets graph 0.08, graph "
              "0.3, "
@@ -457,7 +538,7 @@ PlotFiles plot_files(const BenchReport& r) {
             s += plot + "\n";
         }
         s += "unset multiplot\nunset style\nunset xtics\nset xtics\nunset offsets\nset autoscale\n"
-             "set key top left box opaque font ',9'\n";
+             "set key below horizontal font ',9'\n";
     }
     return f;
 }
@@ -529,9 +610,10 @@ std::string bench_csv(const BenchReport& r) {
 std::string bench_markdown(const BenchReport& r) {
     std::string s = "# fgsr bench\n\n";
     s += fmt::format(
-        "Device: {}. Engine GPU time from timestamp queries, median over {} frames x {} engine calls "
-        "(sr: one call per frame); PSNR / SSIM mean over the frames. Run took {:.0f} s.\n\n",
-        r.device, r.frames, r.repeats, r.seconds);
+        "Device: {}. Engine GPU time per generated frame from timestamp queries: median over {} frames x {} "
+        "calls, the calls of all configurations of a capture and mode interleaved (sr: the frames replayed "
+        "from a reset {} times); PSNR / SSIM: mean over the same frames. Run took {:.0f} s.\n\n",
+        r.device, r.frames, r.repeats, r.repeats, r.seconds);
     s += "## Run time against error\n\n";
     s += "| capture | mode | config | GPU ms (median) | per pass (ms) | PSNR dB | SSIM | Pareto |\n";
     s += "|---|---|---|---:|---|---:|---:|:-:|\n";

@@ -46,9 +46,11 @@ struct ParetoPoint {
 };
 
 // front[i] is true when no other point dominates point i, i.e. no point is at least as fast and at
-// least as accurate and strictly better in one of the two. Equal points are all on the front.
-// Points with a non-finite coordinate are never on the front and dominate nothing.
-inline std::vector<bool> pareto_front(const std::vector<ParetoPoint>& pts) {
+// least as accurate and strictly better in one of the two. PSNR differences up to psnr_tolerance
+// (dB) count as equal (0.01 dB: far below what is visible, and what separates e.g. gap filling
+// on and off on some extrapolated frames). Equal points are all on the front. Points with a
+// non-finite coordinate are never on the front and dominate nothing.
+inline std::vector<bool> pareto_front(const std::vector<ParetoPoint>& pts, double psnr_tolerance = 0.01) {
     auto finite = [](const ParetoPoint& p) { return std::isfinite(p.ms) && std::isfinite(p.psnr); };
     std::vector<bool> front(pts.size(), false);
     for (size_t i = 0; i < pts.size(); ++i) {
@@ -57,7 +59,8 @@ inline std::vector<bool> pareto_front(const std::vector<ParetoPoint>& pts) {
         for (size_t j = 0; j < pts.size() && !dominated; ++j) {
             if (j == i || !finite(pts[j])) continue;
             const ParetoPoint &a = pts[j], &b = pts[i];
-            dominated = a.ms <= b.ms && a.psnr >= b.psnr && (a.ms < b.ms || a.psnr > b.psnr);
+            const bool better = a.psnr > b.psnr + psnr_tolerance, as_good = a.psnr >= b.psnr - psnr_tolerance;
+            dominated = a.ms <= b.ms && as_good && (a.ms < b.ms || better);
         }
         front[i] = !dominated;
     }

@@ -219,11 +219,6 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
                 if (!out) return out.error();
                 add_timing(score, (*out)[0]);
                 img = std::move((*out)[0].color);
-                for (int r = 1; r < o.timing_repeats; ++r) {
-                    auto again = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
-                    if (!again) return again.error();
-                    add_timing(score, (*again)[0]);
-                }
             } else if (m == "blend") {
                 img = extrap ? i1 : lerp(i0, i1, o.alpha);
             } else { // repeat: the nearest input in time

@@ -28,10 +28,6 @@ struct EvalOptions {
     Params params; // method `fgsr` runs these as given; `linear` forces MotionModel::linear, the SR
                    // methods fgsr-bilinear / fgsr-bicubic their history resampling
     bool progress = true;
-    // Engine calls per generated frame (interp, extrap, isr, esr; >= 1): every call is timed, the
-    // first one's image is scored (the engine is deterministic). sr times each frame once (its
-    // history cannot be replayed).
-    int timing_repeats = 1;
     // interp, extrap, isr, esr: leave out the first targets (e.g. 1: the pair whose frame 0 has no
     // vectors, so uniform acceleration falls back to uniform velocity there); max_frames counts
     // the targets after them.
@@ -47,7 +43,7 @@ struct MethodScore {
     double mean_psnr = 0, mean_ssim = 0;
     double mean_ms = 0;                    // engine GPU milliseconds per generated frame (0 for baselines)
     std::map<std::string, double> pass_ms; // mean per pass
-    // Every timed engine call (frames x timing_repeats): total and per-pass GPU milliseconds.
+    // Every timed engine call (one per generated frame): total and per-pass GPU milliseconds.
     std::vector<double> ms_samples;
     std::map<std::string, std::vector<double>> pass_samples;
 };

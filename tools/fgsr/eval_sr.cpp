@@ -200,11 +200,6 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
                 if (!out) return out.error();
                 add_timing(score, (*out)[0]);
                 img = std::move((*out)[0].color);
-                for (int r = 1; r < o.timing_repeats; ++r) {
-                    auto again = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
-                    if (!again) return again.error();
-                    add_timing(score, (*again)[0]);
-                }
             } else {
                 if (!lr_frame) {
                     auto out = extrap ? (*lr_session)->extrapolate(a) : (*lr_session)->interpolate(a);
