@@ -231,7 +231,9 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
         if (!loaded) return make_error(loaded.error().code, e.spec + ": " + loaded.error().message);
         const capture::Capture& cap = *loaded;
         std::optional<capture::Capture> half; // frame generation on consecutive captures (made once)
-        const std::string label = cap.name + (e.lr ? "-lr" : "");
+        // The Mob-FGSR importer names LR captures "...-lr" itself.
+        const bool named_lr = cap.name.size() > 3 && cap.name.compare(cap.name.size() - 3, 3, "-lr") == 0;
+        const std::string label = cap.name + (e.lr && !named_lr ? "-lr" : "");
         for (const std::string mode : {"interp", "extrap", "sr", "isr", "esr"}) {
             if (!wanted.count(mode)) continue;
             if (!e.modes.empty() && std::find(e.modes.begin(), e.modes.end(), mode) == e.modes.end())
