@@ -3,6 +3,7 @@
 #include "cli_util.hpp"
 #include "eval.hpp"
 #include "lut_train.hpp"
+#include "stress.hpp"
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -92,6 +93,10 @@ int main(int argc, char** argv) {
     fgsr::cli::CalibrateCli cal;
     auto* calibrate = fgsr::cli::add_calibrate_command(app, cal);
 
+    // fgsr stress
+    fgsr::cli::StressCli stress_opts;
+    auto* stress = fgsr::cli::add_stress_command(app, stress_opts);
+
     // fgsr devices
     auto* devices = app.add_subcommand("devices", "List Vulkan devices");
 
@@ -136,6 +141,7 @@ int main(int argc, char** argv) {
     }
     if (*calibrate) return fgsr::cli::calibrate_main(cal, calibrate, argc, argv);
     if (*lut_train) return fgsr::cli::lut_train_main(lut_opts, argc, argv);
+    if (*stress) return fgsr::cli::stress_main(stress_opts);
     if (*devices) {
         auto list = fgsr::Engine::list_devices();
         if (!list) return fail(list.error());
