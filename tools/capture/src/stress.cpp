@@ -234,14 +234,14 @@ const std::vector<float> kExtrapAlphas = {1e-6f, 0.5f, 1.f};
 
 // The standard scenario: two frames (both poisoned), every request kind at the extreme alphas,
 // then a clean frame and one more interpolation (the session recovers from poisoned history).
-std::vector<StepFn> standard_steps(const FrameFormat& f, float scale, Poison poison, glm::vec2 motion,
-                                   bool with_mv = true) {
+std::vector<StepFn> standard_steps(const FrameFormat& f, float scale, std::vector<Poison> poisons,
+                                   glm::vec2 motion, bool with_mv = true) {
     const bool sr = scale > 1.f;
     std::vector<StepFn> s;
     for (int k = 0; k < 2; ++k) {
         s.push_back([=] {
             Frame fr = encode(f, content(f.width, f.height, k, motion), with_mv);
-            apply(fr, f, poison);
+            for (const Poison& p : poisons) apply(fr, f, p);
             fr.jitter_x = k == 0 ? 0.25f : -0.25f;
             fr.jitter_y = k == 0 ? -0.125f : 0.375f;
             return submit(std::move(fr));
@@ -263,7 +263,7 @@ Case standard_case(std::string name, std::string checks, const FrameFormat& f, f
     c.checks = std::move(checks);
     c.format = f;
     c.params = params_of(scale);
-    auto steps = standard_steps(f, scale, std::move(poison), motion, with_mv);
+    auto steps = standard_steps(f, scale, {std::move(poison)}, motion, with_mv);
     c.step_count = steps.size();
     c.step = sequence(std::move(steps));
     return c;
@@ -432,6 +432,60 @@ void add_mv_cases(std::vector<Case>& out) {
         // Large true motion: the rectangle moves 1e6 pixels per frame (off screen and back).
         out.push_back(standard_case("mv/rg32f/motion-1e6", "true motion of 1e6 pixels per frame",
                                     format_of(kW, kH), scale, {}, {1.0e6f, -1.0e6f}));
+    }
+}
+
+// Every poison at once (colour NaN / inf / max, depth specials, vector specials) under each
+// parameter variant, so that every shader variant (fused and separate passes, each motion model,
+// blend mode, history resampling, dilation, jitter compensation) sees them.
+void add_combined_cases(std::vector<Case>& out) {
+    const std::vector<Poison> all = {
+        Poison{Plane::color,
+               {{"nan", kNaN, {}}, {"+inf", kInf, {}}, {"max", kMax, {}}, {"denormal", kDenorm, {}}},
+               false},
+        Poison{Plane::depth,
+               {{"nan", kNaN, {}},
+                {"-inf", -kInf, {}},
+                {"0", 0.f, {}},
+                {"denormal", kDenorm, {}},
+                {"max", kMax, {}}},
+               false},
+        Poison{Plane::mv,
+               {{"+inf", kInf, {}}, {"nan", kNaN, {}}, {"-1e6", -1.0e6f, {}}, {"denormal", kDenorm, {}}},
+               false}};
+    struct Variant {
+        const char* name;
+        float scale;
+        std::function<void(Params&)> set;
+    };
+    const std::vector<Variant> variants = {
+        {"default", 1.f, [](Params&) {}},
+        {"separate-passes", 1.f, [](Params& p) { p.separate_passes = true; }},
+        {"linear-motion", 1.f, [](Params& p) { p.motion = MotionModel::linear; }},
+        {"select-blend", 1.f, [](Params& p) { p.blend = BlendMode::select; }},
+        {"no-gap-no-hole-fill", 1.f, [](Params& p) { p.fill_gaps = p.fill_holes = false; }},
+        {"thresholds-0", 1.f, [](Params& p) { p.t_depth = p.t_bright = 0.f; }},
+        {"sr-lut", 2.f, [](Params&) {}},
+        {"sr-bilinear", 2.f, [](Params& p) { p.resample = Resample::bilinear; }},
+        {"sr-catmull-rom", 2.f, [](Params& p) { p.resample = Resample::catmull_rom; }},
+        {"sr-dilate", 2.f, [](Params& p) { p.dilate_mvs = true; }},
+        {"sr-jittered-vectors", 2.f, [](Params& p) { p.mvs_contain_jitter = true; }},
+        {"sr-a-1-b-10", 2.f, [](Params& p) { p.sr_a = 1.f, p.sr_b = 10.f; }},
+        {"sr-a-0", 2.f, [](Params& p) { p.sr_a = 0.f; }},
+        {"sr-x4", 4.f, [](Params&) {}},
+    };
+    for (const Variant& v : variants) {
+        const FrameFormat f = format_of(kW, kH);
+        Case c;
+        c.name = std::string("combined/") + v.name;
+        c.checks = "colour, depth and vector poisons at once in both frames";
+        c.format = f;
+        c.params = params_of(v.scale);
+        v.set(c.params);
+        auto steps = standard_steps(f, v.scale, all, {2.f, 1.f}, true);
+        c.step_count = steps.size();
+        c.step = sequence(std::move(steps));
+        out.push_back(std::move(c));
     }
 }
 
@@ -981,8 +1035,12 @@ class Runner {
         for (float d : in->depth)
             if (!(d > 0.f)) return fail(where + ": ingested depth " + std::to_string(d) + " is not positive");
         const FrameFormat& f = c_.format;
-        ref::InternalFrame cur = ref::ingest(f, fr.view());
         const bool restart = fr.reset || cs_.frames == 0;
+        // The engine removes the jitter from vectors that contain it (Session::submit).
+        const glm::vec2 offset = c_.params.mvs_contain_jitter && !restart
+                                     ? glm::vec2(cs_.jitter_x - fr.jitter_x, cs_.jitter_y - fr.jitter_y)
+                                     : glm::vec2(0.f);
+        ref::InternalFrame cur = ref::ingest(f, fr.view(), offset);
         if (sr) {
             const ref::SrParams p =
                 ref::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
@@ -1056,6 +1114,7 @@ std::vector<Case> make_cases(const CaseOptions& o) {
     add_depth_cases(out);
     add_mv_cases(out);
     add_alpha_cases(out);
+    add_combined_cases(out);
     add_resolution_cases(out, o.reduced);
     add_scene_cut_cases(out);
     add_rejection_cases(out);
@@ -1072,6 +1131,14 @@ CaseResult run_on_engine(Engine& engine, const Case& c, const RunOptions& option
     const auto t0 = std::chrono::steady_clock::now();
     Runner(engine, c, r).run(options);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // On CPU devices (lavapipe) the GPU passes and the reference run the same code on the same
+    // inputs: any difference beyond float rounding means the sanitisation diverged.
+    constexpr double kCpuTolerance = 1e-3;
+    if (engine.is_cpu_device() && r.pass && r.max_cpu_difference && *r.max_cpu_difference > kCpuTolerance) {
+        r.pass = false;
+        r.failure = "GPU output and CPU reference differ by " + std::to_string(*r.max_cpu_difference) +
+                    " (relative), above " + std::to_string(kCpuTolerance);
+    }
     const uint64_t validation = engine.validation_errors() - validation_before;
     if (validation && r.pass) {
         r.pass = false;
