@@ -11,8 +11,8 @@
 //   5. Eq. 2 with its weights normalised: q = (a * sum(w s) / n + (1 - a) * history) /
 //      (a * sum(w) / n + (1 - a)), n the number of samples in reach; read literally (dividing by
 //      n only) the equation would darken the image by a * mean(w) + (1 - a) every frame.
-//      Rejected pixels (and pixels no sample reaches) take the spatial upsample: Catmull-Rom of the
-//      LR frame at p - jitter.
+//      Rejected pixels (and pixels no sample reaches, and a = 1 with every weight 0) take the
+//      spatial upsample: Catmull-Rom of the LR frame at p - jitter.
 //
 // Entry provides:
 //   vec4  load_lr_color(ivec2 lr_pixel), float load_lr_depth(ivec2), vec2 load_lr_mv(ivec2)
@@ -75,7 +75,10 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     float d_prev = load_prev_depth(clamp_lr(ivec2(floor(pos + mv)), p));
     if (!on || relative_depth_difference(d_now, d_prev) > p.t_depth) return lr_upsample(pos - jitter, p);
 
-    vec4 hist = clamp(resample(h, ivec2(int(p.hr_width), int(p.hr_height)), p.resample), lo, hi);
+    // With a = 1 and every sample weighted 0 (b * d >= 1) Eq. 2 has no term left (0 / 0).
     float wc = p.a * wsum / n;
-    return (p.a * sum / n + (1.0f - p.a) * hist) / (wc + (1.0f - p.a));
+    float norm = wc + (1.0f - p.a);
+    if (!(norm > 0.0f)) return lr_upsample(pos - jitter, p);
+    vec4 hist = clamp(resample(h, ivec2(int(p.hr_width), int(p.hr_height)), p.resample), lo, hi);
+    return (p.a * sum / n + (1.0f - p.a) * hist) / norm;
 }

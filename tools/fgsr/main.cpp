@@ -4,6 +4,7 @@
 #include "cli_util.hpp"
 #include "eval.hpp"
 #include "lut_train.hpp"
+#include "stress.hpp"
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -103,6 +104,10 @@ int main(int argc, char** argv) {
     fgsr::cli::BenchCli bench_cli;
     auto* bench = fgsr::cli::add_bench_command(app, bench_cli);
 
+    // fgsr stress
+    fgsr::cli::StressCli stress_opts;
+    auto* stress = fgsr::cli::add_stress_command(app, stress_opts);
+
     // fgsr devices
     auto* devices = app.add_subcommand("devices", "List Vulkan devices");
 
@@ -159,6 +164,7 @@ int main(int argc, char** argv) {
     if (*bench) return fgsr::cli::bench_main(bench_cli, bench);
     if (*calibrate) return fgsr::cli::calibrate_main(cal, calibrate, argc, argv);
     if (*lut_train) return fgsr::cli::lut_train_main(lut_opts, argc, argv);
+    if (*stress) return fgsr::cli::stress_main(stress_opts);
     if (*devices) {
         auto list = fgsr::Engine::list_devices();
         if (!list) return fail(list.error());

@@ -324,6 +324,31 @@ struct Session::Impl {
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
 };
 
+Result<void> validate(const Params& p) {
+    auto bad = [](const char* field, float v, const char* range) {
+        return make_error(Errc::invalid_argument, std::string("parameter ") + field + " = " +
+                                                      std::to_string(v) + " is outside " + range);
+    };
+    if (!(std::isfinite(p.t_depth) && p.t_depth >= 0.f)) return bad("t_depth", p.t_depth, "[0, inf)");
+    if (!(std::isfinite(p.t_bright) && p.t_bright >= 0.f)) return bad("t_bright", p.t_bright, "[0, inf)");
+    if (!(p.sr_a >= 0.f && p.sr_a <= 1.f)) return bad("sr_a", p.sr_a, "[0, 1]");
+    if (!(std::isfinite(p.sr_b) && p.sr_b >= 0.f)) return bad("sr_b", p.sr_b, "[0, inf)");
+    if (!(std::isfinite(p.scale) && p.scale >= 1.f && p.scale <= 4.f))
+        return make_error(Errc::invalid_argument,
+                          "scale factor " + std::to_string(p.scale) + " is outside [1, 4]");
+    if (uint32_t(p.motion) > uint32_t(MotionModel::linear) || uint32_t(p.blend) > uint32_t(BlendMode::mix) ||
+        uint32_t(p.resample) > uint32_t(Resample::lut))
+        return make_error(Errc::invalid_argument, "unknown motion model, blend mode or resampling kind");
+    if (!p.lut.empty() && p.lut.size() != kLutSize)
+        return make_error(Errc::invalid_argument, "LUT has " + std::to_string(p.lut.size()) +
+                                                      " weights, expected " + std::to_string(kLutSize));
+    for (size_t i = 0; i < p.lut.size(); ++i)
+        if (!std::isfinite(p.lut[i]))
+            return make_error(Errc::invalid_argument,
+                              "LUT weight " + std::to_string(i) + " is " + std::to_string(p.lut[i]));
+    return {};
+}
+
 Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& format, const Params& params) {
     // Validate the format with an empty frame view of the right sizes.
     const size_t n = size_t(format.width) * format.height;
@@ -342,17 +367,12 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     impl->format = format;
     impl->params = params;
     impl->n = n;
-    if (!(std::isfinite(params.scale) && params.scale >= 1.f && params.scale <= 4.f))
-        return make_error(Errc::invalid_argument,
-                          "scale factor " + std::to_string(params.scale) + " is outside [1, 4]");
+    FGSR_TRY(validate(params));
     impl->out_w = uint32_t(std::lround(double(format.width) * params.scale));
     impl->out_h = uint32_t(std::lround(double(format.height) * params.scale));
     if (impl->out_w > 16384 || impl->out_h > 16384)
         return make_error(Errc::invalid_argument, "output size " + std::to_string(impl->out_w) + "x" +
                                                       std::to_string(impl->out_h) + " exceeds 16384x16384");
-    if (!params.lut.empty() && params.lut.size() != kLutSize)
-        return make_error(Errc::invalid_argument, "LUT has " + std::to_string(params.lut.size()) +
-                                                      " weights, expected " + std::to_string(kLutSize));
     // A view with planes of exactly the right size validates conventions and limits.
     std::vector<std::byte> c(n * bytes_per_pixel(format.color_format)), d(n * 4);
     FGSR_TRY(ref::validate(format, FrameView{c, d, {}}));
@@ -371,6 +391,9 @@ const Params& Session::params() const {
 void Session::set_params(const Params& p) {
     // The scale (and so every buffer size) is fixed at creation.
     const float scale = impl_->params.scale;
+    Params checked = p;
+    checked.scale = scale;
+    if (!validate(checked)) return;
     const bool lut_changed = p.lut != impl_->params.lut;
     impl_->params = p;
     impl_->params.scale = scale;

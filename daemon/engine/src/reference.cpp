@@ -205,7 +205,7 @@ IngestParams ingest_params(const FrameFormat& f, bool has_mv) {
     return p;
 }
 
-InternalFrame ingest(const FrameFormat& f, const FrameView& frame) {
+InternalFrame ingest(const FrameFormat& f, const FrameView& frame, glm::vec2 mv_offset) {
     const size_t n = size_t(f.width) * f.height;
     InternalFrame out;
     out.width = f.width;
@@ -216,6 +216,8 @@ InternalFrame ingest(const FrameFormat& f, const FrameView& frame) {
     out.has_mv = !frame.mv.empty();
     gpu::IngestCpu cpu{frame.color.data(), frame.depth.data(), frame.mv.data(), &out};
     IngestParams p = ingest_params(f, out.has_mv);
+    p.mv_offset_x = mv_offset.x;
+    p.mv_offset_y = mv_offset.y;
     for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.ingest_pixel(glm::uvec2(q), p); });
     return out;
 }

@@ -70,6 +70,11 @@ struct Params {
     bool mvs_contain_jitter = false;
 };
 
+// Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b finite
+// and >= 0, scale finite in [1, 4], lut empty or kLutSize finite weights, known enum values.
+// Errors: invalid_argument naming the field and its value.
+Result<void> validate(const Params& params);
+
 struct PassTiming {
     // "splat", then "generate" (fused) or "refine", "disocc", "warp", "blend" (separate passes);
     // ingest is timed at submit (Session::last_ingest_ms).
@@ -118,6 +123,8 @@ class Session {
 
     const FrameFormat& format() const;
     const Params& params() const;
+    // Parameters for the next calls; the scale stays the one of creation. Parameters that
+    // validate() refuses are ignored: the session keeps its previous ones.
     void set_params(const Params& p);
 
     // Copies, validates and ingests a frame; it becomes frame 1. An empty mv plane means the

@@ -60,7 +60,9 @@ Result<void> validate(const FrameFormat& format, const FrameView& frame);
 IngestParams ingest_params(const FrameFormat& format, bool has_mv);
 
 // Converts a validated frame to the internal convention (the `ingest` pass on the CPU).
-InternalFrame ingest(const FrameFormat& format, const FrameView& frame);
+// mv_offset: IngestParams::mv_offset (the camera-jitter removal of Params::mvs_contain_jitter,
+// jitter(previous) - jitter(current), pixels); zero when the vectors contain no jitter.
+InternalFrame ingest(const FrameFormat& format, const FrameView& frame, glm::vec2 mv_offset = glm::vec2(0.f));
 
 // The push constants the engine uses for one generated frame.
 GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
