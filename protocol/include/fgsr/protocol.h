@@ -190,14 +190,20 @@ typedef struct fgsr_session_desc {
     uint32_t mv_direction; /* fgsr_mv_direction */
     float near_plane;      /* device depth only */
     float far_plane;       /* device depth only; 0 or +inf: infinite */
-    float scale;           /* output size = round(size * scale); 1: no super resolution */
+    float scale;           /* output size = round(size * scale); 1: no super resolution.
+                            * Reading (client side): output_width = lround((double)width *
+                            * (double)scale), same for height; the client checks the layout's
+                            * output size against it. Range [1, 4]. */
     uint32_t modes;        /* FGSR_MODE_* bits the session will request */
     uint32_t flags;        /* FGSR_SESSION_* bits */
     uint32_t queue_policy; /* fgsr_queue_policy */
     uint32_t input_slots;  /* 0: 3; at most FGSR_MAX_SLOTS */
     uint32_t output_slots; /* 0: 4; at most FGSR_MAX_SLOTS */
     uint32_t output_format; /* fgsr_color_format of the outputs (linear or sRGB-encoded) */
-    uint32_t ring_capacity; /* entries per ring, power of two; 0: 64 */
+    uint32_t ring_capacity; /* entries per ring, power of two; 0: 64. Reading: at least
+                             * max(input_slots, output_slots) after defaults, at most 4096, so
+                             * that neither the submit nor the release ring can overflow (the
+                             * client refuses smaller values with INVALID_ARGUMENT). */
     float t_depth;          /* 0: the engine's default */
     float t_bright;         /* 0: the engine's default */
     float sr_a;             /* 0: the engine's default */
@@ -221,7 +227,20 @@ typedef struct fgsr_plane {
 } fgsr_plane;
 FGSR_STATIC_ASSERT(sizeof(fgsr_plane) == 24, "fgsr_plane size");
 
-/* Where everything lives; computed by the daemon, validated by the client. */
+/* Where everything lives; computed by the daemon, validated by the client.
+ * What the client checks (libfgsr_client, client/src/client.cpp), so the daemon must satisfy it:
+ *   - slot counts and ring_capacity equal the request after defaults (3, 4, 64);
+ *   - output_width/height as stated at fgsr_session_desc.scale;
+ *   - strides and plane offsets multiples of FGSR_PLANE_ALIGNMENT; each plane inside its slot,
+ *     row_pitch >= width * bytes per pixel, size >= row_pitch * height, input planes disjoint;
+ *     plane formats: color = desc.color_format, depth = 0, mv = desc.mv_format,
+ *     output = desc.output_format;
+ *   - pool sizes = count * stride; rings_size = fgsr_rings_layout_for(ring_capacity).total_size;
+ *   - fstat: the three memfds are regular files at least as large as their pool / rings size;
+ *     F_GET_SEALS of both pools includes F_SEAL_SHRINK | F_SEAL_GROW, and of the output pool also
+ *     F_SEAL_FUTURE_WRITE (or F_SEAL_WRITE); fds 3 and 4 are eventfds.
+ *   A layout or fd set that fails any check: the client closes every fd and returns
+ *   PROTOCOL_ERROR from fgsr_session_create. */
 typedef struct fgsr_pool_layout {
     uint64_t input_slot_stride; /* bytes; multiple of FGSR_PLANE_ALIGNMENT */
     uint64_t input_pool_size;   /* input_slot_count * input_slot_stride */
@@ -395,7 +414,13 @@ typedef struct fgsr_completion_entry {
     uint32_t flags;       /* FGSR_COMPLETION_* */
     uint32_t input_slot;  /* the submit's slot (valid when INPUT_RELEASED) */
     uint32_t output_slot; /* FGSR_NO_SLOT when no output */
-    uint32_t output_index; /* 0-based index of this output within the submit */
+    uint32_t output_index; /* 0-based index of this output within the submit. Reading: outputs
+                            * are numbered in presentation order: interp_alphas[0..interp_count),
+                            * then the upscaled frame (FGSR_SUBMIT_WANT_SR), then
+                            * extrap_alphas[0..extrap_count). A submit that requests no output
+                            * still gets exactly one completion (status OK, FGSR_FRAME_NONE,
+                            * output_slot FGSR_NO_SLOT, INPUT_RELEASED | LAST) so that its input
+                            * slot comes back. INPUT_RELEASED is set on the LAST completion only. */
     uint32_t reserved0;
     uint64_t user_data;    /* from the submit */
     fgsr_telemetry telemetry;
