@@ -22,8 +22,8 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <map>
-#include <pthread.h>
 #include <memory>
+#include <pthread.h>
 #include <random>
 #include <sys/epoll.h>
 #include <sys/signalfd.h>
