@@ -495,9 +495,9 @@ TEST(ClientFake, RingsSlotsAndCompletions) {
     {
         FakeDaemon d;
         d.start();
-        fgsr::Connection c;
+        fgsr::client::Connection c;
         ASSERT_EQ(c.connect(d.path.c_str(), "test"), FGSR_STATUS_OK);
-        fgsr::Session s;
+        fgsr::client::Session s;
         fgsr_session_desc desc = small_desc();
         desc.input_slots = 2;
         desc.output_slots = 2;
@@ -608,9 +608,9 @@ TEST(ClientFake, CorruptedCompletionsAreRejected) {
     for (size_t i = 0; i < corruptions.size(); ++i) {
         FakeDaemon d;
         d.start();
-        fgsr::Connection c;
+        fgsr::client::Connection c;
         ASSERT_EQ(c.connect(d.path.c_str()), FGSR_STATUS_OK);
-        fgsr::Session s;
+        fgsr::client::Session s;
         ASSERT_EQ(s.create(c, small_desc()), FGSR_STATUS_OK);
         fgsr_input_slot in{};
         ASSERT_EQ(s.acquire_input(0, in), FGSR_STATUS_OK);
@@ -638,9 +638,9 @@ TEST(ClientFake, DaemonGoneIsDisconnected) {
     {
         FakeDaemon d;
         d.start();
-        fgsr::Connection c;
+        fgsr::client::Connection c;
         ASSERT_EQ(c.connect(d.path.c_str()), FGSR_STATUS_OK);
-        fgsr::Session s;
+        fgsr::client::Session s;
         ASSERT_EQ(s.create(c, small_desc()), FGSR_STATUS_OK);
         fgsr_input_slot in{};
         ASSERT_EQ(s.acquire_input(0, in), FGSR_STATUS_OK);
@@ -674,7 +674,7 @@ void record_and_compare(bool through_env) {
     {
         FakeDaemon d;
         d.start();
-        fgsr::Connection c;
+        fgsr::client::Connection c;
         ASSERT_EQ(c.connect(d.path.c_str(), "recorder-test"), FGSR_STATUS_OK);
         fgsr_session_desc desc = small_desc(so.width, so.height);
         desc.color_format = uint32_t(cap->format.color_format);
@@ -685,7 +685,7 @@ void record_and_compare(bool through_env) {
         desc.near_plane = cap->format.conventions.near_plane;
         desc.far_plane = cap->format.conventions.far_plane;
         if (through_env) setenv("FGSR_CAPTURE", dir.c_str(), 1);
-        fgsr::Session s;
+        fgsr::client::Session s;
         const fgsr_status created = s.create(c, desc);
         unsetenv("FGSR_CAPTURE");
         ASSERT_EQ(created, FGSR_STATUS_OK);

@@ -822,6 +822,7 @@ fgsr_status fgsr_wait(fgsr_session* session, uint32_t timeout_ms, fgsr_output* o
                 out->output_index = e.output_index;
                 out->user_data = e.user_data;
                 out->telemetry = e.telemetry;
+                out->flags = e.flags;
                 if (e.output_slot != FGSR_NO_SLOT) {
                     out->width = l.output_width;
                     out->height = l.output_height;

@@ -1,9 +1,9 @@
 // Thin header-only C++ wrapper of fgsr/client.h: RAII owners of a connection and a session.
 // Errors are the C API's statuses (no exceptions); thread-safety as in client.h.
 //
-//   fgsr::Connection c;
+//   fgsr::client::Connection c;
 //   if (fgsr_status s = c.connect(); s != FGSR_STATUS_OK) { ... fgsr_status_string(s) ... }
-//   fgsr::Session s;
+//   fgsr::client::Session s;
 //   s.create(c, desc);
 //   fgsr_input_slot in; s.acquire_input(1000, in); ... s.submit(info); s.wait(1000, out); ...
 //
@@ -14,7 +14,7 @@
 
 #include <utility>
 
-namespace fgsr {
+namespace fgsr::client {
 
 class Connection {
   public:
@@ -96,4 +96,4 @@ class Session {
     fgsr_session* s_ = nullptr;
 };
 
-} // namespace fgsr
+} // namespace fgsr::client
