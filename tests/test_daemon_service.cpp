@@ -960,6 +960,26 @@ TEST(DaemonProcess, SigtermShutsDownCleanlyAndRemovesTheSocket) {
     EXPECT_NE(d->stderr_text().find("shutting down"), std::string::npos);
 }
 
+TEST(DaemonProcess, ClientsBeyondMaxClientsGetBusy) {
+    auto d = FgsrdProcess::start({"--max-clients", "1"});
+    ASSERT_TRUE(d) << FgsrdProcess::last_error();
+    auto first = Raw::connect(d->socket_path());
+    ASSERT_TRUE(first);
+    ASSERT_EQ(first->hello().status, FGSR_STATUS_OK);
+    auto second = Raw::connect(d->socket_path());
+    ASSERT_TRUE(second);
+    EXPECT_EQ(second->hello().status, FGSR_STATUS_BUSY);
+    EXPECT_TRUE(second->closed_by_daemon());
+    first.reset(); // its slot frees once the daemon sees the hang-up
+    bool served = false;
+    for (int i = 0; i < 100 && !served; ++i) {
+        auto again = Raw::connect(d->socket_path());
+        served = again && again->hello().status == FGSR_STATUS_OK;
+        if (!served) usleep(20000);
+    }
+    EXPECT_TRUE(served);
+}
+
 TEST(DaemonProcess, SecondDaemonOnTheSameSocketRefusesToStart) {
     auto d = FgsrdProcess::start();
     ASSERT_TRUE(d) << FgsrdProcess::last_error();
