@@ -50,7 +50,6 @@ struct Client {
     pid_t pid = 0;
     std::string name; // "pid N" until HELLO names it
     bool hello_done = false;
-    bool over_limit = false; // accepted beyond --max-clients: HELLO gets BUSY
     std::map<uint32_t, std::unique_ptr<ServiceSession>> sessions;
 };
 
@@ -72,6 +71,11 @@ class Server {
     bool send_reply(Client& c, const void* msg, size_t size, const int* fds = nullptr, size_t nfds = 0);
     void destroy_session(Client& c, uint32_t session_id);
     void schedule();
+    size_t served_clients() const {
+        size_t n = 0;
+        for (const auto& [id, c] : clients_) n += c->hello_done ? 1 : 0;
+        return n;
+    }
 
     Options opt_;
     std::unique_ptr<fgsr::Engine> engine_;
@@ -270,7 +274,6 @@ void Server::accept_clients() {
         c->uid = cred.uid;
         c->pid = cred.pid;
         c->name = "pid " + std::to_string(cred.pid);
-        c->over_limit = clients_.size() >= opt_.max_clients;
         epoll_event ev{};
         ev.events = EPOLLIN | EPOLLRDHUP;
         ev.data.u64 = tag(kClient, c->id);
@@ -385,8 +388,8 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
             r.status = FGSR_STATUS_VERSION_MISMATCH;
         else if (!opt_.allow_any_user && c.uid != getuid())
             r.status = FGSR_STATUS_PERMISSION_DENIED;
-        else if (c.over_limit)
-            r.status = FGSR_STATUS_BUSY;
+        else if (served_clients() >= opt_.max_clients)
+            r.status = FGSR_STATUS_BUSY; // counted at HELLO: probes and half-open sockets do not count
         if (r.status != FGSR_STATUS_OK) {
             log::info("client {} ({}): refused: {} (client protocol {}.{}, uid {})", c.id, c.name,
                       fgsr_status_string(r.status), hello.major, hello.minor, c.uid);
