@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <fcntl.h>
@@ -17,6 +18,7 @@
 #include <sys/mman.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
+#include <thread>
 #include <time.h>
 #include <unistd.h>
 #include <vector>
@@ -825,6 +827,80 @@ TEST_F(Daemon, AStalledClientDoesNotBlockOthers) {
             c.s->release(v[0].output_slot);
         }
     }
+}
+
+// A client that never reads its completions fills the completion ring: its later submits wait
+// (nothing lost), other sessions go on, and draining the ring lets the waiting submits finish.
+TEST_F(Daemon, AFullCompletionRingWaitsWithoutBlockingOthers) {
+    fgsr_session_desc d = default_desc();
+    d.input_slots = 4;
+    d.output_slots = 4;
+    d.ring_capacity = 4;
+    auto slow = open_session(path(), d);
+    auto other = open_session(path());
+    ASSERT_TRUE(slow && other);
+    RawSession& s = *slow->s;
+    // Submits without outputs: one completion each, no output slot.
+    for (uint32_t i = 0; i < 4; ++i) {
+        s.fill(i, 0.f);
+        s.push(s.entry(i));
+    }
+    // Wait until the ring is full (4 completions published, none read).
+    for (int i = 0; i < 500 && fgsr_ring_load_head(s.hdr(s.rl.completion_header)) < 4; ++i) usleep(10000);
+    ASSERT_EQ(fgsr_ring_load_head(s.hdr(s.rl.completion_header)), 4u);
+    // The slots came back with those completions (the entries say so); submit them again.
+    for (uint32_t i = 0; i < 4; ++i) s.push(s.entry(i));
+    for (int frame = 0; frame < 3; ++frame) expect_alive(*other, float(frame));
+    EXPECT_EQ(fgsr_ring_load_head(s.hdr(s.rl.completion_header)), 4u) << "published into a full ring";
+    for (uint64_t seq = 1; seq <= 8; ++seq) {
+        auto c = s.wait();
+        ASSERT_TRUE(c) << "sequence " << seq;
+        EXPECT_EQ(c->sequence, seq);
+        EXPECT_EQ(c->status, FGSR_STATUS_OK);
+        EXPECT_EQ(c->telemetry.frame_type, uint32_t(FGSR_FRAME_NONE));
+        EXPECT_EQ(c->flags, FGSR_COMPLETION_INPUT_RELEASED | FGSR_COMPLETION_LAST);
+    }
+}
+
+// A hostile client scribbles over an input slot while the daemon ingests it (zero-copy reads the
+// client's memory in place): every frame still completes with finite pixels, the daemon survives.
+TEST_F(Daemon, ConcurrentWritesToAnInputSlotAreTolerated) {
+    auto c = open_session(path());
+    ASSERT_TRUE(c);
+    RawSession& s = *c->s;
+    std::atomic<bool> stop{false};
+    std::byte* slot = s.slot(0);
+    const size_t bytes = size_t(s.layout().input_slot_stride);
+    std::thread scribbler([&] {
+        uint32_t x = 12345;
+        while (!stop.load(std::memory_order_relaxed))
+            for (size_t i = 0; i < bytes; i += 4) {
+                x = x * 1664525u + 1013904223u; // arbitrary bits: NaN, Inf, huge, negative
+                std::memcpy(slot + i, &x, 4);
+            }
+    });
+    for (int frame = 0; frame < 4; ++frame) {
+        fgsr_submit_entry e = s.entry(0, FGSR_SUBMIT_HAS_MV | FGSR_SUBMIT_WANT_SR);
+        e.interp_count = 1;
+        e.interp_alphas[0] = 0.5f;
+        s.push(e);
+        auto v = s.wait_submit();
+        ASSERT_EQ(v.size(), 2u);
+        for (const auto& ce : v) {
+            if (frame > 0 || ce.telemetry.frame_type == FGSR_FRAME_UPSCALED) {
+                EXPECT_EQ(ce.status, FGSR_STATUS_OK);
+            }
+            if (ce.output_slot == FGSR_NO_SLOT) continue;
+            const auto* px = reinterpret_cast<const float*>(s.out_slot(ce.output_slot));
+            bool finite = true;
+            for (size_t i = 0; i < size_t(s.layout().output.size) / 4; ++i) finite &= std::isfinite(px[i]);
+            EXPECT_TRUE(finite) << "frame " << frame;
+            s.release(ce.output_slot);
+        }
+    }
+    stop = true;
+    scribbler.join();
+    EXPECT_TRUE(daemon_->running());
 }
 
 // The daemon's resources, counted from /proc.
