@@ -1056,6 +1056,34 @@ TEST(DaemonProcess, ClientsBeyondMaxClientsGetBusy) {
     EXPECT_TRUE(served);
 }
 
+// Another uid: refused by SO_PEERCRED unless --allow-any-user (needs root to switch uid).
+TEST(DaemonProcess, OtherUsersArePermissionDeniedUnlessAllowed) {
+    if (geteuid() != 0) GTEST_SKIP() << "needs root to connect as another user";
+    for (bool allow : {false, true}) {
+        auto d = allow ? FgsrdProcess::start({"--allow-any-user"}) : FgsrdProcess::start();
+        ASSERT_TRUE(d) << FgsrdProcess::last_error();
+        // Let the other user reach the socket file, so that only the daemon's check decides.
+        chmod(d->dir().c_str(), 0755);
+        chmod(d->socket_path().c_str(), 0666);
+        int p[2];
+        ASSERT_EQ(pipe2(p, O_CLOEXEC), 0);
+        const pid_t child = fork();
+        if (child == 0) {
+            int32_t status = -1;
+            if (setgid(65534) == 0 && setuid(65534) == 0)
+                if (auto raw = Raw::connect(d->socket_path())) status = raw->hello().status;
+            (void)!write(p[1], &status, sizeof(status));
+            _exit(0);
+        }
+        close(p[1]);
+        int32_t status = -2;
+        EXPECT_EQ(read(p[0], &status, sizeof(status)), ssize_t(sizeof(status)));
+        close(p[0]);
+        waitpid(child, nullptr, 0);
+        EXPECT_EQ(status, allow ? FGSR_STATUS_OK : FGSR_STATUS_PERMISSION_DENIED) << "allow " << allow;
+    }
+}
+
 TEST(DaemonProcess, SecondDaemonOnTheSameSocketRefusesToStart) {
     auto d = FgsrdProcess::start();
     ASSERT_TRUE(d) << FgsrdProcess::last_error();

@@ -174,7 +174,8 @@ bool Server::setup_socket() {
         return false;
     }
     created_socket_ = path;
-    if (!opt_.allow_any_user) chmod(path.c_str(), 0600);
+    // Connecting needs write permission on the socket file: only this user, or everyone.
+    chmod(path.c_str(), opt_.allow_any_user ? 0666 : 0600);
     if (listen(listen_.get(), 64) != 0) {
         log::error("listen {}: {}", path, std::strerror(errno));
         return false;
