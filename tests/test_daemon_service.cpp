@@ -17,6 +17,7 @@
 #include <sys/eventfd.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
 #include <time.h>
@@ -1082,6 +1083,34 @@ TEST(DaemonProcess, OtherUsersArePermissionDeniedUnlessAllowed) {
         waitpid(child, nullptr, 0);
         EXPECT_EQ(status, allow ? FGSR_STATUS_OK : FGSR_STATUS_PERMISSION_DENIED) << "allow " << allow;
     }
+}
+
+TEST(DaemonProcess, DefaultSocketLivesInXdgRuntimeDir) {
+    char tmpl[] = "/tmp/fgsrd-xdg-XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    const std::string xdg = tmpl, dir = xdg + "/fgsr", path = dir + "/fgsrd.sock";
+    const pid_t p = FgsrdProcess::spawn({std::string(FGSR_BIN_DIR) + "/fgsrd"}, xdg + "/stderr.log",
+                                        {"XDG_RUNTIME_DIR=" + xdg});
+    ASSERT_GT(p, 0);
+    std::optional<Raw> raw;
+    for (int i = 0; i < 3000 && !raw; ++i) {
+        raw = Raw::connect(path);
+        if (!raw) usleep(20000);
+    }
+    ASSERT_TRUE(raw);
+    EXPECT_EQ(raw->hello().status, FGSR_STATUS_OK);
+    struct stat st {};
+    ASSERT_EQ(stat(dir.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0700u);
+    ASSERT_EQ(stat(path.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0600u);
+    kill(p, SIGTERM);
+    int status = 0;
+    ASSERT_EQ(waitpid(p, &status, 0), p);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    EXPECT_NE(access(path.c_str(), F_OK), 0);
+    std::error_code ec;
+    std::filesystem::remove_all(xdg, ec);
 }
 
 TEST(DaemonProcess, SecondDaemonOnTheSameSocketRefusesToStart) {
