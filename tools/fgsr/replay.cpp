@@ -357,6 +357,11 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         fgsr_output out{};
         while ((s = st.session.wait(0, out)) == FGSR_STATUS_OK) FGSR_TRY(handle(out));
         if (s != FGSR_STATUS_TIMEOUT) return client_error(s, "waiting for outputs");
+        while (o.closed_loop && finished < st.summary.submitted) {
+            s = st.session.wait(kWaitMs, out);
+            if (s != FGSR_STATUS_OK) return client_error(s, "waiting for outputs");
+            FGSR_TRY(handle(out));
+        }
         if (o.progress)
             std::fprintf(stderr, "\r[replay] %s %s: submitted %zu/%zu, outputs %zu", cap.name.c_str(),
                          st.summary.mode.c_str(), i + 1, last_input + 1, st.summary.outputs);
@@ -434,6 +439,7 @@ Result<void> run_replay_bench(const std::string& socket, int frames, bool progre
         o.mode = EvalMode::interp;
         o.socket = socket;
         o.progress = progress;
+        o.closed_loop = true; // one frame in flight: the overhead excludes queueing behind earlier frames
         auto r = run_replay(o);
         std::error_code ec;
         std::filesystem::remove_all(tmp, ec);

@@ -23,8 +23,9 @@ struct ReplayOptions {
     int max_frames = 0; // 0: all
     bool prefer_lr = false;
     bool progress = true;
-    bool mailbox = false; // queue policy mailbox instead of fifo
-    Params params;        // t_depth, t_bright, sr_a, sr_b, dilate_mvs, mvs_contain_jitter are sent
+    bool mailbox = false;     // queue policy mailbox instead of fifo
+    bool closed_loop = false; // wait for each submit's last completion before the next (benchmark)
+    Params params;            // t_depth, t_bright, sr_a, sr_b, dilate_mvs, mvs_contain_jitter are sent
 };
 
 struct ReplaySummary {
