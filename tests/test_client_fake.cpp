@@ -3,6 +3,7 @@
 // ring semantics seen from the client (input slots, completions, output slots, releases, corrupted
 // completions), and recording a session as an fgsr capture that loads back bit-identically.
 #include <fgsr/capture/capture.hpp>
+#include <fgsr/capture/fgsr_format.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/client.h>
 #include <fgsr/client.hpp>
@@ -728,6 +729,16 @@ void record_and_compare(bool through_env) {
     }
     std::error_code ec;
     fs::remove_all(dir.parent_path(), ec);
+}
+
+// fgsr_capture_format cannot link the engine (the client library links it), so it has its own
+// bytes-per-pixel table: pinned equal to the engine's here.
+TEST(ClientFake, CaptureFormatBytesPerPixelEqualTheEngines) {
+    for (auto f : {fgsr::ColorFormat::rgba8_srgb, fgsr::ColorFormat::rgba16f_linear,
+                   fgsr::ColorFormat::rgba32f_linear})
+        EXPECT_EQ(fgsr::capture::fgsr_bytes_per_pixel(f), fgsr::bytes_per_pixel(f)) << uint32_t(f);
+    for (auto f : {fgsr::MvFormat::rg16f, fgsr::MvFormat::rg32f})
+        EXPECT_EQ(fgsr::capture::fgsr_bytes_per_pixel(f), fgsr::bytes_per_pixel(f)) << uint32_t(f);
 }
 
 TEST(ClientFake, RecordingThroughApiLoadsBackBitIdentical) {
