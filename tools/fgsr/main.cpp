@@ -5,6 +5,7 @@
 #include "eval.hpp"
 #include "lut_train.hpp"
 #include "stress.hpp"
+#include "replay.hpp"
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -82,6 +83,41 @@ int main(int argc, char** argv) {
                      "Start from a quality preset (performance, balanced, quality; "
                      "fgsr/engine/presets.hpp); the other options given override it")
         ->check(CLI::IsMember({"performance", "balanced", "quality"}));
+    std::string eval_socket;
+    eval->add_option(
+        "--socket", eval_socket,
+        "Evaluate the fgsr method through fgsrd listening on this socket (fgsr replay's code path)");
+
+    // fgsr replay
+    fgsr::cli::ReplayOptions ro;
+    std::string replay_mode = "interp", replay_out, replay_csv;
+    bool replay_bench = false;
+    int bench_frames = 30;
+    auto* replay = app.add_subcommand(
+        "replay",
+        "Stream a capture through fgsrd (client library): outputs, telemetry CSV, summary, metrics");
+    replay->add_option("--capture", ro.capture, "Capture directory (any format fgsr reads) or 'builtin'")
+        ->capture_default_str();
+    replay->add_option("--mode", replay_mode, "interp, extrap, sr, isr or esr")
+        ->check(CLI::IsMember({"interp", "extrap", "sr", "isr", "esr"}))
+        ->capture_default_str();
+    replay->add_option("--socket", ro.socket,
+                       "fgsrd socket (default: $FGSR_SOCKET, else "
+                       "$XDG_RUNTIME_DIR/fgsr/fgsrd.sock)");
+    replay->add_option("--fps", ro.fps,
+                       "Submit at this many frames per second (default: as fast as possible)");
+    replay->add_option("--out", replay_out, "Write the outputs here (eval --out layout, method fgsr)");
+    replay->add_option("--telemetry", replay_csv, "Write per-output telemetry to this CSV file");
+    replay->add_option("--alpha", ro.alpha, "Generated instant: alpha (interp) or 1+alpha (extrap)")
+        ->capture_default_str();
+    replay->add_option("--frames", ro.max_frames, "Replay at most this many targets (0: all)");
+    replay->add_flag("--lr", ro.prefer_lr, "Mob-FGSR captures: use LR_Inputs");
+    replay->add_flag("--mailbox", ro.mailbox, "Queue policy mailbox (latest wins) instead of fifo");
+    replay->add_flag("--bench", replay_bench,
+                     "Benchmark the service overhead at 1280x720 and 1920x1080 (prints figures)");
+    replay->add_option("--bench-frames", bench_frames, "Frames per size for --bench")->capture_default_str();
+    bool replay_quiet = false;
+    replay->add_flag("--quiet", replay_quiet, "No progress on stderr");
 
     // fgsr convert
     std::string conv_in, conv_out;
@@ -140,6 +176,29 @@ int main(int argc, char** argv) {
         if (preset.empty() || no_holes) eo.params.fill_holes = !no_holes;
         if (preset.empty() || separate) eo.params.separate_passes = separate;
         eo.progress = !quiet;
+        if (!eval_socket.empty()) {
+            fgsr::cli::ReplayOptions o;
+            o.capture = eo.capture;
+            o.mode = eo.mode;
+            o.socket = eval_socket;
+            o.out = eo.out;
+            o.alpha = eo.alpha;
+            o.max_frames = eo.max_frames;
+            o.prefer_lr = eo.prefer_lr;
+            o.progress = eo.progress;
+            o.params = eo.params;
+            if (eval->count("--methods") && eo.methods != std::vector<std::string>{"fgsr"})
+                std::fprintf(stderr, "fgsr eval --socket: evaluating method fgsr only (through fgsrd)\n");
+            auto r = fgsr::cli::run_replay(o);
+            if (!r) return fail(r.error());
+            if (!r->metrics)
+                return fail(fgsr::make_error(fgsr::Errc::empty_input, "capture has no references to score"));
+            if (eo.json)
+                std::fputs(fgsr::cli::report_json(*r->metrics, false).c_str(), stdout);
+            else
+                std::fputs(fgsr::cli::report_table(*r->metrics).c_str(), stdout);
+            return 0;
+        }
         auto r = fgsr::cli::run_eval(eo);
         if (!r) return fail(r.error());
         if (eo.json)
@@ -147,6 +206,24 @@ int main(int argc, char** argv) {
         else
             std::fputs(fgsr::cli::report_table(*r).c_str(), stdout);
         if (eo.out && !eo.json) std::printf("frames and metrics.json written to %s\n", eo.out->c_str());
+        return 0;
+    }
+    if (*replay) {
+        ro.mode = replay_mode == "extrap" ? fgsr::cli::EvalMode::extrap
+                  : replay_mode == "sr"   ? fgsr::cli::EvalMode::sr
+                  : replay_mode == "isr"  ? fgsr::cli::EvalMode::isr
+                  : replay_mode == "esr"  ? fgsr::cli::EvalMode::esr
+                                          : fgsr::cli::EvalMode::interp;
+        ro.progress = !replay_quiet;
+        if (!replay_out.empty()) ro.out = replay_out;
+        if (!replay_csv.empty()) ro.telemetry = replay_csv;
+        if (replay_bench) {
+            auto b = fgsr::cli::run_replay_bench(ro.socket, bench_frames, ro.progress);
+            return b ? 0 : fail(b.error());
+        }
+        auto r = fgsr::cli::run_replay(ro);
+        if (!r) return fail(r.error());
+        std::fputs(fgsr::cli::replay_summary_text(*r).c_str(), stdout);
         return 0;
     }
     if (*convert) {

@@ -13,7 +13,7 @@
  * sessions may be used from different threads. No function throws or aborts; each returns a
  * status (fgsr/protocol.h; fgsr_status_string describes it).
  * Recording: with FGSR_CAPTURE=DIR in the environment at fgsr_session_create (or after
- * fgsr_session_start_capture) every frame the session submits is also written to DIR in fgsr's
+ * fgsr_session_record) every frame the session submits is also written to DIR in fgsr's
  * capture format (docs/CAPTURE_FORMAT.md), so the session can be replayed with `fgsr replay`.
  */
 #ifndef FGSR_CLIENT_H
@@ -111,6 +111,9 @@ typedef struct fgsr_output {
     const void* pixels; /* read-only; valid until fgsr_release_output(output_slot) */
     uint64_t user_data;
     fgsr_telemetry telemetry;
+    uint32_t flags; /* FGSR_COMPLETION_* of the entry: LAST marks the submit's last completion (added
+                     * by the client engineer so that callers can tell when a submit is finished) */
+    uint32_t reserved2;
 } fgsr_output;
 
 /* The next completion, waiting up to timeout_ms (0: poll). Returns OK (out filled; look at

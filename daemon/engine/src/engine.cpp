@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <initializer_list>
 
 namespace fgsr {
@@ -50,7 +51,36 @@ uint32_t groups(uint32_t n, uint32_t size) {
     return (n + size - 1) / size;
 }
 
+uint64_t monotonic_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
+}
+
+// A storage-buffer binding: a whole engine buffer, or a range of one (imported host memory).
+struct BufRef {
+    BufRef(const vk::Buffer* b) : buffer(b->handle()) {}
+    BufRef(VkBuffer b, VkDeviceSize o, VkDeviceSize r) : buffer(b), offset(o), range(r) {}
+    VkBuffer buffer;
+    VkDeviceSize offset = 0;
+    VkDeviceSize range = VK_WHOLE_SIZE;
+};
+
 } // namespace
+
+struct HostMemory::Impl {
+    vk::Buffer buffer;
+    const std::byte* data = nullptr;
+    size_t size = 0;
+};
+HostMemory::HostMemory(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+HostMemory::~HostMemory() = default;
+const std::byte* HostMemory::data() const {
+    return impl_->data;
+}
+size_t HostMemory::size() const {
+    return impl_->size;
+}
 
 struct Engine::Impl {
     std::unique_ptr<vk::Context> ctx;
@@ -92,6 +122,21 @@ bool Engine::is_cpu_device() const {
 uint64_t Engine::validation_errors() const {
     return impl_->ctx->validation_errors.load();
 }
+bool Engine::calibrated_time() const {
+    return impl_->ctx->get_calibrated_timestamps != nullptr;
+}
+size_t Engine::host_import_alignment() const {
+    return impl_->ctx->host_import ? size_t(impl_->ctx->host_import_alignment) : 0;
+}
+Result<std::unique_ptr<HostMemory>> Engine::import_host_memory(void* data, size_t size) {
+    auto b = vk::Buffer::import_host(*impl_->ctx, data, size);
+    if (!b) return b.error();
+    auto impl = std::make_unique<HostMemory::Impl>();
+    impl->buffer = std::move(*b);
+    impl->data = static_cast<const std::byte*>(data);
+    impl->size = size;
+    return std::unique_ptr<HostMemory>(new HostMemory(std::move(impl)));
+}
 Result<std::vector<std::string>> Engine::list_devices() {
     return vk::enumerate_devices();
 }
@@ -112,7 +157,10 @@ struct Session::Impl {
     std::array<GpuFrame, 2> frames;
     int newest = 1; // index into frames of frame 1
     uint64_t submitted = 0;
-    double ingest_ms = 0;
+    PassTiming ingest_timing{"ingest"};
+    PassTiming sr_timing{"sr"};
+    // Clock pairing of the last timed submission: GPU tick calib_tick is CLOCK_MONOTONIC calib_ns.
+    uint64_t calib_tick = 0, calib_ns = 0;
     float jitter_x = 0, jitter_y = 0; // of the newest frame
 
     // Super resolution: output size, ping-pong history (the newest output is hr[hr_newest]), LUT.
@@ -121,7 +169,6 @@ struct Session::Impl {
     int hr_newest = 0;
     bool hr_valid = false;
     vk::Buffer lut;
-    double sr_ms = 0;
 
     // Intermediates of one generated frame, reused by each alpha in turn.
     vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1,
@@ -232,15 +279,50 @@ struct Session::Impl {
         return {};
     }
 
-    Result<void> finish() {
+    // timed: the command buffer wrote timestamp query 0 first; pairs the GPU clock with
+    // CLOCK_MONOTONIC for tick_ns() (calibrated timestamps when the device has them, else query 0
+    // is taken to be the CPU time just before vkQueueSubmit).
+    Result<void> finish(bool timed = false) {
         FGSR_VK(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
         VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
         si.commandBufferCount = 1;
         si.pCommandBuffers = &cmd;
         FGSR_VK(vkResetFences(ctx->device, 1, &fence), "vkResetFences");
+        const uint64_t submit_ns = monotonic_ns();
         FGSR_VK(vkQueueSubmit(ctx->queue, 1, &si, fence), "vkQueueSubmit");
         FGSR_VK(vkWaitForFences(ctx->device, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+        if (!timed) return {};
+        if (ctx->get_calibrated_timestamps) {
+            std::array<VkCalibratedTimestampInfoEXT, 2> info{};
+            info[0] = {VK_STRUCTURE_TYPE_CALIBRATED_TIMESTAMP_INFO_EXT, nullptr, VK_TIME_DOMAIN_DEVICE_EXT};
+            info[1] = {VK_STRUCTURE_TYPE_CALIBRATED_TIMESTAMP_INFO_EXT, nullptr,
+                       VK_TIME_DOMAIN_CLOCK_MONOTONIC_EXT};
+            std::array<uint64_t, 2> ts{};
+            uint64_t deviation = 0;
+            FGSR_VK(ctx->get_calibrated_timestamps(ctx->device, 2, info.data(), ts.data(), &deviation),
+                    "vkGetCalibratedTimestampsEXT");
+            calib_tick = ts[0];
+            calib_ns = ts[1];
+            return {};
+        }
+        uint64_t first = 0;
+        FGSR_VK(vkGetQueryPoolResults(ctx->device, queries, 0, 1, 8, &first, 8,
+                                      VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+                "vkGetQueryPoolResults");
+        calib_tick = first;
+        calib_ns = submit_ns;
         return {};
+    }
+
+    // CLOCK_MONOTONIC ns of a GPU timestamp of the last timed submission.
+    uint64_t tick_ns(uint64_t tick) const {
+        const uint64_t mask =
+            ctx->timestamp_valid_bits >= 64 ? ~0ull : ((1ull << ctx->timestamp_valid_bits) - 1);
+        uint64_t diff = (tick - calib_tick) & mask;
+        int64_t signed_diff = int64_t(diff);
+        if (mask != ~0ull && diff > mask / 2) signed_diff = int64_t(diff) - int64_t(mask) - 1;
+        const double ns = double(signed_diff) * double(ctx->props.limits.timestampPeriod);
+        return uint64_t(int64_t(calib_ns) + int64_t(std::llround(ns)));
     }
 
     void barrier() {
@@ -260,7 +342,7 @@ struct Session::Impl {
     }
 
     // Dispatches one invocation per pixel of a width x height image (0: the session's frame size).
-    Result<void> dispatch(PassId pass, std::initializer_list<const vk::Buffer*> buffers, const void* push,
+    Result<void> dispatch(PassId pass, std::initializer_list<BufRef> buffers, const void* push,
                           uint32_t width = 0, uint32_t height = 0) {
         const vk::Pipeline& p = engine->pipelines[pass];
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -273,8 +355,8 @@ struct Session::Impl {
         std::array<VkDescriptorBufferInfo, 16> infos{};
         std::array<VkWriteDescriptorSet, 16> writes{};
         uint32_t i = 0;
-        for (const vk::Buffer* b : buffers) {
-            infos[i] = VkDescriptorBufferInfo{b->handle(), 0, VK_WHOLE_SIZE};
+        for (const BufRef& b : buffers) {
+            infos[i] = VkDescriptorBufferInfo{b.buffer, b.offset, b.range};
             writes[i] = VkWriteDescriptorSet{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
             writes[i].dstSet = set;
             writes[i].dstBinding = i;
@@ -292,19 +374,22 @@ struct Session::Impl {
         return {};
     }
 
-    // Milliseconds between consecutive timestamps [first, first + count].
-    Result<std::vector<double>> read_times(uint32_t first, uint32_t count) {
+    // Timings between consecutive timestamps [first, first + count] (names left empty).
+    Result<std::vector<PassTiming>> read_times(uint32_t first, uint32_t count) {
         std::vector<uint64_t> ticks(count + 1);
         FGSR_VK(vkGetQueryPoolResults(ctx->device, queries, first, count + 1, ticks.size() * 8, ticks.data(),
                                       8, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
                 "vkGetQueryPoolResults");
         const uint64_t mask =
             ctx->timestamp_valid_bits >= 64 ? ~0ull : ((1ull << ctx->timestamp_valid_bits) - 1);
-        std::vector<double> ms(count);
-        for (uint32_t i = 0; i < count; ++i)
-            ms[i] =
+        std::vector<PassTiming> t(count);
+        for (uint32_t i = 0; i < count; ++i) {
+            t[i].ms =
                 double((ticks[i + 1] - ticks[i]) & mask) * double(ctx->props.limits.timestampPeriod) * 1e-6;
-        return ms;
+            t[i].begin_ns = tick_ns(ticks[i]);
+            t[i].end_ns = tick_ns(ticks[i + 1]);
+        }
+        return t;
     }
 
     // Copies a buffer to the host (through a staging buffer when it is not mapped).
@@ -322,6 +407,7 @@ struct Session::Impl {
     }
 
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
+    Result<void> submit(const FrameView& frame, const HostMemory* memory);
 };
 
 Result<void> validate(const Params& p) {
@@ -409,7 +495,10 @@ uint64_t Session::frames_submitted() const {
     return impl_->submitted;
 }
 double Session::last_ingest_ms() const {
-    return impl_->ingest_ms;
+    return impl_->ingest_timing.ms;
+}
+PassTiming Session::last_ingest_timing() const {
+    return impl_->ingest_timing;
 }
 
 void Session::reset() {
@@ -419,12 +508,46 @@ void Session::reset() {
 }
 
 Result<void> Session::submit(const FrameView& frame) {
-    Impl& s = *impl_;
+    return impl_->submit(frame, nullptr);
+}
+
+Result<void> Session::submit(const FrameView& frame, const HostMemory& memory) {
+    return impl_->submit(frame, &memory);
+}
+
+Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* memory) {
+    Impl& s = *this;
     FGSR_TRY(ref::validate(s.format, frame));
-    std::memcpy(s.color_raw.mapped(), frame.color.data(), frame.color.size());
-    std::memcpy(s.depth_raw.mapped(), frame.depth.data(), frame.depth.size());
     const bool has_mv = !frame.mv.empty();
-    if (has_mv) std::memcpy(s.mv_raw.mapped(), frame.mv.data(), frame.mv.size());
+    // Zero copy: the planes must lie inside the imported memory, at offsets the device can bind.
+    std::array<BufRef, 3> raw{&s.color_raw, &s.depth_raw, &s.mv_raw};
+    if (memory) {
+        const std::byte* base = memory->data();
+        const VkDeviceSize align =
+            std::max<VkDeviceSize>(ctx->props.limits.minStorageBufferOffsetAlignment, 4);
+        auto range = [&](std::span<const std::byte> plane, const char* what, BufRef& out) -> Result<void> {
+            if (plane.data() < base || plane.data() + plane.size() > base + memory->size())
+                return make_error(Errc::invalid_argument,
+                                  std::string(what) + " plane lies outside the imported host memory");
+            const VkDeviceSize offset = VkDeviceSize(plane.data() - base);
+            if (offset % align != 0)
+                return make_error(Errc::invalid_argument,
+                                  std::string(what) + " plane offset " + std::to_string(offset) +
+                                      " is not a multiple of " + std::to_string(align));
+            out = BufRef(memory->impl()->buffer.handle(), offset, plane.size());
+            return {};
+        };
+        FGSR_TRY(range(frame.color, "colour", raw[0]));
+        FGSR_TRY(range(frame.depth, "depth", raw[1]));
+        if (has_mv)
+            FGSR_TRY(range(frame.mv, "motion-vector", raw[2]));
+        else
+            raw[2] = raw[0]; // bound, not read
+    } else {
+        std::memcpy(s.color_raw.mapped(), frame.color.data(), frame.color.size());
+        std::memcpy(s.depth_raw.mapped(), frame.depth.data(), frame.depth.size());
+        if (has_mv) std::memcpy(s.mv_raw.mapped(), frame.mv.data(), frame.mv.size());
+    }
     if (!std::isfinite(frame.jitter_x) || !std::isfinite(frame.jitter_y) || std::abs(frame.jitter_x) > 1.f ||
         std::abs(frame.jitter_y) > 1.f)
         return make_error(Errc::invalid_argument, "jitter (" + std::to_string(frame.jitter_x) + ", " +
@@ -441,7 +564,7 @@ Result<void> Session::submit(const FrameView& frame) {
     }
     FGSR_TRY(s.begin());
     s.timestamp(0);
-    FGSR_TRY(s.dispatch(kIngest, {&s.color_raw, &s.depth_raw, &s.mv_raw, &f.color, &f.depth, &f.mv}, &p));
+    FGSR_TRY(s.dispatch(kIngest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p));
     s.barrier();
     s.timestamp(1);
     if (s.sr()) {
@@ -454,10 +577,11 @@ Result<void> Session::submit(const FrameView& frame) {
         s.barrier();
         s.timestamp(2);
     }
-    FGSR_TRY(s.finish());
+    FGSR_TRY(s.finish(true));
     auto t = s.read_times(0, s.sr() ? 2 : 1);
     if (!t) return t.error();
-    s.ingest_ms = (*t)[0];
+    s.ingest_timing = (*t)[0];
+    s.ingest_timing.name = "ingest";
     f.has_mv = has_mv;
     s.newest = slot;
     s.jitter_x = frame.jitter_x;
@@ -465,7 +589,8 @@ Result<void> Session::submit(const FrameView& frame) {
     if (restart) s.submitted = 0;
     ++s.submitted;
     if (s.sr()) {
-        s.sr_ms = (*t)[1];
+        s.sr_timing = (*t)[1];
+        s.sr_timing.name = "sr";
         s.hr_newest = 1 - s.hr_newest;
         s.hr_valid = true;
     }
@@ -560,7 +685,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             timings[k].push_back(kBlend);
         }
     }
-    FGSR_TRY(finish());
+    FGSR_TRY(finish(true));
 
     std::vector<GeneratedFrame> result(alphas.size());
     for (size_t k = 0; k < alphas.size(); ++k) {
@@ -569,8 +694,10 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         auto t = read_times(uint32_t(k) * kQueriesPerFrame, uint32_t(timings[k].size()));
         if (!t) return t.error();
         for (size_t p = 0; p < timings[k].size(); ++p) {
-            gf.passes.push_back(PassTiming{kPassNames[timings[k][p]], (*t)[p]});
-            gf.gpu_ms += (*t)[p];
+            PassTiming pt = (*t)[p];
+            pt.name = kPassNames[timings[k][p]];
+            gf.gpu_ms += pt.ms;
+            gf.passes.push_back(std::move(pt));
         }
         const size_t out_n = size_t(out_w) * out_h;
         gf.color.width = out_w;
@@ -595,8 +722,8 @@ Result<GeneratedFrame> Session::super_resolved() {
     GeneratedFrame gf;
     gf.time = 1.f;
     gf.color = ImageRGBA{s.out_w, s.out_h, std::move(*px)};
-    gf.passes.push_back(PassTiming{"sr", s.sr_ms});
-    gf.gpu_ms = s.sr_ms;
+    gf.passes.push_back(s.sr_timing);
+    gf.gpu_ms = s.sr_timing.ms;
     return gf;
 }
 

@@ -238,6 +238,44 @@ Result<std::unique_ptr<Context>> create_context(const DeviceOptions& options) {
     e2.features.shaderInt64 = VK_TRUE;
     e2.pNext = &e12;
 
+    // Optional extensions: host-pointer import (zero-copy input) and calibrated timestamps.
+    uint32_t en = 0;
+    vkEnumerateDeviceExtensionProperties(ctx->physical, nullptr, &en, nullptr);
+    std::vector<VkExtensionProperties> dev_ext(en);
+    vkEnumerateDeviceExtensionProperties(ctx->physical, nullptr, &en, dev_ext.data());
+    auto has_dev_ext = [&](const char* name) {
+        return std::any_of(dev_ext.begin(), dev_ext.end(), [&](const VkExtensionProperties& e) {
+            return std::strcmp(e.extensionName, name) == 0;
+        });
+    };
+    std::vector<const char*> enabled;
+    if (has_dev_ext(VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME)) {
+        enabled.push_back(VK_EXT_EXTERNAL_MEMORY_HOST_EXTENSION_NAME);
+        VkPhysicalDeviceExternalMemoryHostPropertiesEXT hp{
+            VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_EXTERNAL_MEMORY_HOST_PROPERTIES_EXT};
+        VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        p2.pNext = &hp;
+        vkGetPhysicalDeviceProperties2(ctx->physical, &p2);
+        ctx->host_import_alignment = hp.minImportedHostPointerAlignment;
+        ctx->host_import = hp.minImportedHostPointerAlignment > 0;
+    }
+    bool calibrated = false;
+    if (has_dev_ext(VK_EXT_CALIBRATED_TIMESTAMPS_EXTENSION_NAME)) {
+        auto domains_fn = reinterpret_cast<PFN_vkGetPhysicalDeviceCalibrateableTimeDomainsEXT>(
+            vkGetInstanceProcAddr(ctx->instance, "vkGetPhysicalDeviceCalibrateableTimeDomainsEXT"));
+        uint32_t dn = 0;
+        if (domains_fn && domains_fn(ctx->physical, &dn, nullptr) == VK_SUCCESS) {
+            std::vector<VkTimeDomainEXT> domains(dn);
+            domains_fn(ctx->physical, &dn, domains.data());
+            const bool dev =
+                std::find(domains.begin(), domains.end(), VK_TIME_DOMAIN_DEVICE_EXT) != domains.end();
+            const bool mono = std::find(domains.begin(), domains.end(), VK_TIME_DOMAIN_CLOCK_MONOTONIC_EXT) !=
+                              domains.end();
+            calibrated = dev && mono;
+        }
+        if (calibrated) enabled.push_back(VK_EXT_CALIBRATED_TIMESTAMPS_EXTENSION_NAME);
+    }
+
     float priority = 1.0f;
     VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qci.queueFamilyIndex = ctx->queue_family;
@@ -247,7 +285,17 @@ Result<std::unique_ptr<Context>> create_context(const DeviceOptions& options) {
     dci.pNext = &e2;
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
+    dci.enabledExtensionCount = uint32_t(enabled.size());
+    dci.ppEnabledExtensionNames = enabled.data();
     FGSR_VK(vkCreateDevice(ctx->physical, &dci, nullptr, &ctx->device), "vkCreateDevice");
+    if (ctx->host_import) {
+        ctx->get_host_pointer_properties = reinterpret_cast<PFN_vkGetMemoryHostPointerPropertiesEXT>(
+            vkGetDeviceProcAddr(ctx->device, "vkGetMemoryHostPointerPropertiesEXT"));
+        ctx->host_import = ctx->get_host_pointer_properties != nullptr;
+    }
+    if (calibrated)
+        ctx->get_calibrated_timestamps = reinterpret_cast<PFN_vkGetCalibratedTimestampsEXT>(
+            vkGetDeviceProcAddr(ctx->device, "vkGetCalibratedTimestampsEXT"));
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
     return ctx;
 }
@@ -260,19 +308,67 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
         memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
         size_ = std::exchange(o.size_, 0);
         mapped_ = std::exchange(o.mapped_, nullptr);
+        imported_ = std::exchange(o.imported_, false);
     }
     return *this;
 }
 
 void Buffer::release() {
     if (!ctx_) return;
-    if (mapped_) vkUnmapMemory(ctx_->device, memory_);
+    if (mapped_ && !imported_) vkUnmapMemory(ctx_->device, memory_);
     if (buffer_) vkDestroyBuffer(ctx_->device, buffer_, nullptr);
     if (memory_) vkFreeMemory(ctx_->device, memory_, nullptr);
     ctx_ = nullptr;
     buffer_ = VK_NULL_HANDLE;
     memory_ = VK_NULL_HANDLE;
     mapped_ = nullptr;
+    imported_ = false;
+}
+
+Result<Buffer> Buffer::import_host(Context& ctx, void* data, VkDeviceSize size) {
+    if (!ctx.host_import || !ctx.get_host_pointer_properties)
+        return make_error(Errc::unsupported, std::string(ctx.props.deviceName) +
+                                                 " does not support VK_EXT_external_memory_host");
+    const VkDeviceSize align = ctx.host_import_alignment;
+    if (size == 0 || reinterpret_cast<uintptr_t>(data) % align != 0 || size % align != 0)
+        return make_error(Errc::invalid_argument, "host memory of " + std::to_string(size) +
+                                                      " bytes is not aligned to " + std::to_string(align) +
+                                                      " (minImportedHostPointerAlignment)");
+    Buffer b;
+    b.ctx_ = &ctx;
+    b.size_ = size;
+    b.imported_ = true;
+    VkExternalMemoryBufferCreateInfo ext{VK_STRUCTURE_TYPE_EXTERNAL_MEMORY_BUFFER_CREATE_INFO};
+    ext.handleTypes = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT;
+    VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bi.pNext = &ext;
+    bi.size = size;
+    bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    FGSR_VK(vkCreateBuffer(ctx.device, &bi, nullptr, &b.buffer_), "vkCreateBuffer (host import)");
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx.device, b.buffer_, &req);
+    VkMemoryHostPointerPropertiesEXT hp{VK_STRUCTURE_TYPE_MEMORY_HOST_POINTER_PROPERTIES_EXT};
+    FGSR_VK(ctx.get_host_pointer_properties(
+                ctx.device, VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT, data, &hp),
+            "vkGetMemoryHostPointerPropertiesEXT");
+    const uint32_t types = req.memoryTypeBits & hp.memoryTypeBits;
+    int type = -1;
+    for (uint32_t i = 0; i < ctx.memory.memoryTypeCount && type < 0; ++i)
+        if (types & (1u << i)) type = int(i);
+    if (type < 0 || req.size > size)
+        return make_error(Errc::unsupported, "no memory type can import this host allocation");
+    VkImportMemoryHostPointerInfoEXT imp{VK_STRUCTURE_TYPE_IMPORT_MEMORY_HOST_POINTER_INFO_EXT};
+    imp.handleType = VK_EXTERNAL_MEMORY_HANDLE_TYPE_HOST_ALLOCATION_BIT_EXT;
+    imp.pHostPointer = data;
+    VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    ai.pNext = &imp;
+    ai.allocationSize = size;
+    ai.memoryTypeIndex = uint32_t(type);
+    FGSR_VK(vkAllocateMemory(ctx.device, &ai, nullptr, &b.memory_), "vkAllocateMemory (host import)");
+    FGSR_VK(vkBindBufferMemory(ctx.device, b.buffer_, b.memory_, 0), "vkBindBufferMemory (host import)");
+    b.mapped_ = data;
+    return b;
 }
 
 Result<Buffer> Buffer::create(Context& ctx, VkDeviceSize size, bool host) {

@@ -35,6 +35,12 @@ struct Context {
     VkPhysicalDeviceMemoryProperties memory{};
     uint32_t timestamp_valid_bits = 0;
     std::atomic<uint64_t> validation_errors{0};
+    // VK_EXT_external_memory_host enabled: host allocations can be imported (alignment in bytes).
+    bool host_import = false;
+    VkDeviceSize host_import_alignment = 0;
+    PFN_vkGetMemoryHostPointerPropertiesEXT get_host_pointer_properties = nullptr;
+    // VK_EXT_calibrated_timestamps enabled with both the device and the CLOCK_MONOTONIC domain.
+    PFN_vkGetCalibratedTimestampsEXT get_calibrated_timestamps = nullptr;
 
     Context() = default;
     Context(const Context&) = delete;
@@ -57,6 +63,10 @@ class Buffer {
     ~Buffer() { release(); }
 
     static Result<Buffer> create(Context& ctx, VkDeviceSize size, bool host);
+    // A storage buffer over `size` bytes of host memory at `data` (VK_EXT_external_memory_host;
+    // data and size multiples of Context::host_import_alignment). The memory must outlive the
+    // buffer; mapped() returns data.
+    static Result<Buffer> import_host(Context& ctx, void* data, VkDeviceSize size);
     VkBuffer handle() const { return buffer_; }
     VkDeviceSize size() const { return size_; }
     void* mapped() const { return mapped_; }
@@ -68,6 +78,7 @@ class Buffer {
     VkDeviceMemory memory_ = VK_NULL_HANDLE;
     VkDeviceSize size_ = 0;
     void* mapped_ = nullptr;
+    bool imported_ = false;
 };
 
 // One compute pipeline: a pass's SPIR-V, `bindings` storage buffers at set 0, `push_size` bytes of

@@ -76,10 +76,16 @@ typedef enum fgsr_status {
     FGSR_STATUS_OUT_OF_MEMORY = 7,      /* host or device memory exhausted */
     FGSR_STATUS_UNSUPPORTED = 8,        /* format, mode or scale the daemon does not handle */
     FGSR_STATUS_BAD_FRAME = 9,          /* a submitted frame was rejected (reason in the log) */
+                                        /* fgsrd: the engine refused the frame's content (e.g.
+                                         * jitter outside [-1, 1] px); input released, the
+                                         * session goes on */
     FGSR_STATUS_NO_SLOT = 10,           /* no free slot; try again after completions */
     FGSR_STATUS_TIMEOUT = 11,           /* a wait ran out of time */
     FGSR_STATUS_DROPPED = 12,           /* superseded by a newer submit (mailbox policy) */
     FGSR_STATUS_NOT_READY = 13,         /* e.g. interpolation asked of the first frame */
+                                        /* fgsrd: interpolation or extrapolation while fewer than
+                                         * two frames were submitted since the start or the last
+                                         * FGSR_SUBMIT_RESET; one completion per such output */
     FGSR_STATUS_DEVICE_ERROR = 14,      /* the engine or the GPU failed */
     FGSR_STATUS_BUSY = 15,              /* too many sessions or clients */
     FGSR_STATUS_INTERNAL = 16,          /* a bug; please report */
@@ -144,6 +150,16 @@ typedef enum fgsr_msg_type {
     FGSR_MSG_STATS = 7,                 /* client -> daemon: fgsr_session_ref */
     FGSR_MSG_STATS_REPLY = 8,           /* daemon -> client: fgsr_stats_reply */
     FGSR_MSG_ERROR = 9                  /* daemon -> client: fgsr_reply, then the daemon may close */
+    /* fgsrd's reading: every protocol violation gets FGSR_MSG_ERROR (status PROTOCOL_ERROR, reason)
+     * and then the connection is closed, all its sessions torn down. Violations: a packet shorter
+     * than its struct or than a header, wrong magic, header.size != packet size, a packet over
+     * FGSR_MAX_MESSAGE_SIZE, an unknown type, any request before HELLO or a second HELLO, fds
+     * attached to any message (they are closed unread), desc.struct_size < 128 or beyond the
+     * packet; and in the rings: see fgsr_submit_entry and fgsr_release_entry. Longer packets of
+     * a known type are accepted (trailing bytes ignored). STATS or DESTROY_SESSION naming a
+     * session this connection does not own is not a violation: reply status INVALID_ARGUMENT.
+     * HELLO refused (VERSION_MISMATCH, PERMISSION_DENIED, BUSY beyond --max-clients): the reply,
+     * then close. */
 } fgsr_msg_type;
 
 typedef struct fgsr_msg_header {
@@ -190,14 +206,24 @@ typedef struct fgsr_session_desc {
     uint32_t mv_direction; /* fgsr_mv_direction */
     float near_plane;      /* device depth only */
     float far_plane;       /* device depth only; 0 or +inf: infinite */
-    float scale;           /* output size = round(size * scale); 1: no super resolution */
+    float scale;           /* output size = round(size * scale); 1: no super resolution.
+                            * Reading (client side): output_width = lround((double)width *
+                            * (double)scale), same for height; the client checks the layout's
+                            * output size against it. Range [1, 4]. */
     uint32_t modes;        /* FGSR_MODE_* bits the session will request */
     uint32_t flags;        /* FGSR_SESSION_* bits */
     uint32_t queue_policy; /* fgsr_queue_policy */
     uint32_t input_slots;  /* 0: 3; at most FGSR_MAX_SLOTS */
-    uint32_t output_slots; /* 0: 4; at most FGSR_MAX_SLOTS */
+    uint32_t output_slots; /* 0: 4; at most FGSR_MAX_SLOTS. fgsrd's reading: a submit starts only
+                            * when as many output slots are free as it requests outputs (NOT_READY
+                            * ones included), so a submit requesting more outputs than
+                            * output_slots is completed at once with INVALID_ARGUMENT (input
+                            * released, no disconnect). */
     uint32_t output_format; /* fgsr_color_format of the outputs (linear or sRGB-encoded) */
-    uint32_t ring_capacity; /* entries per ring, power of two; 0: 64 */
+    uint32_t ring_capacity; /* entries per ring, power of two; 0: 64. Reading: at least
+                             * max(input_slots, output_slots) after defaults, at most 4096, so
+                             * that neither the submit nor the release ring can overflow (the
+                             * client refuses smaller values with INVALID_ARGUMENT). */
     float t_depth;          /* 0: the engine's default */
     float t_bright;         /* 0: the engine's default */
     float sr_a;             /* 0: the engine's default */
@@ -221,7 +247,20 @@ typedef struct fgsr_plane {
 } fgsr_plane;
 FGSR_STATIC_ASSERT(sizeof(fgsr_plane) == 24, "fgsr_plane size");
 
-/* Where everything lives; computed by the daemon, validated by the client. */
+/* Where everything lives; computed by the daemon, validated by the client.
+ * What the client checks (libfgsr_client, client/src/client.cpp), so the daemon must satisfy it:
+ *   - slot counts and ring_capacity equal the request after defaults (3, 4, 64);
+ *   - output_width/height as stated at fgsr_session_desc.scale;
+ *   - strides and plane offsets multiples of FGSR_PLANE_ALIGNMENT; each plane inside its slot,
+ *     row_pitch >= width * bytes per pixel, size >= row_pitch * height, input planes disjoint;
+ *     plane formats: color = desc.color_format, depth = 0, mv = desc.mv_format,
+ *     output = desc.output_format;
+ *   - pool sizes = count * stride; rings_size = fgsr_rings_layout_for(ring_capacity).total_size;
+ *   - fstat: the three memfds are regular files at least as large as their pool / rings size;
+ *     F_GET_SEALS of both pools includes F_SEAL_SHRINK | F_SEAL_GROW, and of the output pool also
+ *     F_SEAL_FUTURE_WRITE (or F_SEAL_WRITE); fds 3 and 4 are eventfds.
+ *   A layout or fd set that fails any check: the client closes every fd and returns
+ *   PROTOCOL_ERROR from fgsr_session_create. */
 typedef struct fgsr_pool_layout {
     uint64_t input_slot_stride; /* bytes; multiple of FGSR_PLANE_ALIGNMENT */
     uint64_t input_pool_size;   /* input_slot_count * input_slot_stride */
@@ -282,7 +321,8 @@ typedef struct fgsr_session_stats {
     uint64_t frames_rejected;  /* completed with an error status other than DROPPED */
     uint64_t frames_dropped;   /* mailbox: superseded */
     uint64_t outputs_written;
-    uint64_t latency_p50_ns;
+    uint64_t latency_p50_ns; /* fgsrd: percentiles over the last <= 4096 outputs; latency from
+                              * submit_time_ns (dequeue time when 0 or in the future) */
     uint64_t latency_p99_ns;
     uint64_t gpu_p50_ns; /* engine GPU time per output */
     uint64_t gpu_p99_ns;
@@ -317,7 +357,13 @@ FGSR_STATIC_ASSERT(sizeof(fgsr_ring_header) == 128, "fgsr_ring_header size");
 #define FGSR_SUBMIT_HAS_MV 0x2u   /* the mv plane holds vectors (else unknown) */
 #define FGSR_SUBMIT_WANT_SR 0x4u  /* write the super-resolved frame */
 
-/* Client -> daemon: one rendered frame and the outputs wanted from it. */
+/* Client -> daemon: one rendered frame and the outputs wanted from it.
+ * fgsrd's reading: each entry is copied, then checked; these are protocol violations (ERROR, then
+ * disconnect): submit head - tail > capacity; sequence not above the previous one; input_slot out
+ * of range or still held by the daemon; unknown flag bits; WANT_SR, interp_count or extrap_count
+ * for a mode the session did not declare; a count > FGSR_MAX_ALPHAS; an alpha that is not finite
+ * or outside its range (only the first count alphas are read); a completion tail the client moved
+ * beyond the daemon's head or more than capacity behind it. */
 typedef struct fgsr_submit_entry {
     uint64_t sequence;   /* strictly increasing per session, starts at 1 */
     uint32_t input_slot; /* < input_slot_count, owned by the client until released back */
@@ -371,15 +417,22 @@ typedef struct fgsr_telemetry {
     uint32_t frame_type;     /* fgsr_frame_type */
     uint32_t pass_count;     /* valid entries of passes[] */
     float target_time;       /* alpha (interpolated), 1 + alpha (extrapolated), 1 (upscaled) */
-    uint32_t skipped_passes; /* bit (1 << fgsr_pass_id) per pass skipped for this frame */
-    uint64_t target_present_ns; /* present time the frame stands for (0: unknown) */
+    uint32_t skipped_passes; /* bit (1 << fgsr_pass_id) per pass skipped for this frame
+                              * (fgsrd: the passes an output with a non-OK status did not run) */
+    uint64_t target_present_ns; /* present time the frame stands for (0: unknown). fgsrd:
+                                 * upscaled = present_time_ns; generated = previous present +
+                                 * (present - previous present) * target_time when both known */
     uint64_t submit_ns;         /* copied from the submit entry */
     uint64_t dequeue_ns;        /* the daemon read the submit */
     uint64_t start_ns;          /* the daemon began this frame's work */
     uint64_t complete_ns;       /* the output was written and published */
     uint64_t queue_wait_ns;     /* start_ns - dequeue_ns */
-    uint64_t gpu_ns;            /* sum of the passes' GPU time */
-    uint64_t daemon_cpu_ns;     /* daemon thread CPU time spent on this output */
+    uint64_t gpu_ns;            /* sum of the passes' GPU time (fgsrd: passes[0] is the frame's
+                                 * ingest pass, repeated in each output of the submit and counted
+                                 * in each gpu_ns; ingest and SR run at submit) */
+    uint64_t daemon_cpu_ns;     /* daemon thread CPU time spent on this output (fgsrd:
+                                 * CLOCK_THREAD_CPUTIME_ID since the previous output of the same
+                                 * submit was published; the first output carries ingest) */
     fgsr_pass_record passes[FGSR_MAX_PASSES];
 } fgsr_telemetry;
 FGSR_STATIC_ASSERT(sizeof(fgsr_telemetry) == 464, "fgsr_telemetry size");
@@ -395,7 +448,13 @@ typedef struct fgsr_completion_entry {
     uint32_t flags;       /* FGSR_COMPLETION_* */
     uint32_t input_slot;  /* the submit's slot (valid when INPUT_RELEASED) */
     uint32_t output_slot; /* FGSR_NO_SLOT when no output */
-    uint32_t output_index; /* 0-based index of this output within the submit */
+    uint32_t output_index; /* 0-based index of this output within the submit. Reading: outputs
+                            * are numbered in presentation order: interp_alphas[0..interp_count),
+                            * then the upscaled frame (FGSR_SUBMIT_WANT_SR), then
+                            * extrap_alphas[0..extrap_count). A submit that requests no output
+                            * still gets exactly one completion (status OK, FGSR_FRAME_NONE,
+                            * output_slot FGSR_NO_SLOT, INPUT_RELEASED | LAST) so that its input
+                            * slot comes back. INPUT_RELEASED is set on the LAST completion only. */
     uint32_t reserved0;
     uint64_t user_data;    /* from the submit */
     fgsr_telemetry telemetry;
@@ -403,7 +462,8 @@ typedef struct fgsr_completion_entry {
 } fgsr_completion_entry;
 FGSR_STATIC_ASSERT(sizeof(fgsr_completion_entry) == 528, "fgsr_completion_entry size");
 
-/* Client -> daemon: an output slot the client no longer reads. */
+/* Client -> daemon: an output slot the client no longer reads. fgsrd: an index out of range or of
+ * a slot the client does not hold is a protocol violation. */
 typedef struct fgsr_release_entry {
     uint32_t output_slot;
     uint32_t reserved;

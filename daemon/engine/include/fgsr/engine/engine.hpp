@@ -80,6 +80,12 @@ struct PassTiming {
     // ingest is timed at submit (Session::last_ingest_ms).
     std::string name;
     double ms = 0; // GPU time from timestamp queries
+    // The pass's begin and end timestamps in CLOCK_MONOTONIC ns: calibrated with
+    // VK_EXT_calibrated_timestamps when Engine::calibrated_time(), else anchored by taking the
+    // submission's first timestamp to be the CPU time just before vkQueueSubmit (so they may run
+    // early by the queue's start-up latency).
+    uint64_t begin_ns = 0;
+    uint64_t end_ns = 0;
 };
 
 struct GeneratedFrame {
@@ -91,6 +97,28 @@ struct GeneratedFrame {
 
 class Session;
 
+// Host memory imported into the device (VK_EXT_external_memory_host), e.g. a shared-memory pool a
+// client process writes: Session::submit(frame, memory) ingests planes that lie inside it without a
+// host copy. The memory must stay mapped while this object lives; destroy it after every session
+// that submitted from it has returned from submit (submits are synchronous). Another process may
+// write the memory at any time: ingest reads whatever bytes are there (and sanitises them).
+class HostMemory {
+  public:
+    ~HostMemory();
+    HostMemory(const HostMemory&) = delete;
+    HostMemory& operator=(const HostMemory&) = delete;
+    const std::byte* data() const;
+    size_t size() const;
+
+    struct Impl;
+    const Impl* impl() const { return impl_.get(); }
+
+  private:
+    friend class Engine;
+    explicit HostMemory(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
 class Engine {
   public:
     static Result<std::unique_ptr<Engine>> create(const DeviceOptions& options = {});
@@ -101,6 +129,14 @@ class Engine {
     std::string device_name() const;
     bool is_cpu_device() const;
     uint64_t validation_errors() const;
+    // True when PassTiming begin/end come from calibrated timestamps (VK_EXT_calibrated_timestamps
+    // with the CLOCK_MONOTONIC domain).
+    bool calibrated_time() const;
+    // minImportedHostPointerAlignment in bytes when host memory can be imported, else 0.
+    size_t host_import_alignment() const;
+    // Imports size bytes at data (both multiples of host_import_alignment()). Errors: unsupported
+    // (no VK_EXT_external_memory_host), invalid_argument (alignment), vulkan.
+    Result<std::unique_ptr<HostMemory>> import_host_memory(void* data, size_t size);
 
     // Lists the Vulkan devices "index: name (type)" for --list-devices.
     static Result<std::vector<std::string>> list_devices();
@@ -130,11 +166,17 @@ class Session {
     // Copies, validates and ingests a frame; it becomes frame 1. An empty mv plane means the
     // vectors are unknown (e.g. the first frame after a cut). Errors leave the session unchanged.
     Result<void> submit(const FrameView& frame);
+    // The same with planes inside imported host memory: ingest reads them in place (zero copy).
+    // Plane offsets from memory.data() must be multiples of the device's
+    // minStorageBufferOffsetAlignment (FGSR_PLANE_ALIGNMENT satisfies it). Same frames as submit.
+    Result<void> submit(const FrameView& frame, const HostMemory& memory);
     // Forgets the submitted frames (scene cut).
     void reset();
     uint64_t frames_submitted() const;
     // GPU time of the last submit's ingest pass.
     double last_ingest_ms() const;
+    // Timing of the last submit's ingest pass (with CLOCK_MONOTONIC begin/end).
+    PassTiming last_ingest_timing() const;
     // Output size: the frame size times Params::scale (the frame size without super resolution).
     uint32_t output_width() const;
     uint32_t output_height() const;

@@ -20,7 +20,13 @@ struct Frame {
     float jitter_x = 0.f;         // camera jitter of this frame in pixels (x right, y down); 0 if none
     float jitter_y = 0.f;
 
-    FrameView view() const { return FrameView{color, depth, mv}; }
+    // The planes and this frame's jitter (the engine's super resolution places samples with it).
+    FrameView view() const {
+        FrameView v{color, depth, mv};
+        v.jitter_x = jitter_x;
+        v.jitter_y = jitter_y;
+        return v;
+    }
 };
 
 enum class GroundTruth {

@@ -1,7 +1,9 @@
 // fgsr's own capture format: manifest.json + one multichannel EXR per frame. The specification
 // is docs/CAPTURE_FORMAT.md; keep the two in step (kFormatVersion changes with any incompatible
 // change).
-#include "capture_internal.hpp"
+#include "../src/capture_internal.hpp"
+
+#include <fgsr/capture/fgsr_format.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -86,12 +88,6 @@ float json_to_float(const json& j) {
     throw std::runtime_error("not a float: '" + s + "'");
 }
 
-std::string frame_name(size_t i) {
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), "%04zu.exr", i);
-    return buf;
-}
-
 std::vector<std::string> color_channel_names(ColorFormat f) {
     if (f == ColorFormat::rgba8_srgb) return {"sRGB.R", "sRGB.G", "sRGB.B", "sRGB.A"};
     return {"R", "G", "B", "A"};
@@ -99,7 +95,7 @@ std::vector<std::string> color_channel_names(ColorFormat f) {
 
 // --- frame planes <-> EXR channels ----------------------------------------------------------------
 
-ExrImage frame_to_exr(const FrameFormat& fmt, const Frame& f) {
+ExrImage frame_to_exr(const FrameFormat& fmt, const FrameView& f) {
     ExrImage img;
     img.width = fmt.width;
     img.height = fmt.height;
@@ -169,7 +165,7 @@ Result<Frame> exr_to_frame(const FrameFormat& fmt, const fs::path& p, bool has_m
     const size_t n = size_t(fmt.width) * fmt.height;
     const auto& ch = img->channels;
     Frame f;
-    f.color.resize(n * bytes_per_pixel(fmt.color_format));
+    f.color.resize(n * fgsr_bytes_per_pixel(fmt.color_format));
     for (size_t c = 0; c < 4; ++c) {
         const float* src = ch[c].data.data();
         switch (fmt.color_format) {
@@ -236,48 +232,65 @@ Result<void> ensure_dir(const fs::path& d) {
 
 } // namespace
 
-Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
-    const FrameFormat& fmt = c.format;
-    const size_t cb = bytes_per_pixel(fmt.color_format), mb = bytes_per_pixel(fmt.mv_format);
-    if (cb == 0) return make_error(Errc::unsupported, "save_fgsr: unknown colour format");
-    if (mb == 0) return make_error(Errc::unsupported, "save_fgsr: unknown vector format");
-    if (!enum_name(kDepthNames, fmt.conventions.depth_kind) ||
-        !enum_name(kUnitNames, fmt.conventions.mv_units) ||
-        !enum_name(kDirNames, fmt.conventions.mv_direction) || !enum_name(kGtNames, c.ground_truth_kind))
-        return make_error(Errc::unsupported, "save_fgsr: unknown convention value");
-    if (fmt.width == 0 || fmt.height == 0 || c.inputs.empty())
-        return make_error(Errc::empty_input, "save_fgsr: capture '" + c.name + "' has no frames");
-    const size_t n = size_t(fmt.width) * fmt.height;
-    for (size_t i = 0; i < c.inputs.size(); ++i) {
-        const Frame& f = c.inputs[i];
-        const std::string what = "save_fgsr: frame " + std::to_string(i);
-        if (f.color.size() != n * cb)
-            return make_error(Errc::size_mismatch,
-                              what + " colour has " + std::to_string(f.color.size()) + " bytes");
-        if (f.depth.size() != n * 4)
-            return make_error(Errc::size_mismatch,
-                              what + " depth has " + std::to_string(f.depth.size()) + " bytes");
-        if (!f.mv.empty() && f.mv.size() != n * mb)
-            return make_error(Errc::size_mismatch,
-                              what + " vectors have " + std::to_string(f.mv.size()) + " bytes");
-    }
-    for (size_t i = 0; i < c.ground_truth.size(); ++i)
-        FGSR_TRY(check_image(c.ground_truth[i], fmt.width, fmt.height,
-                             "save_fgsr: ground truth " + std::to_string(i)));
-    const bool has_hr = c.hr_format.width > 0 || !c.hr_reference.empty() || !c.hr_ground_truth.empty();
-    for (size_t i = 0; i < c.hr_reference.size(); ++i)
-        FGSR_TRY(check_image(c.hr_reference[i], c.hr_format.width, c.hr_format.height,
-                             "save_fgsr: hr reference " + std::to_string(i)));
-    for (size_t i = 0; i < c.hr_ground_truth.size(); ++i)
-        FGSR_TRY(check_image(c.hr_ground_truth[i], c.hr_format.width, c.hr_format.height,
-                             "save_fgsr: hr ground truth " + std::to_string(i)));
+std::string fgsr_file_name(size_t index) {
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "%04zu.exr", index);
+    return buf;
+}
 
-    FGSR_TRY(ensure_dir(dir / "frames"));
+size_t fgsr_bytes_per_pixel(ColorFormat f) {
+    switch (f) {
+    case ColorFormat::rgba8_srgb:
+        return 4;
+    case ColorFormat::rgba16f_linear:
+        return 8;
+    case ColorFormat::rgba32f_linear:
+        return 16;
+    }
+    return 0;
+}
+
+size_t fgsr_bytes_per_pixel(MvFormat f) {
+    switch (f) {
+    case MvFormat::rg16f:
+        return 4;
+    case MvFormat::rg32f:
+        return 8;
+    }
+    return 0;
+}
+
+Result<void> write_fgsr_frame(const fs::path& file, const FrameFormat& fmt, const FrameView& f) {
+    const size_t cb = fgsr_bytes_per_pixel(fmt.color_format), mb = fgsr_bytes_per_pixel(fmt.mv_format);
+    if (cb == 0) return make_error(Errc::unsupported, file.string() + ": unknown colour format");
+    if (mb == 0) return make_error(Errc::unsupported, file.string() + ": unknown vector format");
+    if (fmt.width == 0 || fmt.height == 0)
+        return make_error(Errc::empty_input, file.string() + ": empty frame");
+    const size_t n = size_t(fmt.width) * fmt.height;
+    if (f.color.size() != n * cb)
+        return make_error(Errc::size_mismatch,
+                          file.string() + ": colour has " + std::to_string(f.color.size()) + " bytes");
+    if (f.depth.size() != n * 4)
+        return make_error(Errc::size_mismatch,
+                          file.string() + ": depth has " + std::to_string(f.depth.size()) + " bytes");
+    if (!f.mv.empty() && f.mv.size() != n * mb)
+        return make_error(Errc::size_mismatch,
+                          file.string() + ": vectors have " + std::to_string(f.mv.size()) + " bytes");
+    return write_exr(file, frame_to_exr(fmt, f));
+}
+
+Result<void> write_fgsr_manifest(const fs::path& dir, const FgsrManifest& mf) {
+    const FrameFormat& fmt = mf.format;
+    if (!enum_name(kColorNames, fmt.color_format) || !enum_name(kMvNames, fmt.mv_format) ||
+        !enum_name(kDepthNames, fmt.conventions.depth_kind) ||
+        !enum_name(kUnitNames, fmt.conventions.mv_units) ||
+        !enum_name(kDirNames, fmt.conventions.mv_direction) || !enum_name(kGtNames, mf.ground_truth_kind))
+        return make_error(Errc::unsupported, "fgsr capture manifest: unknown format or convention value");
     ojson m;
     m["format"] = kFormatName;
     m["version"] = kFormatVersion;
-    m["name"] = c.name;
-    m["source"] = c.source;
+    m["name"] = mf.name;
+    m["source"] = mf.source;
     m["width"] = fmt.width;
     m["height"] = fmt.height;
     m["color_format"] = enum_name(kColorNames, fmt.color_format);
@@ -288,53 +301,29 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
                              {"mv_units", enum_name(kUnitNames, fmt.conventions.mv_units)},
                              {"mv_direction", enum_name(kDirNames, fmt.conventions.mv_direction)},
                              {"mv_y_up", fmt.conventions.mv_y_up}};
-    m["ground_truth_kind"] = enum_name(kGtNames, c.ground_truth_kind);
-    m["composed_vectors"] = c.composed_vectors;
-
+    m["ground_truth_kind"] = enum_name(kGtNames, mf.ground_truth_kind);
+    m["composed_vectors"] = mf.composed_vectors;
     ojson frames = ojson::array();
-    for (size_t i = 0; i < c.inputs.size(); ++i) {
-        const std::string rel = "frames/" + frame_name(i);
-        FGSR_TRY(write_exr(dir / rel, frame_to_exr(fmt, c.inputs[i])));
-        frames.push_back(ojson{{"file", rel},
-                               {"mv", !c.inputs[i].mv.empty()},
-                               {"jitter", ojson::array({float_to_json(c.inputs[i].jitter_x),
-                                                        float_to_json(c.inputs[i].jitter_y)})}});
-    }
+    for (const auto& f : mf.frames)
+        frames.push_back(
+            ojson{{"file", f.file},
+                  {"mv", f.mv},
+                  {"jitter", ojson::array({float_to_json(f.jitter_x), float_to_json(f.jitter_y)})}});
     m["frames"] = std::move(frames);
+    m["ground_truth"] = mf.ground_truth;
+    if (mf.hr)
+        m["hr"] = ojson{{"width", mf.hr->width},
+                        {"height", mf.hr->height},
+                        {"reference", mf.hr->reference},
+                        {"ground_truth", mf.hr->ground_truth}};
 
-    auto write_list = [&](const std::vector<ImageRGBA>& imgs, const std::string& sub) -> Result<ojson> {
-        ojson list = ojson::array();
-        if (imgs.empty()) return list;
-        FGSR_TRY(ensure_dir(dir / sub));
-        for (size_t i = 0; i < imgs.size(); ++i) {
-            const std::string rel = sub + "/" + frame_name(i);
-            FGSR_TRY(write_exr(dir / rel, imgs[i], ExrPixel::float32));
-            list.push_back(rel);
-        }
-        return list;
-    };
-    auto gt = write_list(c.ground_truth, "gt");
-    if (!gt) return gt.error();
-    m["ground_truth"] = std::move(*gt);
-    if (has_hr) {
-        auto ref = write_list(c.hr_reference, "hr");
-        if (!ref) return ref.error();
-        auto hgt = write_list(c.hr_ground_truth, "hr_gt");
-        if (!hgt) return hgt.error();
-        m["hr"] = ojson{{"width", c.hr_format.width},
-                        {"height", c.hr_format.height},
-                        {"reference", std::move(*ref)},
-                        {"ground_truth", std::move(*hgt)}};
-    }
-
-    // The manifest goes last (write + rename): a directory with a manifest is a complete capture.
     const fs::path tmp = dir / "manifest.json.tmp";
     std::string text;
     try {
         text = m.dump(1);
     } catch (const std::exception& e) { // name or source that is not valid UTF-8
         return make_error(Errc::invalid_argument,
-                          "save_fgsr: cannot encode the manifest: " + std::string(e.what()));
+                          "fgsr capture manifest: cannot encode: " + std::string(e.what()));
     }
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -347,6 +336,70 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
     fs::rename(tmp, dir / "manifest.json", ec);
     if (ec) return io_error(dir / "manifest.json", "cannot write: " + ec.message());
     return {};
+}
+
+Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
+    const FrameFormat& fmt = c.format;
+    if (fmt.width == 0 || fmt.height == 0 || c.inputs.empty())
+        return make_error(Errc::empty_input, "save_fgsr: capture '" + c.name + "' has no frames");
+    for (size_t i = 0; i < c.ground_truth.size(); ++i)
+        FGSR_TRY(check_image(c.ground_truth[i], fmt.width, fmt.height,
+                             "save_fgsr: ground truth " + std::to_string(i)));
+    const bool has_hr = c.hr_format.width > 0 || !c.hr_reference.empty() || !c.hr_ground_truth.empty();
+    for (size_t i = 0; i < c.hr_reference.size(); ++i)
+        FGSR_TRY(check_image(c.hr_reference[i], c.hr_format.width, c.hr_format.height,
+                             "save_fgsr: hr reference " + std::to_string(i)));
+    for (size_t i = 0; i < c.hr_ground_truth.size(); ++i)
+        FGSR_TRY(check_image(c.hr_ground_truth[i], c.hr_format.width, c.hr_format.height,
+                             "save_fgsr: hr ground truth " + std::to_string(i)));
+
+    FgsrManifest mf;
+    mf.name = c.name;
+    mf.source = c.source;
+    mf.format = fmt;
+    mf.ground_truth_kind = c.ground_truth_kind;
+    mf.composed_vectors = c.composed_vectors;
+    // Names first: unknown enum values fail before any file is written.
+    if (!enum_name(kDepthNames, fmt.conventions.depth_kind) ||
+        !enum_name(kUnitNames, fmt.conventions.mv_units) ||
+        !enum_name(kDirNames, fmt.conventions.mv_direction) || !enum_name(kGtNames, c.ground_truth_kind) ||
+        fgsr_bytes_per_pixel(fmt.color_format) == 0 || fgsr_bytes_per_pixel(fmt.mv_format) == 0)
+        return make_error(Errc::unsupported, "save_fgsr: unknown format or convention value");
+    FGSR_TRY(ensure_dir(dir / "frames"));
+    for (size_t i = 0; i < c.inputs.size(); ++i) {
+        const std::string rel = "frames/" + fgsr_file_name(i);
+        FrameView view = c.inputs[i].view();
+        view.jitter_x = c.inputs[i].jitter_x;
+        view.jitter_y = c.inputs[i].jitter_y;
+        auto w = write_fgsr_frame(dir / rel, fmt, view);
+        if (!w)
+            return make_error(w.error().code,
+                              "save_fgsr: frame " + std::to_string(i) + ": " + w.error().message);
+        mf.frames.push_back({rel, !c.inputs[i].mv.empty(), c.inputs[i].jitter_x, c.inputs[i].jitter_y});
+    }
+    auto write_list = [&](const std::vector<ImageRGBA>& imgs,
+                          const std::string& sub) -> Result<std::vector<std::string>> {
+        std::vector<std::string> list;
+        if (imgs.empty()) return list;
+        FGSR_TRY(ensure_dir(dir / sub));
+        for (size_t i = 0; i < imgs.size(); ++i) {
+            const std::string rel = sub + "/" + fgsr_file_name(i);
+            FGSR_TRY(write_exr(dir / rel, imgs[i], ExrPixel::float32));
+            list.push_back(rel);
+        }
+        return list;
+    };
+    auto gt = write_list(c.ground_truth, "gt");
+    if (!gt) return gt.error();
+    mf.ground_truth = std::move(*gt);
+    if (has_hr) {
+        auto ref = write_list(c.hr_reference, "hr");
+        if (!ref) return ref.error();
+        auto hgt = write_list(c.hr_ground_truth, "hr_gt");
+        if (!hgt) return hgt.error();
+        mf.hr = FgsrManifest::Hr{c.hr_format.width, c.hr_format.height, std::move(*ref), std::move(*hgt)};
+    }
+    return write_fgsr_manifest(dir, mf);
 }
 
 Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {

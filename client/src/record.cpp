@@ -1,0 +1,110 @@
+// Recording a session as an fgsr capture (docs/CAPTURE_FORMAT.md) through fgsr_capture_format, the
+// same writer save_fgsr uses. Frames are written synchronously at submit (one EXR each); the manifest
+// is rewritten at finish (stop, session destroy), so a directory with a manifest is complete.
+#include "client_internal.hpp"
+
+#include <fgsr/capture/fgsr_format.hpp>
+
+#include <cstring>
+#include <system_error>
+#include <vector>
+
+namespace fgsr::client {
+
+namespace {
+
+// The protocol's enum values equal the engine's (protocol.h "Formats and conventions").
+static_assert(uint32_t(ColorFormat::rgba8_srgb) == FGSR_COLOR_RGBA8_SRGB);
+static_assert(uint32_t(ColorFormat::rgba16f_linear) == FGSR_COLOR_RGBA16F_LINEAR);
+static_assert(uint32_t(ColorFormat::rgba32f_linear) == FGSR_COLOR_RGBA32F_LINEAR);
+static_assert(uint32_t(MvFormat::rg16f) == FGSR_MV_RG16F && uint32_t(MvFormat::rg32f) == FGSR_MV_RG32F);
+static_assert(uint32_t(DepthKind::linear) == FGSR_DEPTH_LINEAR &&
+              uint32_t(DepthKind::device) == FGSR_DEPTH_DEVICE &&
+              uint32_t(DepthKind::device_reversed) == FGSR_DEPTH_DEVICE_REVERSED);
+static_assert(uint32_t(MvUnits::pixels) == FGSR_MV_PIXELS && uint32_t(MvUnits::uv) == FGSR_MV_UV);
+static_assert(uint32_t(MvDirection::to_previous) == FGSR_MV_TO_PREVIOUS &&
+              uint32_t(MvDirection::from_previous) == FGSR_MV_FROM_PREVIOUS);
+
+// Copies a plane of `rows` rows of `row_bytes` bytes, `pitch` apart, into a tightly packed buffer.
+void pack_plane(std::vector<std::byte>& out, const std::byte* src, uint32_t pitch, size_t row_bytes,
+                uint32_t rows) {
+    out.resize(row_bytes * rows);
+    for (uint32_t y = 0; y < rows; ++y)
+        std::memcpy(out.data() + y * row_bytes, src + size_t(y) * pitch, row_bytes);
+}
+
+class CaptureRecorder final : public Recorder {
+  public:
+    CaptureRecorder(std::filesystem::path dir, capture::FgsrManifest m)
+        : dir_(std::move(dir)), manifest_(std::move(m)) {}
+
+    fgsr_status add(const fgsr_pool_layout& l, const std::byte* slot, const fgsr_submit_entry& e) override {
+        const FrameFormat& f = manifest_.format;
+        pack_plane(color_, slot + l.color.offset, l.color.row_pitch,
+                   size_t(f.width) * color_bytes(uint32_t(f.color_format)), f.height);
+        pack_plane(depth_, slot + l.depth.offset, l.depth.row_pitch, size_t(f.width) * 4, f.height);
+        const bool has_mv = (e.flags & FGSR_SUBMIT_HAS_MV) != 0;
+        if (has_mv)
+            pack_plane(mv_, slot + l.mv.offset, l.mv.row_pitch,
+                       size_t(f.width) * mv_bytes(uint32_t(f.mv_format)), f.height);
+        FrameView view{color_, depth_,
+                       has_mv ? std::span<const std::byte>(mv_) : std::span<const std::byte>()};
+        view.jitter_x = e.jitter_x;
+        view.jitter_y = e.jitter_y;
+        const std::string rel = "frames/" + capture::fgsr_file_name(manifest_.frames.size());
+        auto w = capture::write_fgsr_frame(dir_ / rel, f, view);
+        if (!w) {
+            error_ = w.error().message;
+            return FGSR_STATUS_UNSUPPORTED;
+        }
+        manifest_.frames.push_back({rel, has_mv, e.jitter_x, e.jitter_y});
+        return FGSR_STATUS_OK;
+    }
+
+    fgsr_status finish() override {
+        if (manifest_.frames.empty()) return FGSR_STATUS_OK; // nothing recorded: no capture
+        auto w = capture::write_fgsr_manifest(dir_, manifest_);
+        if (!w) {
+            error_ = w.error().message;
+            return FGSR_STATUS_UNSUPPORTED;
+        }
+        return FGSR_STATUS_OK;
+    }
+
+    const std::string& error() const override { return error_; }
+
+  private:
+    std::filesystem::path dir_;
+    capture::FgsrManifest manifest_;
+    std::vector<std::byte> color_, depth_, mv_;
+    std::string error_;
+};
+
+} // namespace
+
+std::unique_ptr<Recorder> make_recorder(const std::string& dir, const std::string& name,
+                                        const fgsr_session_desc& desc, std::string& reason) {
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(dir) / "frames", ec);
+    if (ec) {
+        reason = "cannot create " + dir + "/frames: " + ec.message();
+        return nullptr;
+    }
+    capture::FgsrManifest m;
+    m.name = name.empty() ? "session" : name;
+    m.source = "fgsr-client";
+    m.format.width = desc.width;
+    m.format.height = desc.height;
+    m.format.color_format = ColorFormat(desc.color_format);
+    m.format.mv_format = MvFormat(desc.mv_format);
+    m.format.conventions.depth_kind = DepthKind(desc.depth_kind);
+    m.format.conventions.near_plane = desc.near_plane;
+    m.format.conventions.far_plane = desc.far_plane;
+    m.format.conventions.mv_units = MvUnits(desc.mv_units);
+    m.format.conventions.mv_direction = MvDirection(desc.mv_direction);
+    m.format.conventions.mv_y_up = (desc.flags & FGSR_SESSION_MV_Y_UP) != 0;
+    m.ground_truth_kind = capture::GroundTruth::consecutive;
+    return std::make_unique<CaptureRecorder>(dir, std::move(m));
+}
+
+} // namespace fgsr::client

@@ -1,0 +1,28 @@
+// fgsrd: the fgsr service. See server.hpp and README.md ("fgsrd").
+#include "log.hpp"
+#include "server.hpp"
+
+#include <CLI/CLI.hpp>
+
+int main(int argc, char** argv) {
+    fgsrd::Options opt;
+    std::string level = "info";
+    bool no_zero_copy = false;
+    CLI::App app{"fgsrd: the fgsr frame-generation and super-resolution service.\n"
+                 "Clients connect over a SOCK_SEQPACKET Unix socket (fgsr/protocol.h) and exchange frames "
+                 "through shared memory. Supports systemd socket activation (LISTEN_FDS)."};
+    app.add_option("--socket", opt.socket_path, "Socket path (default $XDG_RUNTIME_DIR/fgsr/fgsrd.sock)");
+    app.add_option("--device", opt.device,
+                   "Vulkan device: index or name substring (default $FGSR_DEVICE, else the first GPU)");
+    app.add_option("--log-level", level, "debug, info, warn, error or off")
+        ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
+    app.add_option("--max-clients", opt.max_clients, "Connections served at once (more get BUSY)")
+        ->check(CLI::Range(1u, 4096u));
+    app.add_flag("--allow-any-user", opt.allow_any_user,
+                 "Serve clients of any uid (default: only this user, checked with SO_PEERCRED)");
+    app.add_flag("--no-zero-copy", no_zero_copy, "Always copy inputs through a staging buffer");
+    CLI11_PARSE(app, argc, argv);
+    opt.zero_copy = !no_zero_copy;
+    fgsrd::log::parse_level(level, fgsrd::log::threshold());
+    return fgsrd::run_server(opt);
+}

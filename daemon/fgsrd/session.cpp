@@ -1,0 +1,571 @@
+#include "session.hpp"
+
+#include "log.hpp"
+
+#include <fgsr/capture/image_io.hpp>
+
+#include <glm/gtc/packing.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <fcntl.h>
+#include <sys/eventfd.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+namespace fgsrd {
+
+uint64_t monotonic_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
+}
+
+uint64_t thread_cpu_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
+}
+
+namespace {
+
+constexpr uint64_t kMaxPoolBytes = 2ull << 30; // per pool and session
+constexpr uint32_t kMaxRingCapacity = 4096;
+constexpr size_t kLatencySamples = 4096;
+constexpr uint32_t kKnownModes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
+constexpr uint32_t kKnownSessionFlags = FGSR_SESSION_MVS_CONTAIN_JITTER | FGSR_SESSION_DILATE_MVS |
+                                        FGSR_SESSION_MV_Y_UP | FGSR_SESSION_LINEAR_MOTION;
+constexpr uint32_t kKnownSubmitFlags = FGSR_SUBMIT_RESET | FGSR_SUBMIT_HAS_MV | FGSR_SUBMIT_WANT_SR;
+
+uint32_t color_bpp(uint32_t f) {
+    return f == FGSR_COLOR_RGBA8_SRGB ? 4 : f == FGSR_COLOR_RGBA16F_LINEAR ? 8 : 16;
+}
+
+uint32_t pass_id(const std::string& name) {
+    static const char* names[] = {"ingest", "splat",    "refine", "disocc",      "warp",
+                                  "blend",  "generate", "sr",     "generate_sr", "classify"};
+    for (uint32_t i = 0; i < FGSR_PASS_COUNT_; ++i)
+        if (name == names[i]) return i;
+    return FGSR_PASS_COUNT_;
+}
+
+uint64_t percentile(std::vector<uint64_t> v, double q) {
+    if (v.empty()) return 0;
+    const size_t k = std::min(v.size() - 1, size_t(std::floor(q * double(v.size() - 1) + 0.5)));
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+    return v[k];
+}
+
+UniqueFd make_memfd(const char* name, uint64_t size) {
+    UniqueFd fd(memfd_create(name, MFD_CLOEXEC | MFD_ALLOW_SEALING));
+    if (!fd) return fd;
+    if (ftruncate(fd.get(), off_t(size)) != 0) fd.reset();
+    return fd;
+}
+
+bool is_scale(float s) {
+    return s == 1.f || s == 1.5f || s == 2.f || s == 3.f || s == 4.f;
+}
+
+bool finite_nonneg(float v) {
+    return std::isfinite(v) && v >= 0.f;
+}
+
+} // namespace
+
+std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uint32_t id,
+                                                       const fgsr_session_desc& in, bool zero_copy,
+                                                       int32_t& status, std::string& reason) {
+    status = FGSR_STATUS_INVALID_ARGUMENT;
+    fgsr_session_desc d = in;
+    if (d.input_slots == 0) d.input_slots = 3;
+    if (d.output_slots == 0) d.output_slots = 4;
+    if (d.ring_capacity == 0) d.ring_capacity = 64;
+    auto bad = [&](std::string why) -> std::unique_ptr<ServiceSession> {
+        reason = std::move(why);
+        return nullptr;
+    };
+    if (d.width < 1 || d.width > 16384 || d.height < 1 || d.height > 16384)
+        return bad("size " + std::to_string(d.width) + "x" + std::to_string(d.height) + " outside 1..16384");
+    if (d.color_format > FGSR_COLOR_RGBA32F_LINEAR || d.output_format > FGSR_COLOR_RGBA32F_LINEAR)
+        return bad("unknown colour format");
+    if (d.mv_format > FGSR_MV_RG32F || d.mv_units > FGSR_MV_UV || d.mv_direction > FGSR_MV_FROM_PREVIOUS)
+        return bad("unknown motion-vector format, units or direction");
+    if (d.depth_kind > FGSR_DEPTH_DEVICE_REVERSED) return bad("unknown depth kind");
+    if (!is_scale(d.scale)) return bad("scale " + std::to_string(d.scale) + " not in {1, 1.5, 2, 3, 4}");
+    if (d.modes == 0 || (d.modes & ~kKnownModes))
+        return bad("modes must be a nonzero set of FGSR_MODE_* bits");
+    if ((d.modes & FGSR_MODE_SR) && d.scale == 1.f) return bad("FGSR_MODE_SR needs a scale above 1");
+    if (d.flags & ~kKnownSessionFlags) return bad("unknown session flags");
+    if (d.queue_policy > FGSR_QUEUE_MAILBOX) return bad("unknown queue policy");
+    if (d.input_slots > FGSR_MAX_SLOTS || d.output_slots > FGSR_MAX_SLOTS)
+        return bad("slot counts must be 1.." + std::to_string(FGSR_MAX_SLOTS));
+    // Every slot can be in flight at once, and the completions of one submit (at most
+    // output_slots, see process_one) fit in the ring.
+    const uint32_t min_capacity = std::max(d.input_slots, d.output_slots);
+    if ((d.ring_capacity & (d.ring_capacity - 1)) != 0 || d.ring_capacity < min_capacity ||
+        d.ring_capacity > kMaxRingCapacity)
+        return bad("ring capacity " + std::to_string(d.ring_capacity) + " is not a power of two in " +
+                   std::to_string(min_capacity) + ".." + std::to_string(kMaxRingCapacity));
+    if (!finite_nonneg(d.t_depth) || !finite_nonneg(d.t_bright) || !finite_nonneg(d.sr_a) ||
+        !finite_nonneg(d.sr_b))
+        return bad("t_depth, t_bright, sr_a and sr_b must be finite and >= 0");
+    for (uint32_t r : d.reserved)
+        if (r != 0) return bad("reserved fields must be zero");
+
+    fgsr::FrameFormat format;
+    format.width = d.width;
+    format.height = d.height;
+    format.color_format = fgsr::ColorFormat(d.color_format);
+    format.mv_format = fgsr::MvFormat(d.mv_format);
+    format.conventions.depth_kind = fgsr::DepthKind(d.depth_kind);
+    format.conventions.near_plane = d.near_plane;
+    format.conventions.far_plane = d.far_plane;
+    format.conventions.mv_units = fgsr::MvUnits(d.mv_units);
+    format.conventions.mv_direction = fgsr::MvDirection(d.mv_direction);
+    format.conventions.mv_y_up = (d.flags & FGSR_SESSION_MV_Y_UP) != 0;
+    fgsr::Params params;
+    params.scale = d.scale;
+    if (d.t_depth > 0) params.t_depth = d.t_depth;
+    if (d.t_bright > 0) params.t_bright = d.t_bright;
+    if (d.sr_a > 0) params.sr_a = d.sr_a;
+    if (d.sr_b > 0) params.sr_b = d.sr_b;
+    params.motion =
+        (d.flags & FGSR_SESSION_LINEAR_MOTION) ? fgsr::MotionModel::linear : fgsr::MotionModel::quadratic;
+    params.dilate_mvs = (d.flags & FGSR_SESSION_DILATE_MVS) != 0;
+    params.mvs_contain_jitter = (d.flags & FGSR_SESSION_MVS_CONTAIN_JITTER) != 0;
+
+    std::unique_ptr<ServiceSession> s(new ServiceSession());
+    s->id_ = id;
+    s->desc_ = d;
+
+    // Layout: planes and slots on FGSR_PLANE_ALIGNMENT (host-pointer import and page mapping).
+    const uint64_t px = uint64_t(d.width) * d.height;
+    fgsr_pool_layout& l = s->layout_;
+    l.input_slot_count = d.input_slots;
+    l.output_slot_count = d.output_slots;
+    l.color = {0, px * color_bpp(d.color_format), d.width * color_bpp(d.color_format), d.color_format};
+    l.depth = {fgsr_align_up(l.color.size, FGSR_PLANE_ALIGNMENT), px * 4, d.width * 4, 0};
+    const uint32_t mv_bpp = d.mv_format == FGSR_MV_RG16F ? 4 : 8;
+    l.mv = {fgsr_align_up(l.depth.offset + l.depth.size, FGSR_PLANE_ALIGNMENT), px * mv_bpp, d.width * mv_bpp,
+            d.mv_format};
+    l.input_slot_stride = fgsr_align_up(l.mv.offset + l.mv.size, FGSR_PLANE_ALIGNMENT);
+    l.input_pool_size = l.input_slot_stride * d.input_slots;
+    l.output_width = uint32_t(std::lround(double(d.width) * d.scale));
+    l.output_height = uint32_t(std::lround(double(d.height) * d.scale));
+    const uint64_t opx = uint64_t(l.output_width) * l.output_height;
+    l.output = {0, opx * color_bpp(d.output_format), l.output_width * color_bpp(d.output_format),
+                d.output_format};
+    l.output_slot_stride = fgsr_align_up(l.output.size, FGSR_PLANE_ALIGNMENT);
+    l.output_pool_size = l.output_slot_stride * d.output_slots;
+    s->rings_ = fgsr_rings_layout_for(d.ring_capacity);
+    l.rings_size = s->rings_.total_size;
+    l.ring_capacity = d.ring_capacity;
+    if (l.input_pool_size > kMaxPoolBytes || l.output_pool_size > kMaxPoolBytes)
+        return bad("slot pools would exceed the daemon's limit of 2 GiB each");
+
+    auto engine_session = engine.create_session(format, params);
+    if (!engine_session) {
+        status = engine_session.error().code == fgsr::Errc::unsupported ? FGSR_STATUS_UNSUPPORTED
+                 : engine_session.error().code == fgsr::Errc::vulkan    ? FGSR_STATUS_OUT_OF_MEMORY
+                                                                        : FGSR_STATUS_INVALID_ARGUMENT;
+        return bad(engine_session.error().message);
+    }
+    s->engine_session_ = std::move(*engine_session);
+
+    status = FGSR_STATUS_OUT_OF_MEMORY;
+    s->input_fd_ = make_memfd("fgsr-input", l.input_pool_size);
+    s->output_fd_ = make_memfd("fgsr-output", l.output_pool_size);
+    s->rings_fd_ = make_memfd("fgsr-rings", l.rings_size);
+    if (!s->input_fd_ || !s->output_fd_ || !s->rings_fd_)
+        return bad(std::string("memfd: ") + std::strerror(errno));
+    // The daemon maps the input pool read-write only so that drivers which pin imported pages for
+    // writing can import it; it never writes there.
+    s->input_map_ = Mapping::map(s->input_fd_.get(), l.input_pool_size, PROT_READ | PROT_WRITE);
+    s->output_map_ = Mapping::map(s->output_fd_.get(), l.output_pool_size, PROT_READ | PROT_WRITE);
+    s->rings_map_ = Mapping::map(s->rings_fd_.get(), l.rings_size, PROT_READ | PROT_WRITE);
+    if (!s->input_map_.valid() || !s->output_map_.valid() || !s->rings_map_.valid())
+        return bad(std::string("mmap: ") + std::strerror(errno));
+    // Seals: no side can change the sizes (no SIGBUS from a truncation); the output pool gets
+    // FUTURE_WRITE after the daemon's writable mapping exists, so clients can map it read-only only.
+    if (fcntl(s->input_fd_.get(), F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL) != 0 ||
+        fcntl(s->rings_fd_.get(), F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL) != 0 ||
+        fcntl(s->output_fd_.get(), F_ADD_SEALS,
+              F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL) != 0) {
+        status = FGSR_STATUS_INTERNAL;
+        return bad(std::string("F_ADD_SEALS: ") + std::strerror(errno));
+    }
+    s->submit_event_.reset(eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK));
+    s->complete_event_.reset(eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK));
+    if (!s->submit_event_ || !s->complete_event_) return bad(std::string("eventfd: ") + std::strerror(errno));
+
+    if (zero_copy) {
+        const size_t align = engine.host_import_alignment();
+        if (align > 0 && FGSR_PLANE_ALIGNMENT % align == 0) {
+            auto imp = engine.import_host_memory(s->input_map_.data(), l.input_pool_size);
+            if (imp)
+                s->import_ = std::move(*imp);
+            else
+                log::warn("session {}: host import failed, staging copies instead: {}", id,
+                          imp.error().message);
+        }
+    }
+    s->free_outputs_ = d.output_slots;
+    status = FGSR_STATUS_OK;
+    return s;
+}
+
+ServiceSession::~ServiceSession() = default;
+
+std::array<int, FGSR_FD_COUNT> ServiceSession::fds() const {
+    return {input_fd_.get(), output_fd_.get(), rings_fd_.get(), submit_event_.get(), complete_event_.get()};
+}
+
+void ServiceSession::close_shared_fds() {
+    input_fd_.reset();
+    output_fd_.reset();
+    rings_fd_.reset();
+}
+
+uint32_t ServiceSession::requested_outputs(const fgsr_submit_entry& e) const {
+    return ((e.flags & FGSR_SUBMIT_WANT_SR) ? 1u : 0u) + e.interp_count + e.extrap_count;
+}
+
+std::optional<std::string> ServiceSession::validate(const fgsr_submit_entry& e) const {
+    if (e.sequence <= last_sequence_)
+        return "submit sequence " + std::to_string(e.sequence) + " does not increase (last " +
+               std::to_string(last_sequence_) + ")";
+    if (e.input_slot >= layout_.input_slot_count)
+        return "submit names input slot " + std::to_string(e.input_slot) + " of " +
+               std::to_string(layout_.input_slot_count);
+    if (input_with_daemon_[e.input_slot])
+        return "submit names input slot " + std::to_string(e.input_slot) + " the daemon still holds";
+    if (e.flags & ~kKnownSubmitFlags) return "unknown submit flags " + std::to_string(e.flags);
+    if ((e.flags & FGSR_SUBMIT_WANT_SR) && !(desc_.modes & FGSR_MODE_SR))
+        return "submit wants super resolution the session did not declare";
+    if (e.interp_count > FGSR_MAX_ALPHAS || e.extrap_count > FGSR_MAX_ALPHAS)
+        return "more than " + std::to_string(FGSR_MAX_ALPHAS) + " alphas";
+    if (e.interp_count && !(desc_.modes & FGSR_MODE_INTERPOLATE))
+        return "submit wants interpolation the session did not declare";
+    if (e.extrap_count && !(desc_.modes & FGSR_MODE_EXTRAPOLATE))
+        return "submit wants extrapolation the session did not declare";
+    for (uint32_t i = 0; i < e.interp_count; ++i)
+        if (!(std::isfinite(e.interp_alphas[i]) && e.interp_alphas[i] > 0.f && e.interp_alphas[i] < 1.f))
+            return "interpolation alpha " + std::to_string(e.interp_alphas[i]) + " outside (0, 1)";
+    for (uint32_t i = 0; i < e.extrap_count; ++i)
+        if (!(std::isfinite(e.extrap_alphas[i]) && e.extrap_alphas[i] > 0.f && e.extrap_alphas[i] <= 1.f))
+            return "extrapolation alpha " + std::to_string(e.extrap_alphas[i]) + " outside (0, 1]";
+    return std::nullopt;
+}
+
+std::optional<std::string> ServiceSession::poll() {
+    uint64_t counter = 0;
+    while (read(submit_event_.get(), &counter, sizeof(counter)) == sizeof(counter)) {
+    }
+    std::byte* base = rings_map_.data();
+    const uint32_t cap = layout_.ring_capacity;
+    // Submits: copy each entry, then validate the copy.
+    auto* sh = reinterpret_cast<fgsr_ring_header*>(base + rings_.submit_header);
+    const auto* se = reinterpret_cast<const fgsr_submit_entry*>(base + rings_.submit_entries);
+    const uint64_t shead = fgsr_ring_load_head(sh);
+    if (shead - submit_tail_ > cap)
+        return "submit ring head " + std::to_string(shead) + " is beyond tail " +
+               std::to_string(submit_tail_) + " + capacity " + std::to_string(cap);
+    while (submit_tail_ != shead) {
+        fgsr_submit_entry e;
+        std::memcpy(&e, &se[fgsr_ring_index(submit_tail_, cap)], sizeof(e));
+        ++submit_tail_;
+        fgsr_ring_consume(sh, submit_tail_);
+        if (auto why = validate(e)) return why;
+        last_sequence_ = e.sequence;
+        input_with_daemon_[e.input_slot] = true;
+        ++stats_.frames_submitted;
+        pending_.push_back(Pending{e, monotonic_ns()});
+    }
+    // Releases.
+    auto* rh = reinterpret_cast<fgsr_ring_header*>(base + rings_.release_header);
+    const auto* re = reinterpret_cast<const fgsr_release_entry*>(base + rings_.release_entries);
+    const uint64_t rhead = fgsr_ring_load_head(rh);
+    if (rhead - release_tail_ > cap)
+        return "release ring head " + std::to_string(rhead) + " is beyond tail " +
+               std::to_string(release_tail_) + " + capacity " + std::to_string(cap);
+    while (release_tail_ != rhead) {
+        fgsr_release_entry r;
+        std::memcpy(&r, &re[fgsr_ring_index(release_tail_, cap)], sizeof(r));
+        ++release_tail_;
+        fgsr_ring_consume(rh, release_tail_);
+        if (r.output_slot >= layout_.output_slot_count || !output_with_client_[r.output_slot])
+            return "release of output slot " + std::to_string(r.output_slot) + " the client does not hold";
+        output_with_client_[r.output_slot] = false;
+        ++free_outputs_;
+    }
+    if (!completion_free()) return std::string("completion ring tail corrupted by the client");
+    return std::nullopt;
+}
+
+std::optional<uint64_t> ServiceSession::completion_free() const {
+    const auto* ch = reinterpret_cast<const fgsr_ring_header*>(rings_map_.data() + rings_.completion_header);
+    const uint64_t tail = fgsr_ring_load_tail(ch);
+    const uint64_t used = completion_head_ - tail;
+    if (used > layout_.ring_capacity) return std::nullopt; // tail beyond head, or too far behind
+    return layout_.ring_capacity - used;
+}
+
+bool ServiceSession::ready() const {
+    if (pending_.empty()) return false;
+    const auto room = completion_free();
+    if (!room) return true; // process_one reports the violation
+    if (desc_.queue_policy == FGSR_QUEUE_MAILBOX && pending_.size() > 1) return *room >= 1;
+    const uint32_t n = requested_outputs(pending_.front().entry);
+    if (n > layout_.output_slot_count) return *room >= 1; // rejected with INVALID_ARGUMENT
+    return free_outputs_ >= n && *room >= std::max(n, 1u);
+}
+
+bool ServiceSession::waiting_on_completion_ring() const {
+    if (pending_.empty()) return false;
+    const auto room = completion_free();
+    return room && *room < std::max(requested_outputs(pending_.front().entry), 1u);
+}
+
+void ServiceSession::push_completion(const fgsr_completion_entry& c) {
+    std::byte* base = rings_map_.data();
+    auto* ch = reinterpret_cast<fgsr_ring_header*>(base + rings_.completion_header);
+    auto* ce = reinterpret_cast<fgsr_completion_entry*>(base + rings_.completion_entries);
+    std::memcpy(&ce[fgsr_ring_index(completion_head_, layout_.ring_capacity)], &c, sizeof(c));
+    ++completion_head_;
+    fgsr_ring_publish(ch, completion_head_);
+}
+
+void ServiceSession::signal_complete() {
+    const uint64_t one = 1;
+    // EAGAIN only when the counter is near overflow; the client then has a wake-up pending anyway.
+    (void)!write(complete_event_.get(), &one, sizeof(one));
+}
+
+void ServiceSession::record_latency(std::vector<uint64_t>& v, uint64_t ns) {
+    if (v.size() >= kLatencySamples) v.erase(v.begin(), v.begin() + kLatencySamples / 2);
+    v.push_back(ns);
+}
+
+std::optional<std::string> ServiceSession::complete_without_output(const Pending& p, int32_t status) {
+    fgsr_completion_entry c{};
+    c.sequence = p.entry.sequence;
+    c.status = status;
+    c.flags = FGSR_COMPLETION_INPUT_RELEASED | FGSR_COMPLETION_LAST;
+    c.input_slot = p.entry.input_slot;
+    c.output_slot = FGSR_NO_SLOT;
+    c.user_data = p.entry.user_data;
+    c.telemetry.submit_ns = p.entry.submit_time_ns;
+    c.telemetry.dequeue_ns = p.dequeue_ns;
+    c.telemetry.start_ns = c.telemetry.complete_ns = monotonic_ns();
+    c.telemetry.queue_wait_ns = c.telemetry.start_ns - p.dequeue_ns;
+    input_with_daemon_[p.entry.input_slot] = false;
+    if (status == FGSR_STATUS_DROPPED)
+        ++stats_.frames_dropped;
+    else
+        ++stats_.frames_rejected;
+    push_completion(c);
+    signal_complete();
+    return std::nullopt;
+}
+
+std::optional<std::string> ServiceSession::process_one() {
+    if (!completion_free()) return std::string("completion ring tail corrupted by the client");
+    if (!ready()) return std::nullopt;
+    if (desc_.queue_policy == FGSR_QUEUE_MAILBOX && pending_.size() > 1) {
+        // Latest wins: everything but the newest pending submit is dropped, as ring room allows.
+        while (pending_.size() > 1 && completion_free().value_or(0) >= 1) {
+            const Pending p = pending_.front();
+            pending_.pop_front();
+            complete_without_output(p, FGSR_STATUS_DROPPED);
+        }
+        if (!ready()) return std::nullopt;
+    }
+    const Pending p = pending_.front();
+    pending_.pop_front();
+    if (requested_outputs(p.entry) > layout_.output_slot_count) {
+        log::warn("session {}: submit {} wants {} outputs, the session has {} output slots", id_,
+                  p.entry.sequence, requested_outputs(p.entry), layout_.output_slot_count);
+        return complete_without_output(p, FGSR_STATUS_INVALID_ARGUMENT);
+    }
+    return run(p);
+}
+
+void ServiceSession::write_output(uint32_t slot, const fgsr::ImageRGBA& image) {
+    std::byte* dst = output_map_.data() + uint64_t(slot) * layout_.output_slot_stride + layout_.output.offset;
+    const size_t n = size_t(image.width) * image.height;
+    const float* src = image.rgba.data();
+    switch (desc_.output_format) {
+    case FGSR_COLOR_RGBA32F_LINEAR:
+        std::memcpy(dst, src, n * 16);
+        break;
+    case FGSR_COLOR_RGBA16F_LINEAR:
+        for (size_t i = 0; i < n * 4; ++i) {
+            const uint16_t h = glm::packHalf1x16(std::clamp(src[i], -65504.f, 65504.f));
+            std::memcpy(dst + i * 2, &h, 2);
+        }
+        break;
+    default: { // sRGB-encoded 8-bit; alpha stays linear
+        auto* d = reinterpret_cast<uint8_t*>(dst);
+        for (size_t i = 0; i < n; ++i) {
+            for (int c = 0; c < 3; ++c)
+                d[4 * i + size_t(c)] =
+                    uint8_t(std::lround(fgsr::capture::srgb_encode(src[4 * i + size_t(c)]) * 255.f));
+            const float a = std::isfinite(src[4 * i + 3]) ? std::clamp(src[4 * i + 3], 0.f, 1.f) : 1.f;
+            d[4 * i + 3] = uint8_t(std::lround(a * 255.f));
+        }
+    }
+    }
+}
+
+std::optional<std::string> ServiceSession::run(const Pending& p) {
+    const fgsr_submit_entry& e = p.entry;
+    const uint64_t start_ns = monotonic_ns();
+    uint64_t cpu_mark = thread_cpu_ns();
+
+    const std::byte* slot = input_map_.data() + uint64_t(e.input_slot) * layout_.input_slot_stride;
+    fgsr::FrameView view;
+    view.color = {slot + layout_.color.offset, size_t(layout_.color.size)};
+    view.depth = {slot + layout_.depth.offset, size_t(layout_.depth.size)};
+    if (e.flags & FGSR_SUBMIT_HAS_MV) view.mv = {slot + layout_.mv.offset, size_t(layout_.mv.size)};
+    view.jitter_x = e.jitter_x;
+    view.jitter_y = e.jitter_y;
+    view.reset = (e.flags & FGSR_SUBMIT_RESET) != 0;
+    auto submitted = import_ ? engine_session_->submit(view, *import_) : engine_session_->submit(view);
+    if (!submitted) {
+        log::info("session {}: frame {} rejected: {}", id_, e.sequence, submitted.error().message);
+        return complete_without_output(p, submitted.error().code == fgsr::Errc::vulkan
+                                              ? FGSR_STATUS_DEVICE_ERROR
+                                              : FGSR_STATUS_BAD_FRAME);
+    }
+    if (!import_) stats_.bytes_copied += view.color.size() + view.depth.size() + view.mv.size();
+    const fgsr::PassTiming ingest = engine_session_->last_ingest_timing();
+    if (view.reset) previous_present_ns_ = 0;
+
+    // Every requested output in presentation order: interpolated, upscaled, extrapolated.
+    std::vector<Output> outputs;
+    std::optional<fgsr::GeneratedFrame> sr;
+    std::vector<fgsr::GeneratedFrame> interp, extrap;
+    int32_t interp_status = FGSR_STATUS_OK, extrap_status = FGSR_STATUS_OK, sr_status = FGSR_STATUS_OK;
+    if (e.flags & FGSR_SUBMIT_WANT_SR) {
+        auto r = engine_session_->super_resolved();
+        if (r)
+            sr = std::move(*r);
+        else {
+            sr_status = FGSR_STATUS_DEVICE_ERROR;
+            log::error("session {}: frame {}: {}", id_, e.sequence, r.error().message);
+        }
+    }
+    const bool two_frames = engine_session_->frames_submitted() >= 2;
+    auto generate = [&](bool extrapolate, uint32_t count, const float* alphas,
+                        std::vector<fgsr::GeneratedFrame>& out, int32_t& st) {
+        if (count == 0) return;
+        if (!two_frames) {
+            st = FGSR_STATUS_NOT_READY;
+        } else {
+            auto r = extrapolate ? engine_session_->extrapolate({alphas, count})
+                                 : engine_session_->interpolate({alphas, count});
+            if (r)
+                out = std::move(*r);
+            else {
+                st = FGSR_STATUS_DEVICE_ERROR;
+                log::error("session {}: frame {}: {}", id_, e.sequence, r.error().message);
+            }
+        }
+    };
+    generate(false, e.interp_count, e.interp_alphas, interp, interp_status);
+    generate(true, e.extrap_count, e.extrap_alphas, extrap, extrap_status);
+    for (uint32_t i = 0; i < e.interp_count; ++i)
+        outputs.push_back({interp_status, FGSR_FRAME_INTERPOLATED, e.interp_alphas[i],
+                           interp_status == FGSR_STATUS_OK ? &interp[i] : nullptr});
+    if (e.flags & FGSR_SUBMIT_WANT_SR)
+        outputs.push_back({sr_status, FGSR_FRAME_UPSCALED, 1.f, sr ? &*sr : nullptr});
+    for (uint32_t i = 0; i < e.extrap_count; ++i)
+        outputs.push_back({extrap_status, FGSR_FRAME_EXTRAPOLATED, 1.f + e.extrap_alphas[i],
+                           extrap_status == FGSR_STATUS_OK ? &extrap[i] : nullptr});
+
+    // A submit without requested outputs still gets one completion (its input slot back).
+    if (outputs.empty()) outputs.push_back({FGSR_STATUS_OK, FGSR_FRAME_NONE, 1.f, nullptr});
+
+    const uint64_t cur_present = e.present_time_ns;
+    const uint64_t prev_present = previous_present_ns_;
+    for (size_t k = 0; k < outputs.size(); ++k) {
+        const Output& o = outputs[k];
+        fgsr_completion_entry c{};
+        c.sequence = e.sequence;
+        c.status = o.status;
+        c.input_slot = e.input_slot;
+        c.output_slot = FGSR_NO_SLOT;
+        c.output_index = uint32_t(k);
+        c.user_data = e.user_data;
+        fgsr_telemetry& t = c.telemetry;
+        t.frame_type = o.frame_type;
+        t.target_time = o.target_time;
+        if (cur_present && o.frame_type == FGSR_FRAME_UPSCALED) t.target_present_ns = cur_present;
+        if (cur_present && prev_present && cur_present > prev_present &&
+            o.frame_type != FGSR_FRAME_UPSCALED && o.frame_type != FGSR_FRAME_NONE)
+            t.target_present_ns =
+                prev_present + uint64_t(double(cur_present - prev_present) * double(o.target_time));
+        t.submit_ns = e.submit_time_ns;
+        t.dequeue_ns = p.dequeue_ns;
+        t.start_ns = start_ns;
+        t.queue_wait_ns = start_ns - p.dequeue_ns;
+        // Passes: this frame's ingest, then the output's own passes.
+        auto add_pass = [&](const fgsr::PassTiming& pt) {
+            if (t.pass_count >= FGSR_MAX_PASSES) return;
+            fgsr_pass_record& r = t.passes[t.pass_count++];
+            r.pass = pass_id(pt.name);
+            r.gpu_begin_ns = pt.begin_ns;
+            r.gpu_end_ns = pt.end_ns;
+            t.gpu_ns += uint64_t(std::llround(pt.ms * 1e6));
+        };
+        add_pass(ingest);
+        if (o.status == FGSR_STATUS_OK && o.frame) {
+            for (const fgsr::PassTiming& pt : o.frame->passes) add_pass(pt);
+            uint32_t out_slot = 0;
+            while (output_with_client_[out_slot]) ++out_slot; // ready() guaranteed enough free slots
+            write_output(out_slot, o.frame->color);
+            output_with_client_[out_slot] = true;
+            --free_outputs_;
+            c.output_slot = out_slot;
+            ++stats_.outputs_written;
+            record_latency(gpu_, t.gpu_ns);
+        } else if (o.status != FGSR_STATUS_OK) {
+            t.skipped_passes = o.frame_type == FGSR_FRAME_UPSCALED
+                                   ? (1u << FGSR_PASS_SR)
+                                   : (1u << FGSR_PASS_SPLAT) | (1u << FGSR_PASS_GENERATE);
+        }
+        if (k + 1 == outputs.size()) {
+            c.flags = FGSR_COMPLETION_INPUT_RELEASED | FGSR_COMPLETION_LAST;
+            input_with_daemon_[e.input_slot] = false;
+        }
+        const uint64_t cpu_now = thread_cpu_ns();
+        t.daemon_cpu_ns = cpu_now - cpu_mark;
+        cpu_mark = cpu_now;
+        t.complete_ns = monotonic_ns();
+        const uint64_t from =
+            (e.submit_time_ns && e.submit_time_ns <= t.complete_ns) ? e.submit_time_ns : p.dequeue_ns;
+        record_latency(latency_, t.complete_ns - from);
+        record_latency(queue_wait_, t.queue_wait_ns);
+        push_completion(c);
+    }
+    previous_present_ns_ = cur_present;
+    signal_complete();
+    return std::nullopt;
+}
+
+fgsr_session_stats ServiceSession::stats() const {
+    fgsr_session_stats s = stats_;
+    s.latency_p50_ns = percentile(latency_, 0.50);
+    s.latency_p99_ns = percentile(latency_, 0.99);
+    s.gpu_p50_ns = percentile(gpu_, 0.50);
+    s.gpu_p99_ns = percentile(gpu_, 0.99);
+    s.queue_wait_p50_ns = percentile(queue_wait_, 0.50);
+    s.queue_wait_p99_ns = percentile(queue_wait_, 0.99);
+    return s;
+}
+
+} // namespace fgsrd

@@ -1,0 +1,110 @@
+// One client session of fgsrd: its shared memory (input and output slot pools, rings), eventfds,
+// engine session, slot ownership, pending submits and statistics.
+//
+// Thread-safety: none; the server's single thread owns every ServiceSession (see server.cpp).
+// Shared memory is hostile: every ring entry and counter the client writes is copied once into
+// private memory and validated there; the daemon keeps private copies of the positions it owns.
+#pragma once
+
+#include "unique_fd.hpp"
+
+#include <fgsr/engine/engine.hpp>
+#include <fgsr/protocol.h>
+
+#include <array>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace fgsrd {
+
+uint64_t monotonic_ns();
+uint64_t thread_cpu_ns();
+
+class ServiceSession {
+  public:
+    // Validates desc (copied by the caller) and allocates everything. zero_copy: import the input
+    // pool into the device when it supports VK_EXT_external_memory_host with FGSR_PLANE_ALIGNMENT.
+    static std::unique_ptr<ServiceSession> create(fgsr::Engine& engine, uint32_t id,
+                                                  const fgsr_session_desc& desc, bool zero_copy,
+                                                  int32_t& status, std::string& reason);
+    ~ServiceSession();
+    ServiceSession(const ServiceSession&) = delete;
+    ServiceSession& operator=(const ServiceSession&) = delete;
+
+    uint32_t id() const { return id_; }
+    const fgsr_pool_layout& layout() const { return layout_; }
+    int submit_event_fd() const { return submit_event_.get(); }
+    bool zero_copy() const { return import_ != nullptr; }
+    // The five fds of the CREATE_SESSION reply in FGSR_FD_* order. The memfds are closed by
+    // close_shared_fds() once sent (the mappings stay).
+    std::array<int, FGSR_FD_COUNT> fds() const;
+    void close_shared_fds();
+
+    // Drains the eventfd and reads the submit and release rings. Returns a reason on a protocol
+    // violation (the caller disconnects the client), else nullopt.
+    std::optional<std::string> poll();
+    // True when the next pending submit (or a mailbox drop) can be completed now.
+    bool ready() const;
+    // True when work is pending but waits for the client to consume completions (no eventfd tells
+    // the daemon when that happens, so the server re-polls on a short timer).
+    bool waiting_on_completion_ring() const;
+    // Completes one submit: drops (mailbox), rejects or processes it and publishes its completions.
+    // Returns a reason on a protocol violation detected while publishing.
+    std::optional<std::string> process_one();
+    fgsr_session_stats stats() const;
+
+  private:
+    struct Pending {
+        fgsr_submit_entry entry; // private, validated copy
+        uint64_t dequeue_ns = 0;
+    };
+    struct Output {
+        int32_t status = FGSR_STATUS_OK;
+        uint32_t frame_type = FGSR_FRAME_NONE;
+        float target_time = 1.f;
+        const fgsr::GeneratedFrame* frame = nullptr; // image and passes when status is OK
+    };
+
+    ServiceSession() = default;
+    std::optional<std::string> validate(const fgsr_submit_entry& e) const;
+    uint32_t requested_outputs(const fgsr_submit_entry& e) const;
+    std::optional<uint64_t> completion_free() const; // nullopt: the client corrupted the tail
+    void push_completion(const fgsr_completion_entry& c);
+    std::optional<std::string> complete_without_output(const Pending& p, int32_t status);
+    std::optional<std::string> run(const Pending& p);
+    void write_output(uint32_t slot, const fgsr::ImageRGBA& image);
+    void signal_complete();
+    void record_latency(std::vector<uint64_t>& v, uint64_t ns);
+
+    uint32_t id_ = 0;
+    fgsr_session_desc desc_{};
+    fgsr_pool_layout layout_{};
+    fgsr_rings_layout rings_{};
+    uint32_t outputs_per_frame_limit_ = 0;
+
+    // Declaration order is destruction order reversed: the engine session goes first, then the
+    // imported memory, then the mappings and fds.
+    UniqueFd input_fd_, output_fd_, rings_fd_, submit_event_, complete_event_;
+    Mapping input_map_, output_map_, rings_map_;
+    std::unique_ptr<fgsr::HostMemory> import_;
+    std::unique_ptr<fgsr::Session> engine_session_;
+
+    // Ownership: true where the daemon holds the slot.
+    std::array<bool, FGSR_MAX_SLOTS> input_with_daemon_{};
+    std::array<bool, FGSR_MAX_SLOTS> output_with_client_{};
+    uint32_t free_outputs_ = 0;
+
+    // Private ring positions (never re-read from shared memory).
+    uint64_t submit_tail_ = 0, completion_head_ = 0, release_tail_ = 0;
+    uint64_t last_sequence_ = 0;
+    uint64_t previous_present_ns_ = 0; // present time of the last processed frame (0: unknown)
+    std::deque<Pending> pending_;
+
+    fgsr_session_stats stats_{};
+    std::vector<uint64_t> latency_, gpu_, queue_wait_; // the most recent samples, for percentiles
+};
+
+} // namespace fgsrd

@@ -1,0 +1,326 @@
+// libfgsr_client with a real fgsrd (tests/fgsrd_process.hpp): outputs equal the in-process engine's
+// (bit-identical rgba32f), two and eight concurrent client processes, the daemon killed under a
+// client and a reconnect to a new one, fifo and mailbox semantics, fds back to baseline, and
+// `fgsr replay` printing the same metrics as in-process `fgsr eval`.
+#include "fgsrd_process.hpp"
+#include "run_process.hpp"
+
+#include <fgsr/capture/capture.hpp>
+#include <fgsr/capture/synthetic.hpp>
+#include <fgsr/client.hpp>
+#include <fgsr/engine/engine.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <dirent.h>
+#include <fstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using fgsr::test::FgsrdProcess;
+
+int count_fds() {
+    int n = 0;
+    DIR* d = opendir("/proc/self/fd");
+    if (!d) return -1;
+    while (dirent* e = readdir(d))
+        if (e->d_name[0] != '.') ++n;
+    closedir(d);
+    return n - 1;
+}
+
+// A small synthetic capture (engine's internal conventions) and the in-process engine's frames
+// halfway between each pair of inputs.
+struct Expected {
+    fgsr::capture::Capture cap;
+    std::vector<std::vector<float>> interp; // interp[i]: between inputs i and i + 1
+};
+
+const Expected& expected() {
+    static Expected* e = [] {
+        auto* x = new Expected;
+        fgsr::capture::SceneOptions so;
+        so.width = 48;
+        so.height = 32;
+        so.supersample = 1;
+        auto cap = fgsr::capture::make_synthetic_capture(so, 4);
+        if (!cap) return x;
+        x->cap = std::move(*cap);
+        auto engine = fgsr::Engine::create();
+        if (!engine) return x;
+        auto s = (*engine)->create_session(x->cap.format);
+        if (!s) return x;
+        for (size_t i = 0; i < x->cap.inputs.size(); ++i) {
+            if (!(*s)->submit(x->cap.inputs[i].view())) return x;
+            if (i == 0) continue;
+            const float a[] = {0.5f};
+            auto out = (*s)->interpolate(a);
+            if (!out) return x;
+            x->interp.push_back((*out)[0].color.rgba);
+        }
+        return x;
+    }();
+    return *e;
+}
+
+fgsr_session_desc desc_for(const fgsr::FrameFormat& f, uint32_t policy = FGSR_QUEUE_FIFO) {
+    fgsr_session_desc d{};
+    d.struct_size = sizeof(d);
+    d.width = f.width;
+    d.height = f.height;
+    d.color_format = uint32_t(f.color_format);
+    d.mv_format = uint32_t(f.mv_format);
+    d.depth_kind = uint32_t(f.conventions.depth_kind);
+    d.mv_units = uint32_t(f.conventions.mv_units);
+    d.mv_direction = uint32_t(f.conventions.mv_direction);
+    d.near_plane = f.conventions.near_plane;
+    d.far_plane = f.conventions.far_plane;
+    d.flags = f.conventions.mv_y_up ? FGSR_SESSION_MV_Y_UP : 0u;
+    d.scale = 1.f;
+    d.modes = FGSR_MODE_INTERPOLATE;
+    d.queue_policy = policy;
+    d.output_format = FGSR_COLOR_RGBA32F_LINEAR;
+    return d;
+}
+
+// Submits input i of the capture (interp at 0.5 from the second frame on).
+fgsr_status submit_frame(fgsr::client::Session& s, const fgsr_pool_layout& l, const fgsr::capture::Frame& f,
+                         bool interp, uint64_t* seq = nullptr) {
+    fgsr_input_slot in{};
+    fgsr_status st = s.acquire_input(30000, in);
+    if (st != FGSR_STATUS_OK) return st;
+    const size_t rows = l.output_height; // scale 1: the input height
+    const size_t cb = f.color.size() / rows, db = f.depth.size() / rows;
+    for (size_t y = 0; y < rows; ++y) {
+        std::memcpy(static_cast<char*>(in.color) + y * l.color.row_pitch, f.color.data() + y * cb, cb);
+        std::memcpy(static_cast<char*>(in.depth) + y * l.depth.row_pitch, f.depth.data() + y * db, db);
+        if (!f.mv.empty()) {
+            const size_t mb = f.mv.size() / rows;
+            std::memcpy(static_cast<char*>(in.mv) + y * l.mv.row_pitch, f.mv.data() + y * mb, mb);
+        }
+    }
+    static const float half[] = {0.5f};
+    fgsr_submit_info si{};
+    si.struct_size = sizeof(si);
+    si.input_slot = in.index;
+    si.flags = f.mv.empty() ? 0u : FGSR_SUBMIT_HAS_MV;
+    si.interp_count = interp ? 1 : 0;
+    si.interp_alphas = half;
+    return s.submit(si, seq);
+}
+
+// Streams the capture through a session and compares each output with the engine's; returns
+// the number of mismatching outputs (or -1 on a client error).
+int stream_and_compare(const std::string& socket) {
+    const Expected& e = expected();
+    fgsr::client::Connection c;
+    if (c.connect(socket.c_str(), "test") != FGSR_STATUS_OK) return -1;
+    fgsr::client::Session s;
+    if (s.create(c, desc_for(e.cap.format)) != FGSR_STATUS_OK) return -1;
+    fgsr_pool_layout l{};
+    s.layout(l);
+    int bad = 0;
+    for (size_t i = 0; i < e.cap.inputs.size(); ++i) {
+        if (submit_frame(s, l, e.cap.inputs[i], i > 0) != FGSR_STATUS_OK) return -1;
+        for (;;) {
+            fgsr_output out{};
+            if (s.wait(60000, out) != FGSR_STATUS_OK) return -1;
+            if (i > 0) {
+                if (out.status != FGSR_STATUS_OK || out.output_slot == FGSR_NO_SLOT) return -1;
+                const std::vector<float>& want = e.interp[i - 1];
+                for (uint32_t y = 0; y < out.height; ++y)
+                    if (std::memcmp(static_cast<const char*>(out.pixels) + size_t(y) * out.row_pitch,
+                                    want.data() + size_t(y) * out.width * 4, size_t(out.width) * 16) != 0) {
+                        ++bad;
+                        break;
+                    }
+                s.release_output(out.output_slot);
+            }
+            if (out.flags & FGSR_COMPLETION_LAST) break;
+        }
+    }
+    return bad;
+}
+
+class ClientService : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        ASSERT_EQ(expected().interp.size(), 3u) << "in-process engine failed";
+        setenv("FGSR_CLIENT_QUIET", "1", 1);
+        daemon_ = FgsrdProcess::start({"--log-level", "warn"});
+        ASSERT_TRUE(daemon_) << FgsrdProcess::last_error();
+    }
+    void TearDown() override { unsetenv("FGSR_CLIENT_QUIET"); }
+    std::unique_ptr<FgsrdProcess> daemon_;
+};
+
+TEST_F(ClientService, OutputsEqualTheInProcessEngineAndFdsReturnToBaseline) {
+    const int base = count_fds();
+    EXPECT_EQ(stream_and_compare(daemon_->socket_path()), 0);
+    EXPECT_EQ(count_fds(), base);
+}
+
+void concurrent_clients(const std::string& socket, int n) {
+    std::vector<pid_t> kids;
+    for (int k = 0; k < n; ++k) {
+        const pid_t pid = fork();
+        if (pid == 0) {
+            const int bad = stream_and_compare(socket);
+            _exit(bad == 0 ? 0 : bad < 0 ? 2 : 1);
+        }
+        ASSERT_GT(pid, 0);
+        kids.push_back(pid);
+    }
+    for (pid_t pid : kids) {
+        int status = -1;
+        ASSERT_EQ(waitpid(pid, &status, 0), pid);
+        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+            << "client " << pid << " status " << status;
+    }
+}
+
+TEST_F(ClientService, TwoConcurrentClientProcesses) {
+    concurrent_clients(daemon_->socket_path(), 2);
+}
+
+TEST_F(ClientService, EightConcurrentClientProcesses) {
+    concurrent_clients(daemon_->socket_path(), 8);
+}
+
+TEST_F(ClientService, DaemonKilledUnderAClientThenReconnect) {
+    const Expected& e = expected();
+    const int base = count_fds();
+    {
+        fgsr::client::Connection c;
+        ASSERT_EQ(c.connect(daemon_->socket_path().c_str()), FGSR_STATUS_OK);
+        fgsr_daemon_info first{};
+        c.daemon_info(first);
+        fgsr::client::Session s;
+        ASSERT_EQ(s.create(c, desc_for(e.cap.format)), FGSR_STATUS_OK);
+        daemon_->kill9();
+        fgsr_output out{};
+        EXPECT_EQ(s.wait(10000, out), FGSR_STATUS_DISCONNECTED);
+        fgsr_pool_layout l{};
+        s.layout(l);
+        const fgsr_status st = submit_frame(s, l, e.cap.inputs[0], false);
+        EXPECT_TRUE(st == FGSR_STATUS_DISCONNECTED || st == FGSR_STATUS_OK) << fgsr_status_string(st);
+        fgsr_session_stats stats{};
+        EXPECT_EQ(s.stats(stats), FGSR_STATUS_DISCONNECTED);
+
+        // A new daemon (new epoch) serves a new connection.
+        daemon_ = FgsrdProcess::start({"--log-level", "warn"});
+        ASSERT_TRUE(daemon_) << FgsrdProcess::last_error();
+        fgsr::client::Connection c2;
+        ASSERT_EQ(c2.connect(daemon_->socket_path().c_str()), FGSR_STATUS_OK);
+        fgsr_daemon_info second{};
+        c2.daemon_info(second);
+        EXPECT_NE(first.epoch, second.epoch);
+    }
+    EXPECT_EQ(stream_and_compare(daemon_->socket_path()), 0);
+    EXPECT_EQ(count_fds(), base);
+}
+
+TEST_F(ClientService, FifoAndMailboxSemantics) {
+    const Expected& e = expected();
+    for (uint32_t policy : {uint32_t(FGSR_QUEUE_FIFO), uint32_t(FGSR_QUEUE_MAILBOX)}) {
+        fgsr::client::Connection c;
+        ASSERT_EQ(c.connect(daemon_->socket_path().c_str()), FGSR_STATUS_OK);
+        fgsr::client::Session s;
+        fgsr_session_desc d = desc_for(e.cap.format, policy);
+        d.input_slots = 4;
+        ASSERT_EQ(s.create(c, d), FGSR_STATUS_OK);
+        fgsr_pool_layout l{};
+        s.layout(l);
+        // Four submits back to back, then collect: every submit ends with exactly one LAST
+        // completion; fifo produces every output in order; mailbox may drop superseded submits but
+        // never the newest.
+        for (size_t i = 0; i < 4; ++i) ASSERT_EQ(submit_frame(s, l, e.cap.inputs[i], i > 0), FGSR_STATUS_OK);
+        std::vector<int32_t> fate(5, -1);
+        uint64_t last_seq = 0;
+        size_t done = 0;
+        while (done < 4) {
+            fgsr_output out{};
+            ASSERT_EQ(s.wait(60000, out), FGSR_STATUS_OK);
+            ASSERT_GE(out.sequence, 1u);
+            ASSERT_LE(out.sequence, 4u);
+            EXPECT_GE(out.sequence, last_seq) << "completions out of order";
+            last_seq = out.sequence;
+            if (out.output_slot != FGSR_NO_SLOT) s.release_output(out.output_slot);
+            if (out.flags & FGSR_COMPLETION_LAST) {
+                EXPECT_EQ(fate[out.sequence], -1) << "two LAST completions";
+                fate[out.sequence] = out.status;
+                ++done;
+            }
+        }
+        for (uint64_t q = 1; q <= 4; ++q) {
+            if (policy == FGSR_QUEUE_FIFO) {
+                EXPECT_EQ(fate[q], FGSR_STATUS_OK) << "fifo, sequence " << q;
+            } else {
+                EXPECT_TRUE(fate[q] == FGSR_STATUS_OK || fate[q] == FGSR_STATUS_DROPPED ||
+                            fate[q] == FGSR_STATUS_NOT_READY)
+                    << "mailbox " << q;
+            }
+        }
+        // The newest submit is processed, never dropped. In mailbox mode its predecessors may all have
+        // been dropped (not ingested), so interpolation may have no previous frame: NOT_READY.
+        EXPECT_TRUE(fate[4] == FGSR_STATUS_OK ||
+                    (policy == FGSR_QUEUE_MAILBOX && fate[4] == FGSR_STATUS_NOT_READY))
+            << "newest: " << fgsr_status_string(fate[4]);
+        fgsr_session_stats st{};
+        ASSERT_EQ(s.stats(st), FGSR_STATUS_OK);
+        EXPECT_EQ(st.frames_submitted, 4u);
+        if (policy == FGSR_QUEUE_FIFO) {
+            EXPECT_EQ(st.frames_dropped, 0u);
+        }
+    }
+}
+
+// `fgsr replay` and `fgsr eval` on the same small capture print the same PSNR and SSIM.
+TEST_F(ClientService, ReplayPrintsTheSameMetricsAsEval) {
+    char tmpl[] = "/tmp/fgsr-replay-XXXXXX";
+    const fs::path dir = mkdtemp(tmpl);
+    fgsr::capture::SceneOptions so;
+    so.width = 64;
+    so.height = 36;
+    so.supersample = 2;
+    auto cap = fgsr::capture::make_synthetic_capture(so, 5);
+    ASSERT_TRUE(cap);
+    ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
+    const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
+    auto ev = fgsr::test::run_process(bin + " eval --quiet --json --methods fgsr --capture " +
+                                      (dir / "cap").string());
+    ASSERT_EQ(ev.status, 0) << ev.out;
+    auto rp = fgsr::test::run_process(bin + " eval --quiet --json --capture " + (dir / "cap").string() +
+                                      " --socket " + daemon_->socket_path());
+    ASSERT_EQ(rp.status, 0) << rp.out;
+    auto field = [](const std::string& js, const std::string& key) {
+        const size_t p = js.find("\"" + key + "\":");
+        return p == std::string::npos ? std::string("missing")
+                                      : js.substr(p, js.find_first_of(",}\n", p) - p);
+    };
+    EXPECT_NE(field(ev.out, "psnr"), "missing");
+    EXPECT_EQ(field(ev.out, "psnr"), field(rp.out, "psnr"));
+    EXPECT_EQ(field(ev.out, "ssim"), field(rp.out, "ssim"));
+    EXPECT_EQ(field(ev.out, "frames"), field(rp.out, "frames"));
+    // replay itself: summary and telemetry CSV with one row per output.
+    auto r = fgsr::test::run_process(bin + " replay --quiet --capture " + (dir / "cap").string() +
+                                     " --socket " + daemon_->socket_path() + " --telemetry " +
+                                     (dir / "t.csv").string() + " --out " + (dir / "out").string());
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("p50"), std::string::npos) << r.out;
+    std::ifstream csv(dir / "t.csv");
+    std::string line;
+    int rows = -1;
+    while (std::getline(csv, line)) ++rows;
+    EXPECT_GE(rows, 2); // half rate of 5 frames: 2 targets, plus first-frame completions
+    EXPECT_TRUE(fs::exists(dir / "out" / "fgsr" / "0001.exr"));
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+}
+
+} // namespace
