@@ -20,7 +20,8 @@ struct Frame {
     float jitter_x = 0.f;         // camera jitter of this frame in pixels (x right, y down); 0 if none
     float jitter_y = 0.f;
 
-    FrameView view() const { return FrameView{color, depth, mv}; }
+    // The frame as the engine takes it, jitter included.
+    FrameView view() const { return FrameView{color, depth, mv, jitter_x, jitter_y}; }
 };
 
 enum class GroundTruth {
