@@ -210,6 +210,40 @@ TEST(Lut, TrainerGradients) {
 // never used in training (seed 4242), six-fold repeated resampling through the engine's reference
 // with the shipped LUT scores a higher SSIM than bilinear and at least bicubic's, for every scale,
 // with the paper's +1/2 pixel shifts and with random sub-pixel shifts.
+// The trainer's SR-loop gradient (through Eq. 2, the colour-box clamp and the LUT resampling of
+// every frame's history) agrees with central finite differences of the engine's CPU reference.
+TEST(Lut, TrainerSrLoopGradients) {
+    const RgbImage hi = random_image(96, 96, 21);
+    const SrLoop loop =
+        make_sr_loop(hi, 2, 2.f, 24, glm::dvec2(10.0, 14.0), glm::vec2(0.37f, -0.61f), 3, 0.2f, 5);
+    const Lut l = catmull_rom_lut(2.f);
+    std::array<std::vector<float>, kSrFrames> g;
+    for (int t = 0; t < kSrFrames; ++t) g[size_t(t)] = random_image(24, 24, 100 + uint32_t(t)).rgb;
+    auto objective = [&](const std::vector<float>& w) {
+        const auto out = sr_loop_forward(loop, w, 0.66f, 0.81f);
+        double sum = 0;
+        for (int t = 0; t < kSrFrames; ++t)
+            for (size_t i = 0; i < out[size_t(t)].rgb.size(); ++i)
+                sum += double(out[size_t(t)].rgb[i]) * g[size_t(t)][i];
+        return sum;
+    };
+    std::vector<double> gw(kLutSize, 0.0);
+    sr_loop_backward(loop, sr_loop_forward(loop, l.weights, 0.66f, 0.81f), g, l.weights, 0.66f, 0.81f, gw);
+    // The velocity's phase is bin (12, 12) on both axes (0.37 and 1 - 0.61 times 32, rounded).
+    const size_t bin = (12 * size_t(kLutLevels) + 12) * kLutTaps;
+    double largest = 0;
+    for (size_t k = 0; k < kLutTaps; ++k) {
+        std::vector<float> up = l.weights, down = l.weights;
+        up[bin + k] += 1e-3f;
+        down[bin + k] -= 1e-3f;
+        const double fd = (objective(up) - objective(down)) / 2e-3;
+        EXPECT_NEAR(fd, gw[bin + k], 0.02 * std::abs(fd) + 1e-2) << "tap " << k;
+        largest = std::max(largest, std::abs(gw[bin + k]));
+    }
+    EXPECT_GT(largest, 1.0) << "the history must depend on the LUT";
+    EXPECT_EQ(gw[0], 0.0); // bin (0, 0) is never read at this velocity
+}
+
 TEST(Lut, SixFoldResamplingBeatsBilinearAndMatchesBicubic) {
     constexpr uint32_t kK = 4, kW = 320, kH = 180;
     capture::SceneOptions so;

@@ -245,3 +245,25 @@ TEST(Metrics, AbsDiffImage) {
     EXPECT_NEAR(sat->rgba[0], 1.0, 1e-6);
     EXPECT_EQ(abs_diff_image(a, b, -1.0f).error().code, Errc::invalid_argument);
 }
+
+namespace fgsr::capture {
+namespace {
+
+TEST(Metrics, TemporalStdClosedForm) {
+    // Two pixels: one constant, one alternating between linear 0 and 1 (display 0 and 1): per
+    // channel std 0 and 0.5, so the mean over pixels and channels is 0.25.
+    TemporalStd t;
+    EXPECT_EQ(t.mean_std(), 0.0);
+    for (int k = 0; k < 6; ++k) {
+        const float v = k % 2 ? 1.f : 0.f;
+        ASSERT_TRUE(t.add(ImageRGBA{2, 1, {0.2f, 0.2f, 0.2f, 1.f, v, v, v, 1.f}}));
+    }
+    EXPECT_EQ(t.frames(), 6u);
+    EXPECT_NEAR(t.mean_std(), 0.25, 1e-6);                            // display(1) is 1 within float rounding
+    EXPECT_FALSE(t.add(ImageRGBA{1, 2, std::vector<float>(8, 0.f)})); // other size
+    EXPECT_FALSE(t.add(ImageRGBA{2, 1, std::vector<float>(4, 0.f)})); // malformed
+    EXPECT_FALSE(TemporalStd{}.add(ImageRGBA{}));                     // empty
+}
+
+} // namespace
+} // namespace fgsr::capture

@@ -256,6 +256,7 @@ std::string report_json(const EvalReport& r, bool per_frame) {
     j["height"] = r.height;
     j["device"] = r.device;
     j["ingest_ms"] = r.ingest_ms;
+    if (r.static_frames > 0) j["static_frames"] = r.static_frames;
     nlohmann::ordered_json methods = nlohmann::ordered_json::object();
     for (const std::string& m : r.method_order) {
         const MethodScore& s = r.methods.at(m);
@@ -263,6 +264,7 @@ std::string report_json(const EvalReport& r, bool per_frame) {
         jm["psnr"] = s.mean_psnr;
         jm["ssim"] = s.mean_ssim;
         jm["ms"] = s.mean_ms;
+        if (s.stability_std >= 0) jm["stability_std"] = s.stability_std;
         if (!s.pass_ms.empty()) {
             nlohmann::ordered_json passes = nlohmann::ordered_json::object();
             for (const char* p : kPassOrder)
@@ -294,6 +296,16 @@ std::string report_table(const EvalReport& r) {
                          passes);
     }
     if (r.ingest_ms > 0) s += fmt::format("ingest: {:.2f} ms per input frame\n", r.ingest_ms);
+    if (r.static_frames > 0) {
+        s += fmt::format(
+            "temporal stability (mean per-pixel std of display values, {} static frames, last input "
+            "repeated, jitter moving):\n ",
+            r.static_frames);
+        for (const std::string& m : r.method_order)
+            if (r.methods.at(m).stability_std >= 0)
+                s += fmt::format(" {} {:.5f}", m, r.methods.at(m).stability_std);
+        s += "\n";
+    }
     return s;
 }
 

@@ -24,6 +24,9 @@ struct EvalOptions {
     bool json = false;
     bool prefer_lr = false; // Mob-FGSR captures: LR_Inputs instead of HR_Inputs
     int max_frames = 0;     // 0: every frame the capture allows
+    // sr: frames of the static stretch the temporal-stability figure is measured over (0: none);
+    // see run_eval_sr.
+    int static_frames = 16;
     DeviceOptions device;
     Params params; // method `fgsr` runs these as given; `linear` forces MotionModel::linear, the SR
                    // methods fgsr-bilinear / fgsr-bicubic their history resampling
@@ -46,6 +49,9 @@ struct MethodScore {
     // Every timed engine call (one per generated frame): total and per-pass GPU milliseconds.
     std::vector<double> ms_samples;
     std::map<std::string, std::vector<double>> pass_samples;
+    // Temporal stability (sr): mean per-pixel standard deviation of the display values over the
+    // static stretch (capture::TemporalStd); negative when not measured.
+    double stability_std = -1;
 };
 
 struct EvalReport {
@@ -56,7 +62,8 @@ struct EvalReport {
     bool composed_vectors = false;
     uint32_t width = 0, height = 0;
     std::string device;
-    double ingest_ms = 0; // mean GPU milliseconds of ingest per input frame
+    double ingest_ms = 0;     // mean GPU milliseconds of ingest per input frame
+    size_t static_frames = 0; // frames the stability figures are measured over (0: none)
     std::vector<std::string> method_order;
     std::map<std::string, MethodScore> methods;
 };

@@ -39,6 +39,66 @@ SessionParams sr_params_for(const EvalOptions& o, float scale) {
     };
 }
 
+// Halton radical inverse of i >= 1 in `base`.
+float halton(uint32_t i, uint32_t base) {
+    double f = 1, r = 0;
+    for (; i > 0; i /= base) {
+        f /= base;
+        r += f * double(i % base);
+    }
+    return float(r);
+}
+
+// Temporal stability of still content (QRISP section 4). Captures have no static stretch, so one
+// is made: input `last` (the last one evaluated) is submitted again, with zero vectors, kWarmup +
+// static_frames times while the jitter sequence goes on (the capture's jitters cyclically from
+// `last + 1`; Halton(2,3) - 1/2, 16 long, for captures without jitter): the content is still and only
+// the declared jitter moves, so what changes in an output is flicker. Every method's outputs over
+// the last static_frames submissions go into capture::TemporalStd (MethodScore::stability_std).
+Result<void> measure_stability(const EvalOptions& o, const capture::Capture& cap, size_t last,
+                               std::map<std::string, std::unique_ptr<Session>>& sessions, EvalReport& rep) {
+    constexpr int kWarmup = 4;
+    const capture::Frame& src = cap.inputs[last];
+    bool has_jitter = false;
+    for (const capture::Frame& f : cap.inputs)
+        has_jitter = has_jitter || f.jitter_x != 0.f || f.jitter_y != 0.f;
+    const std::vector<std::byte> zero_mv(src.mv.size(), std::byte{0}); // 0.0 in rg16f and rg32f
+    const ImageRGBA lr = capture::decode_color(cap.format, src);
+    std::map<std::string, capture::TemporalStd> acc;
+    for (int i = 0; i < kWarmup + o.static_frames; ++i) {
+        if (o.progress)
+            std::fprintf(stderr, "[eval] %s sr: static frame %d/%d\n", cap.name.c_str(), i + 1,
+                         kWarmup + o.static_frames);
+        FrameView view = src.view();
+        view.mv = zero_mv;
+        if (has_jitter) {
+            const capture::Frame& j = cap.inputs[(last + 1 + size_t(i)) % cap.inputs.size()];
+            view.jitter_x = j.jitter_x;
+            view.jitter_y = j.jitter_y;
+        } else {
+            const uint32_t h = uint32_t(last + 1 + size_t(i)) % 16 + 1;
+            view.jitter_x = halton(h, 2) - 0.5f;
+            view.jitter_y = halton(h, 3) - 0.5f;
+        }
+        for (const std::string& m : o.methods) {
+            ImageRGBA img;
+            if (is_engine_sr(m)) {
+                FGSR_TRY(sessions[m]->submit(view));
+                auto out = sessions[m]->super_resolved();
+                if (!out) return out.error();
+                img = std::move(out->color);
+            } else {
+                img =
+                    spatial_upscale(lr, rep.width, rep.height, resample_of(m), view.jitter_x, view.jitter_y);
+            }
+            if (i >= kWarmup) FGSR_TRY(acc[m].add(img));
+        }
+    }
+    for (const std::string& m : o.methods) rep.methods[m].stability_std = acc[m].mean_std();
+    rep.static_frames = size_t(o.static_frames);
+    return {};
+}
+
 } // namespace
 
 ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, Resample kind, float jitter_x,
@@ -119,6 +179,7 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
             if (o.out) FGSR_TRY(capture::write_png(*o.out / m / fmt::format("{:04d}.png", k + 1), img));
         }
     }
+    if (o.static_frames > 0 && frames > 0) FGSR_TRY(measure_stability(o, cap, frames - 1, sessions, rep));
     finish_means(rep);
     return rep;
 }

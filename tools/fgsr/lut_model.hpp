@@ -7,10 +7,14 @@
 //     valid windows only) of one channel, with its analytic gradient;
 //   - history images: the training / evaluation images (see make_history_image);
 //   - shift sequences: six sub-pixel shifts whose sum is a whole-pixel vector, so the exact result
-//     of the repeated resampling is the first image translated by whole pixels.
+//     of the repeated resampling is the first image translated by whole pixels;
+//   - SR loops: the history resampling inside the engine's `sr` pass (ref::super_resolve) over a
+//     few frames of a translating camera with jittered, point-sampled low-resolution input, with
+//     the gradient of the outputs with respect to the LUT (sr_loop_forward / sr_loop_backward).
 #pragma once
 
 #include <fgsr/engine/lut.hpp>
+#include <fgsr/engine/reference.hpp>
 #include <fgsr/engine/types.hpp>
 
 #include <glm/glm.hpp>
@@ -372,6 +376,196 @@ inline RgbImage from_rgba(const ImageRGBA& im) {
     for (size_t i = 0; i < size_t(im.width) * im.height; ++i)
         for (int c = 0; c < 3; ++c) o.rgb[i * 3 + size_t(c)] = im.rgba[i * 4 + size_t(c)];
     return o;
+}
+
+// ---- SR loops ------------------------------------------------------------------------------------
+//
+// A scene is a high-resolution image `hi` at k x the output resolution, read bilinearly at
+// continuous positions (a stand-in for the renderer's continuous scene). The camera translates by
+// `velocity` output pixels per frame: output coordinate X of frame t shows the scene at
+// hi coordinate (X + origin + t * velocity) * k, so a point at X in frame t was at X + velocity in
+// frame t - 1 (the engine's history position h = q + mv * scale with mv = velocity / scale).
+// Frame t's input sampled LR pixel (i, j) at its centre plus jitter_t (one sample, aliased: a
+// rasteriser), optionally with multiplicative noise (stochastic rendering: sample = c (1 + noise n),
+// n standard normal from noise_seed, clamped at 0); its target is the noise-free scene
+// box-filtered over each output pixel (4 x 4 samples), an antialiased high-resolution reference.
+
+inline constexpr int kSrFrames = 8; // frames of one SR loop
+
+struct SrLoop {
+    float scale = 2.f;
+    uint32_t lr_w = 0, lr_h = 0, out_w = 0, out_h = 0;
+    glm::vec2 velocity{0.f};                   // output pixels per frame (the history shift)
+    std::array<glm::vec2, kSrFrames> jitter{}; // LR pixels, y down, in [-0.5, 0.5)
+    std::array<RgbImage, kSrFrames> lr, target;
+    int margin = 0; // border (output pixels) excluded from the loss
+};
+
+// Bilinear read of hi at continuous position (x, y) in hi pixels (centres at +0.5), clamped.
+inline glm::vec3 scene_at(const RgbImage& hi, double x, double y) {
+    const double fx = std::clamp(x - 0.5, 0.0, double(hi.width - 1)),
+                 fy = std::clamp(y - 0.5, 0.0, double(hi.height - 1));
+    const int x0 = std::min(int(fx), int(hi.width) - 2), y0 = std::min(int(fy), int(hi.height) - 2);
+    const double tx = fx - x0, ty = fy - y0;
+    auto px = [&](int xx, int yy) {
+        const float* p = &hi.rgb[(size_t(yy) * hi.width + size_t(xx)) * 3];
+        return glm::dvec3(p[0], p[1], p[2]);
+    };
+    const glm::dvec3 v = (px(x0, y0) * (1 - tx) + px(x0 + 1, y0) * tx) * (1 - ty) +
+                         (px(x0, y0 + 1) * (1 - tx) + px(x0 + 1, y0 + 1) * tx) * ty;
+    return glm::vec3(v);
+}
+
+// Halton radical inverse of i >= 1 in `base`.
+inline float halton(uint32_t i, uint32_t base) {
+    double f = 1, r = 0;
+    for (; i > 0; i /= base) {
+        f /= base;
+        r += f * double(i % base);
+    }
+    return float(r);
+}
+
+// One SR loop over a crop of out_size x out_size output pixels of `hi` (k x output resolution)
+// whose top-left corner is `origin` (output pixels; the crop and its motion must stay inside hi).
+// out_size / scale must be a whole number of LR pixels. Jitter: Halton(2,3) - 1/2, 16-long cycle,
+// starting at index `jitter_start`.
+inline SrLoop make_sr_loop(const RgbImage& hi, uint32_t k, float scale, uint32_t out_size, glm::dvec2 origin,
+                           glm::vec2 velocity, uint32_t jitter_start, float noise = 0.f,
+                           uint64_t noise_seed = 0) {
+    std::mt19937_64 rng(noise_seed);
+    std::normal_distribution<float> normal(0.f, 1.f);
+    SrLoop l;
+    l.scale = scale;
+    l.out_w = l.out_h = out_size;
+    l.lr_w = l.lr_h = uint32_t(std::lround(double(out_size) / scale));
+    l.velocity = velocity;
+    const double kd = double(k), s = double(out_size) / double(l.lr_w);
+    for (int t = 0; t < kSrFrames; ++t) {
+        const glm::dvec2 o = origin + double(t) * glm::dvec2(velocity);
+        const uint32_t ji = (jitter_start + uint32_t(t)) % 16 + 1;
+        const glm::vec2 j(halton(ji, 2) - 0.5f, halton(ji, 3) - 0.5f);
+        l.jitter[size_t(t)] = j;
+        RgbImage& lr = l.lr[size_t(t)];
+        lr = RgbImage{l.lr_w, l.lr_h, std::vector<float>(size_t(l.lr_w) * l.lr_h * 3)};
+        for (uint32_t y = 0; y < l.lr_h; ++y)
+            for (uint32_t x = 0; x < l.lr_w; ++x) {
+                glm::vec3 c =
+                    scene_at(hi, ((x + 0.5 + j.x) * s + o.x) * kd, ((y + 0.5 + j.y) * s + o.y) * kd);
+                if (noise > 0.f) c *= std::max(1.f + noise * normal(rng), 0.f);
+                for (int ch = 0; ch < 3; ++ch) lr.rgb[(size_t(y) * l.lr_w + x) * 3 + size_t(ch)] = c[ch];
+            }
+        RgbImage& tg = l.target[size_t(t)];
+        tg = RgbImage{out_size, out_size, std::vector<float>(size_t(out_size) * out_size * 3)};
+        for (uint32_t y = 0; y < out_size; ++y)
+            for (uint32_t x = 0; x < out_size; ++x) {
+                glm::vec3 c(0.f);
+                for (int sy = 0; sy < 4; ++sy)
+                    for (int sx = 0; sx < 4; ++sx)
+                        c += scene_at(hi, (x + (sx + 0.5) / 4 + o.x) * kd, (y + (sy + 0.5) / 4 + o.y) * kd);
+                for (int ch = 0; ch < 3; ++ch)
+                    tg.rgb[(size_t(y) * out_size + x) * 3 + size_t(ch)] = c[ch] / 16.f;
+            }
+    }
+    const double reach = std::ceil(std::max(std::abs(velocity.x), std::abs(velocity.y))) + 3;
+    l.margin = int(reach) + 2;
+    return l;
+}
+
+// The engine's internal frame and `sr` push constants of frame t of a loop.
+inline ref::InternalFrame sr_loop_frame(const SrLoop& l, int t) {
+    ref::InternalFrame f;
+    f.width = l.lr_w;
+    f.height = l.lr_h;
+    const size_t n = size_t(l.lr_w) * l.lr_h;
+    f.color.resize(n);
+    for (size_t i = 0; i < n; ++i)
+        f.color[i] = glm::vec4(l.lr[size_t(t)].rgb[i * 3], l.lr[size_t(t)].rgb[i * 3 + 1],
+                               l.lr[size_t(t)].rgb[i * 3 + 2], 1.f);
+    f.depth.assign(n, 1.f);
+    f.mv.assign(n, l.velocity / (float(l.out_w) / float(l.lr_w)));
+    f.has_mv = t > 0;
+    return f;
+}
+inline ref::SrParams sr_loop_params(const SrLoop& l, int t, float a, float b, Resample kind = Resample::lut) {
+    FrameFormat fmt;
+    fmt.width = l.lr_w;
+    fmt.height = l.lr_h;
+    Params p;
+    p.sr_a = a;
+    p.sr_b = b;
+    p.resample = kind;
+    return ref::sr_params(fmt, p, l.out_w, l.out_h, l.jitter[size_t(t)].x, l.jitter[size_t(t)].y, t > 0);
+}
+
+// Outputs of the engine's CPU reference `sr` pass on every frame of the loop (linear RGB), with the
+// history resampled by `kind` (lut: the table `lut`).
+inline std::array<RgbImage, kSrFrames> sr_loop_forward(const SrLoop& l, std::span<const float> lut, float a,
+                                                       float b, Resample kind = Resample::lut) {
+    std::array<RgbImage, kSrFrames> out;
+    std::vector<glm::vec4> hist;
+    const std::vector<float> prev_depth(size_t(l.lr_w) * l.lr_h, 1.f);
+    for (int t = 0; t < kSrFrames; ++t) {
+        hist =
+            ref::super_resolve(sr_loop_frame(l, t), prev_depth, hist, sr_loop_params(l, t, a, b, kind), lut);
+        out[size_t(t)] = from_vec4(hist, l.out_w, l.out_h);
+    }
+    return out;
+}
+
+// Adjoint of sr_loop_forward: given dL/d(out_t) for every frame (RGB, out_w x out_h each), adds
+// dL/d(lut) to grad_lut. Per output pixel of frame t >= 1 that uses its history (sr.h: samples in
+// reach, history position on screen), out = (a S + (1 - a) clamp(R(out_{t-1}), lo, hi)) / (a W + 1 - a),
+// so the gradient reaches the resampled history R (a LUT resampling of out_{t-1} at the velocity)
+// where it is not clamped, and through it the LUT and out_{t-1}.
+inline void sr_loop_backward(const SrLoop& l, const std::array<RgbImage, kSrFrames>& out,
+                             std::array<std::vector<float>, kSrFrames> grad_out, std::span<const float> lut,
+                             float a, float b, std::span<double> grad_lut) {
+    const float scale = float(l.out_w) / float(l.lr_w);
+    const int lw = int(l.lr_w), lh = int(l.lr_h);
+    for (int t = kSrFrames - 1; t >= 1; --t) {
+        const RgbImage& prev = out[size_t(t) - 1];
+        const RgbImage hist = lut_resample(prev, l.velocity, lut);
+        const RgbImage& cur = l.lr[size_t(t)];
+        const glm::vec2 jit = l.jitter[size_t(t)];
+        std::vector<float> gh(prev.rgb.size(), 0.f);
+        for (uint32_t y = 0; y < l.out_h; ++y)
+            for (uint32_t x = 0; x < l.out_w; ++x) {
+                const size_t q = size_t(y) * l.out_w + x;
+                const float* g = &grad_out[size_t(t)][q * 3];
+                if (g[0] == 0.f && g[1] == 0.f && g[2] == 0.f) continue;
+                const glm::vec2 qc(float(x) + 0.5f, float(y) + 0.5f), pos = qc / scale;
+                const glm::ivec2 tp =
+                    glm::clamp(glm::ivec2(glm::floor(pos)), glm::ivec2(0), glm::ivec2(lw - 1, lh - 1));
+                glm::vec3 lo(1e30f), hi(-1e30f);
+                float wsum = 0.f, n = 0.f;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const glm::ivec2 s =
+                            glm::clamp(tp + glm::ivec2(dx, dy), glm::ivec2(0), glm::ivec2(lw - 1, lh - 1));
+                        const float* c = &cur.rgb[(size_t(s.y) * l.lr_w + size_t(s.x)) * 3];
+                        lo = glm::min(lo, glm::vec3(c[0], c[1], c[2]));
+                        hi = glm::max(hi, glm::vec3(c[0], c[1], c[2]));
+                        const float d = glm::length(glm::vec2(s) + glm::vec2(0.5f) + jit - pos);
+                        if (d < 1.f) {
+                            wsum += std::max(1.f - b * d, 0.f);
+                            n += 1.f;
+                        }
+                    }
+                const glm::vec2 h = qc + l.velocity;
+                if (n == 0.f || h.x < 0.f || h.y < 0.f || h.x > float(l.out_w) || h.y > float(l.out_h))
+                    continue;
+                const float k = (1.f - a) / (a * wsum / n + (1.f - a));
+                for (int c = 0; c < 3; ++c) {
+                    const float r = hist.rgb[q * 3 + size_t(c)];
+                    if (r >= lo[c] && r <= hi[c]) gh[q * 3 + size_t(c)] = k * g[c];
+                }
+            }
+        std::vector<float> gprev(prev.rgb.size(), 0.f);
+        lut_resample_backward(prev, l.velocity, lut, gh, grad_lut, &gprev);
+        std::vector<float>& gp = grad_out[size_t(t) - 1];
+        for (size_t i = 0; i < gp.size(); ++i) gp[i] += gprev[i];
+    }
 }
 
 } // namespace fgsr::cli::lutmodel

@@ -26,6 +26,8 @@ using namespace lutmodel;
 
 // Training / evaluation image size (output pixels) of one repeated-resampling sequence.
 constexpr uint32_t kCrop = 128;
+// Output size (pixels, square) of one SR loop; a whole number of LR pixels at x1.5, 2, 3 and 4.
+constexpr uint32_t kSrCrop = 96;
 // B-spline segments per phase axis of the LUT parametrisation.
 constexpr int kSegments = 8;
 constexpr int kBasis = kSegments + 3;
@@ -169,6 +171,40 @@ double sequence_loss(const RgbImage& img, const ShiftSequence& q, const std::vec
     return 1 - ssim_sum / 3;
 }
 
+// Loss (1 - mean SSIM over RGB and frames 1 .. kSrFrames - 1, display values, interior) of one SR
+// loop against its antialiased targets, adding the gradient with respect to the LUT to gw.
+double sr_loop_loss(const SrLoop& l, const std::vector<float>& lut, float a, float b,
+                    std::vector<double>& gw) {
+    const std::array<RgbImage, kSrFrames> out = sr_loop_forward(l, lut, a, b);
+    std::array<std::vector<float>, kSrFrames> g;
+    const int m = l.margin;
+    constexpr double kScored = kSrFrames - 1;
+    double ssim_sum = 0;
+    for (int t = 0; t < kSrFrames; ++t) {
+        g[size_t(t)].assign(out[size_t(t)].rgb.size(), 0.f);
+        if (t == 0) continue; // the spatial upsample: no history, no LUT
+        const RgbImage o = crop(out[size_t(t)], m), r = crop(l.target[size_t(t)], m);
+        const size_t n = size_t(o.width) * o.height;
+        for (int c = 0; c < 3; ++c) {
+            std::vector<double> av(n), rv(n), grad;
+            for (size_t i = 0; i < n; ++i) {
+                av[i] = display_value(o.rgb[i * 3 + size_t(c)]);
+                rv[i] = display_value(r.rgb[i * 3 + size_t(c)]);
+            }
+            ssim_sum += ssim_with_grad(av, rv, o.width, o.height, &grad);
+            for (uint32_t y = 0; y < o.height; ++y)
+                for (uint32_t x = 0; x < o.width; ++x) {
+                    const size_t i = size_t(y) * o.width + x;
+                    const size_t p = ((size_t(y) + size_t(m)) * l.out_w + x + size_t(m)) * 3 + size_t(c);
+                    g[size_t(t)][p] =
+                        float(-grad[i] / (3 * kScored) * display_slope(o.rgb[i * 3 + size_t(c)]));
+                }
+        }
+    }
+    sr_loop_backward(l, out, std::move(g), lut, a, b, gw);
+    return 1 - ssim_sum / (3 * kScored);
+}
+
 RgbImage sub_image(const RgbImage& im, uint32_t x0, uint32_t y0, uint32_t w, uint32_t h) {
     RgbImage o{w, h, std::vector<float>(size_t(w) * h * 3)};
     for (uint32_t y = 0; y < h; ++y)
@@ -268,6 +304,45 @@ evaluate(const std::vector<EvalImage>& images, const std::vector<float>& lut, fl
     return fig;
 }
 
+// SR loops (lutmodel::SrLoop) on held-back sources with each history resampling, scored (PSNR,
+// SSIM, display values, interior) on frames 1 .. kSrFrames - 1 against the antialiased targets:
+// four fixed loops per source (velocities (0.37, -1.21), (1.5, 0.5), (-0.25, 0.125), (-1.8, -1.3)),
+// with input noise `noise` (lutmodel::make_sr_loop).
+std::map<std::string, MethodFigures> evaluate_sr_loops(const std::vector<const Source*>& sources,
+                                                       const std::vector<float>& lut, float scale, float a,
+                                                       float b, float noise, int threads) {
+    const glm::vec2 vel[] = {{0.37f, -1.21f}, {1.5f, 0.5f}, {-0.25f, 0.125f}, {-1.8f, -1.3f}};
+    const std::pair<const char*, Resample> methods[] = {
+        {"lut", Resample::lut}, {"bilinear", Resample::bilinear}, {"bicubic", Resample::catmull_rom}};
+    const size_t loops = sources.size() * std::size(vel);
+    std::vector<std::array<MethodFigures, 3>> fig(loops);
+    parallel_for(loops, threads, [&](size_t i) {
+        const Source& src = *sources[i / std::size(vel)];
+        const glm::vec2 v = vel[i % std::size(vel)];
+        const double ow = double(src.hi.width / src.k), oh = double(src.hi.height / src.k);
+        const glm::dvec2 origin((ow - kSrCrop) / 2 - 4.0 * v.x, (oh - kSrCrop) / 2 - 4.0 * v.y);
+        const SrLoop l = make_sr_loop(src.hi, src.k, scale, kSrCrop, origin, v, uint32_t(i % 16), noise, i);
+        for (size_t m = 0; m < std::size(methods); ++m) {
+            const auto out = sr_loop_forward(l, lut, a, b, methods[m].second);
+            for (int t = 1; t < kSrFrames; ++t) {
+                const ImageRGBA o = to_rgba(crop(out[size_t(t)], l.margin)),
+                                r = to_rgba(crop(l.target[size_t(t)], l.margin));
+                const auto ps = capture::psnr(o, r);
+                const auto ss = capture::ssim(o, r);
+                fig[i][m].psnr += (ps ? *ps : 0.0) / (kSrFrames - 1);
+                fig[i][m].ssim += (ss ? *ss : 0.0) / (kSrFrames - 1);
+            }
+        }
+    });
+    std::map<std::string, MethodFigures> r;
+    for (size_t m = 0; m < std::size(methods); ++m)
+        for (size_t i = 0; i < loops; ++i) {
+            r[methods[m].first].psnr += fig[i][m].psnr / double(loops);
+            r[methods[m].first].ssim += fig[i][m].ssim / double(loops);
+        }
+    return r;
+}
+
 // Three history footprints per source: 1 (converged), (1 + S) / 2 and S output pixels.
 std::vector<double> footprints(float scale) {
     return {1.0, (1.0 + scale) / 2, double(scale)};
@@ -298,6 +373,13 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
         return make_error(Errc::invalid_argument, fmt::format("scale {} outside [1, 8]", o.scale));
     if (o.iterations < 0) return make_error(Errc::invalid_argument, "iterations must be >= 0");
     if (o.batch < 1) return make_error(Errc::invalid_argument, "batch must be >= 1");
+    if (o.sr_batch < 0) return make_error(Errc::invalid_argument, "sr-batch must be >= 0");
+    if (!(o.sr_weight >= 0) || !std::isfinite(o.sr_weight))
+        return make_error(Errc::invalid_argument, "sr-weight must be finite and >= 0");
+    if (!(o.sr_a > 0.f && o.sr_a <= 1.f) || !(o.sr_b >= 0.f && o.sr_b <= 1.f))
+        return make_error(Errc::invalid_argument, "sr-a must lie in (0, 1], sr-b in [0, 1]");
+    if (!(o.sr_noise >= 0.f && o.sr_noise <= 4.f))
+        return make_error(Errc::invalid_argument, "sr-noise must lie in [0, 4]");
     if (o.threads < 1) return make_error(Errc::invalid_argument, "threads must be >= 1");
     const auto t0 = std::chrono::steady_clock::now();
     auto elapsed = [&] {
@@ -376,37 +458,90 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
         q = random_sequence(rng, kHalfProb);
         return sub_image(im, x0, y0, cw, ch);
     };
+    // One SR loop drawn from (seed, step, slot) only: a training source, a crop of kSrCrop output
+    // pixels, a camera velocity (80%: uniform in [-2, 2]^2 output pixels per frame, 20%: in
+    // [-1/2, 1/2]^2; multiples of 2^-10), a start in the jitter cycle and the input noise (half of
+    // the loops none, the others uniform in [0, sr_noise]).
+    std::vector<const Source*> sr_sources;
+    for (const Source& s : train) {
+        const double reach = 2.0 * kSrFrames + 4;
+        if (s.hi.width / s.k >= kSrCrop + 2 * reach && s.hi.height / s.k >= kSrCrop + 2 * reach)
+            sr_sources.push_back(&s);
+    }
+    if (o.sr_batch > 0 && sr_sources.empty())
+        return make_error(Errc::empty_input, "no training image is large enough for SR loops");
+    auto draw_sr = [&](uint32_t seed, uint32_t step, uint32_t slot) {
+        std::seed_seq ss{seed, step, slot, 0x5111u};
+        std::mt19937_64 rng(ss);
+        const Source& src = *sr_sources[std::uniform_int_distribution<size_t>(0, sr_sources.size() - 1)(rng)];
+        std::uniform_real_distribution<double> u(-1.0, 1.0), p(0.0, 1.0);
+        const double vmax = p(rng) < 0.2 ? 0.5 : 2.0;
+        auto quant = [](double v) { return float(std::round(v * 1024.0) / 1024.0); };
+        const glm::vec2 v(quant(u(rng) * vmax), quant(u(rng) * vmax));
+        const double reach = 2.0 * kSrFrames + 2;
+        const double ow = double(src.hi.width / src.k), oh = double(src.hi.height / src.k);
+        const glm::dvec2 origin(reach + p(rng) * (ow - kSrCrop - 2 * reach),
+                                reach + p(rng) * (oh - kSrCrop - 2 * reach));
+        const uint32_t jitter_start = std::uniform_int_distribution<uint32_t>(0, 15)(rng);
+        const float noise = p(rng) < 0.5 ? 0.f : float(p(rng) * o.sr_noise);
+        return make_sr_loop(src.hi, src.k, o.scale, kSrCrop, origin, v, jitter_start, noise, rng());
+    };
     // Fixed validation batch (training images, other crops and shifts): the loss reported.
     constexpr size_t kValidation = 32;
-    auto validation_loss = [&](const std::vector<float>& table) {
-        std::vector<double> l(kValidation);
-        parallel_for(kValidation, o.threads, [&](size_t b) {
-            ShiftSequence q;
-            const RgbImage img = draw(o.seed ^ 0x5eedu, 0xffffffffu, uint32_t(b), q);
-            std::vector<double> unused(kLutSize, 0.0);
-            l[b] = sequence_loss(img, q, table, unused);
-        });
-        double sum = 0;
-        for (double v : l) sum += v / kValidation;
-        return sum;
+    const size_t sr_validation = o.sr_batch > 0 ? kValidation / 2 : 0;
+    struct Loss {
+        double total = 0, sixfold = 0, sr = 0;
     };
-    rep.initial_loss = validation_loss(lut);
-    say(fmt::format("validation loss (1-SSIM) of the Catmull-Rom start {:.5f}", rep.initial_loss));
+    auto validation_loss = [&](const std::vector<float>& table) {
+        std::vector<double> l(kValidation + sr_validation);
+        parallel_for(l.size(), o.threads, [&](size_t b) {
+            std::vector<double> unused(kLutSize, 0.0);
+            if (b < kValidation) {
+                ShiftSequence q;
+                const RgbImage img = draw(o.seed ^ 0x5eedu, 0xffffffffu, uint32_t(b), q);
+                l[b] = sequence_loss(img, q, table, unused);
+            } else {
+                l[b] = sr_loop_loss(draw_sr(o.seed ^ 0x5eedu, 0xffffffffu, uint32_t(b)), table, o.sr_a,
+                                    o.sr_b, unused);
+            }
+        });
+        Loss r;
+        for (size_t b = 0; b < l.size(); ++b)
+            (b < kValidation ? r.sixfold : r.sr) +=
+                l[b] / double(b < kValidation ? kValidation : sr_validation);
+        r.total = r.sixfold + (sr_validation ? o.sr_weight * r.sr : 0.0);
+        return r;
+    };
+    const Loss start = validation_loss(lut);
+    rep.initial_loss = start.total;
+    rep.initial_sixfold = start.sixfold;
+    rep.initial_sr = start.sr;
+    say(fmt::format(
+        "validation loss of the Catmull-Rom start {:.5f} (six-fold 1-SSIM {:.5f}, SR loops 1-SSIM "
+        "{:.5f})",
+        start.total, start.sixfold, start.sr));
     std::vector<double> losses;
     for (int it = 0; it < o.iterations; ++it) {
-        std::vector<std::vector<double>> gws(size_t(o.batch));
-        std::vector<double> loss(size_t(o.batch));
-        parallel_for(size_t(o.batch), o.threads, [&](size_t b) {
-            ShiftSequence q;
-            const RgbImage img = draw(o.seed, uint32_t(it), uint32_t(b), q);
+        const size_t jobs = size_t(o.batch) + size_t(o.sr_batch);
+        std::vector<std::vector<double>> gws(jobs);
+        std::vector<double> loss(jobs);
+        parallel_for(jobs, o.threads, [&](size_t b) {
             gws[b].assign(kLutSize, 0.0);
-            loss[b] = sequence_loss(img, q, lut, gws[b]);
+            if (b < size_t(o.batch)) {
+                ShiftSequence q;
+                const RgbImage img = draw(o.seed, uint32_t(it), uint32_t(b), q);
+                loss[b] = sequence_loss(img, q, lut, gws[b]);
+            } else {
+                loss[b] =
+                    sr_loop_loss(draw_sr(o.seed, uint32_t(it), uint32_t(b)), lut, o.sr_a, o.sr_b, gws[b]);
+            }
         });
         std::vector<double> gw(kLutSize, 0.0);
         double l = 0;
-        for (size_t b = 0; b < size_t(o.batch); ++b) {
-            l += loss[b] / o.batch;
-            for (size_t i = 0; i < kLutSize; ++i) gw[i] += gws[b][i] / o.batch;
+        for (size_t b = 0; b < jobs; ++b) {
+            const double wgt = b < size_t(o.batch) ? 1.0 / o.batch : o.sr_weight / o.sr_batch;
+            l += loss[b] * wgt;
+            for (size_t i = 0; i < kLutSize; ++i) gw[i] += gws[b][i] * wgt;
         }
         losses.push_back(l);
         const std::vector<double> gc = param_grad(gw, phi);
@@ -426,12 +561,20 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
             for (size_t i = losses.size() - n; i < losses.size(); ++i) recent += losses[i] / double(n);
             const bool val = (it + 1) % 200 == 0 || it + 1 == o.iterations;
             std::fprintf(
-                stderr, "[lut-train] step %d/%d  batch loss (1-SSIM, last %zu) %.5f%s  lr %.2e  %.1f s\n",
-                it + 1, o.iterations, n, recent,
-                val ? fmt::format("  validation {:.5f}", validation_loss(lut)).c_str() : "", lr, elapsed());
+                stderr, "[lut-train] step %d/%d  batch loss (last %zu) %.5f%s  lr %.2e  %.1f s\n", it + 1,
+                o.iterations, n, recent,
+                val ? [&] {
+                    const Loss v = validation_loss(lut);
+                    return fmt::format("  validation {:.5f} (six-fold {:.5f}, SR {:.5f})", v.total, v.sixfold, v.sr);
+                }().c_str()
+                    : "",
+                lr, elapsed());
         }
     }
-    rep.final_loss = validation_loss(lut);
+    const Loss end = validation_loss(lut);
+    rep.final_loss = end.total;
+    rep.final_sixfold = end.sixfold;
+    rep.final_sr = end.sr;
     rep.lut.scale = o.scale;
     rep.lut.weights = lut;
 
@@ -439,6 +582,16 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
     if (!eval_images.empty()) {
         say(fmt::format("evaluating on {} held-back images", eval_images.size()));
         rep.figures = evaluate(eval_images, lut, o.scale, o.threads);
+    }
+    std::vector<const Source*> held_sr;
+    for (const Source& s : held)
+        if (s.hi.width / s.k >= kSrCrop + 40 && s.hi.height / s.k >= kSrCrop + 40) held_sr.push_back(&s);
+    if (!held_sr.empty()) {
+        say(fmt::format("SR loops on {} held-back sources", held_sr.size()));
+        rep.figures["sr_loop"] = evaluate_sr_loops(held_sr, lut, o.scale, o.sr_a, o.sr_b, 0.f, o.threads);
+        if (o.sr_noise > 0.f)
+            rep.figures["sr_loop_noisy"] =
+                evaluate_sr_loops(held_sr, lut, o.scale, o.sr_a, o.sr_b, o.sr_noise, o.threads);
     }
     rep.seconds = elapsed();
 
@@ -472,9 +625,20 @@ std::string lut_train_json(const LutTrainOptions& o, const LutTrainReport& r) {
                     kBasis, kCrop, int(kHalfProb * 100));
     j["loss"] =
         "1 - SSIM (display sRGB values, 11x11 Gaussian sigma 1.5, RGB mean) of six-fold repeated resampling "
-        "with sub-pixel shifts summing to whole pixels, against the first image translated by that sum";
+        "with sub-pixel shifts summing to whole pixels, against the first image translated by that sum; plus "
+        "sr_loops.weight x (1 - SSIM) of the sr pass (CPU reference, Eq. 2 with sr_a, sr_b, colour-box "
+        "clamp) "
+        "over 8-frame loops of a translating camera with Halton-jittered point-sampled input, frames 1-7 "
+        "against the box-filtered (antialiased) output-resolution scene";
+    j["sr_loops"] = {{"per_step", o.sr_batch}, {"weight", o.sr_weight},   {"frames", kSrFrames},
+                     {"crop", kSrCrop},        {"noise_max", o.sr_noise}, {"sr_a", o.sr_a},
+                     {"sr_b", o.sr_b}};
     j["validation_loss_start"] = r.initial_loss; // Catmull-Rom LUT
     j["validation_loss_final"] = r.final_loss;
+    j["validation_sixfold_start"] = r.initial_sixfold;
+    j["validation_sixfold_final"] = r.final_sixfold;
+    j["validation_sr_loops_start"] = r.initial_sr;
+    j["validation_sr_loops_final"] = r.final_sr;
     j["seconds"] = r.seconds;
     nlohmann::ordered_json fig = nlohmann::ordered_json::object();
     for (const auto& [proto, ms] : r.figures)
@@ -486,7 +650,7 @@ std::string lut_train_json(const LutTrainOptions& o, const LutTrainReport& r) {
 CLI::App* add_lut_train_command(CLI::App& app, LutTrainOptions& o) {
     auto* cmd =
         app.add_subcommand("lut-train", "Learn the SR history resampling LUT for one scale factor (six-fold "
-                                        "repeated resampling, 1-SSIM loss)");
+                                        "repeated resampling and SR loops, 1-SSIM loss)");
     cmd->add_option("--scale", o.scale, "Upscaling factor the table is for (1.5, 2, 3, 4)")
         ->capture_default_str();
     cmd->add_option(
@@ -497,6 +661,14 @@ CLI::App* add_lut_train_command(CLI::App& app, LutTrainOptions& o) {
     cmd->add_option("--out", o.out, "Write FILE.lut and FILE.json (provenance)");
     cmd->add_option("--iterations", o.iterations, "Adam steps")->capture_default_str();
     cmd->add_option("--batch", o.batch, "Sequences per step")->capture_default_str();
+    cmd->add_option("--sr-batch", o.sr_batch, "SR loops per step (0: the six-fold objective alone)")
+        ->capture_default_str();
+    cmd->add_option("--sr-weight", o.sr_weight, "Weight of the SR-loop loss")->capture_default_str();
+    cmd->add_option("--sr-a", o.sr_a, "Eq. 2 a of the SR loops")->capture_default_str();
+    cmd->add_option("--sr-noise", o.sr_noise,
+                    "Largest relative noise of SR-loop input samples (half the loops are noise-free)")
+        ->capture_default_str();
+    cmd->add_option("--sr-b", o.sr_b, "Eq. 2 b of the SR loops")->capture_default_str();
     cmd->add_option("--seed", o.seed, "Seed of crops and shifts")->capture_default_str();
     cmd->add_option("--threads", o.threads, "Worker threads")->capture_default_str();
     cmd->add_flag("!--quiet", o.progress, "No progress on stderr");
@@ -511,10 +683,16 @@ int lut_train_main(LutTrainOptions& o, int argc, char** argv) {
         std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(r.error().code), r.error().message.c_str());
         return 1;
     }
-    std::printf("scale %g: validation loss (1-SSIM) %.5f -> %.5f in %.1f s\n", double(o.scale),
-                r->initial_loss, r->final_loss, r->seconds);
+    std::printf(
+        "scale %g: validation loss %.5f -> %.5f (six-fold 1-SSIM %.5f -> %.5f, SR loops 1-SSIM %.5f -> "
+        "%.5f) in %.1f s\n",
+        double(o.scale), r->initial_loss, r->final_loss, r->initial_sixfold, r->final_sixfold, r->initial_sr,
+        r->final_sr, r->seconds);
     for (const auto& [proto, ms] : r->figures) {
-        std::printf("six-fold, %s shifts (held back):\n", proto.c_str());
+        if (proto.starts_with("sr_loop"))
+            std::printf("SR loops%s (held back):\n", proto == "sr_loop" ? "" : ", noisy input");
+        else
+            std::printf("six-fold, %s shifts (held back):\n", proto.c_str());
         for (const auto& [name, f] : ms)
             std::printf("  %-16s SSIM %.4f  PSNR %.2f dB\n", name.c_str(), f.ssim, f.psnr);
     }

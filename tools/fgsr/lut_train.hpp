@@ -4,6 +4,7 @@
 // tools/fgsr/lut_model.hpp (the engine's shaders/resample.h arithmetic).
 #pragma once
 
+#include <fgsr/engine/defaults.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/result.hpp>
 
@@ -26,11 +27,17 @@ struct LutTrainOptions {
                                      // empty: nothing written
     int iterations = 600;            // Adam steps, >= 0 (0: evaluate the Catmull-Rom start)
     int batch = 16;                  // repeated-resampling sequences per step, >= 1
-    uint32_t seed = 1;               // training crops and shifts; the result depends on nothing else
-                                     // (not on the thread count)
-    int threads = 2;                 // >= 1
-    bool progress = true;            // progress on stderr
-    std::string command_line;        // recorded in the JSON
+    // SR loops per step (>= 0; 0: the six-fold objective alone) and the weight of their loss: the
+    // history resampling as the `sr` pass runs it (lutmodel::SrLoop), with Eq. 2's a and b.
+    int sr_batch = 0;
+    double sr_weight = 1.0;
+    float sr_a = defaults::sr_a, sr_b = defaults::sr_b;
+    float sr_noise = 0.5f;    // largest relative input noise of a loop (lutmodel::make_sr_loop), >= 0
+    uint32_t seed = 1;        // training crops and shifts; the result depends on nothing else
+                              // (not on the thread count)
+    int threads = 2;          // >= 1
+    bool progress = true;     // progress on stderr
+    std::string command_line; // recorded in the JSON
 };
 
 struct MethodFigures {
@@ -40,9 +47,10 @@ struct MethodFigures {
 struct LutTrainReport {
     Lut lut;
     std::vector<std::string> training_images, held_back_images;
-    // Loss (1 - SSIM) on a fixed validation batch (training images, other crops and shifts) before
-    // and after training.
+    // Loss on a fixed validation batch (training images, other crops and shifts) before and after
+    // training: six-fold (1 - SSIM) + sr_weight * SR loops (1 - SSIM), and the two parts.
     double initial_loss = 0, final_loss = 0;
+    double initial_sixfold = 0, final_sixfold = 0, initial_sr = 0, final_sr = 0;
     double seconds = 0;
     // protocol ("half": six +1/2 px shifts as in the paper; "random": random sub-pixel shifts
     // summing to whole pixels) -> method ("lut", "bilinear", "bicubic", "catmull_rom_lut") -> figures

@@ -11,6 +11,7 @@
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/engine/engine.hpp>
 #include <fgsr/engine/presets.hpp>
+#include <fgsr/engine/lut.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -53,6 +54,10 @@ int main(int argc, char** argv) {
     eval->add_flag("--json", eo.json, "Print one JSON object on stdout");
     eval->add_flag("--lr", eo.prefer_lr, "Mob-FGSR captures: use LR_Inputs (960x540) instead of HR_Inputs");
     eval->add_option("--frames", eo.max_frames, "Evaluate at most this many frames (0: all)");
+    eval->add_option("--static-frames", eo.static_frames,
+                     "sr: frames of the static stretch for the temporal-stability figure (0: none)")
+        ->check(CLI::Range(0, 1000))
+        ->capture_default_str();
     eval->add_option("--device", eo.device.device,
                      "Vulkan device index or name substring (default: FGSR_DEVICE, "
                      "else first GPU, else lavapipe)");
@@ -62,6 +67,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     eval->add_option("--sr-b", eo.params.sr_b, "SR: sample weight fall-off with distance (Eq. 2, b)")
         ->capture_default_str();
+    std::string lut_file;
+    eval->add_option("--lut", lut_file,
+                     "SR: history resampling table (.lut file, fgsr lut-train) instead of the shipped one");
     eval->add_flag("--dilate", eo.params.dilate_mvs,
                    "SR: depth-informed motion-vector dilation (frontmost of 3x3)");
     eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")
@@ -176,6 +184,11 @@ int main(int argc, char** argv) {
         if (preset.empty() || no_holes) eo.params.fill_holes = !no_holes;
         if (preset.empty() || separate) eo.params.separate_passes = separate;
         eo.progress = !quiet;
+        if (!lut_file.empty()) {
+            auto l = fgsr::load_lut(lut_file);
+            if (!l) return fail(l.error());
+            eo.params.lut = std::move(l->weights);
+        }
         if (!eval_socket.empty()) {
             fgsr::cli::ReplayOptions o;
             o.capture = eo.capture;

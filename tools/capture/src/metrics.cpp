@@ -241,4 +241,43 @@ Result<ImageRGBA> abs_diff_image(const ImageRGBA& a, const ImageRGBA& b, float g
     return out;
 }
 
+Result<void> TemporalStd::add(const ImageRGBA& frame) {
+    const size_t n = size_t(frame.width) * frame.height;
+    if (n == 0) return make_error(Errc::empty_input, "temporal std: empty frame");
+    if (frame.rgba.size() != n * 4)
+        return make_error(Errc::size_mismatch, "temporal std: rgba holds " +
+                                                   std::to_string(frame.rgba.size()) + " floats, expected " +
+                                                   std::to_string(n * 4));
+    if (frames_ == 0) {
+        width_ = frame.width;
+        height_ = frame.height;
+        sum_.assign(n * 3, 0.0);
+        sum_sq_.assign(n * 3, 0.0);
+    } else if (frame.width != width_ || frame.height != height_) {
+        return make_error(Errc::size_mismatch, "temporal std: frame " + std::to_string(frame.width) + "x" +
+                                                   std::to_string(frame.height) + " after " +
+                                                   std::to_string(width_) + "x" + std::to_string(height_));
+    }
+    for (size_t i = 0; i < n; ++i)
+        for (size_t c = 0; c < 3; ++c) {
+            float v = metric_display_value(frame.rgba[i * 4 + c]);
+            if (std::isnan(v)) v = 1.f;
+            sum_[i * 3 + c] += v;
+            sum_sq_[i * 3 + c] += double(v) * v;
+        }
+    ++frames_;
+    return {};
+}
+
+double TemporalStd::mean_std() const {
+    if (frames_ < 2) return 0.0;
+    const double k = double(frames_);
+    double total = 0.0;
+    for (size_t i = 0; i < sum_.size(); ++i) {
+        const double mean = sum_[i] / k;
+        total += std::sqrt(std::max(sum_sq_[i] / k - mean * mean, 0.0));
+    }
+    return total / double(sum_.size());
+}
+
 } // namespace fgsr::capture

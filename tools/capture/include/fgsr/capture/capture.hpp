@@ -20,13 +20,8 @@ struct Frame {
     float jitter_x = 0.f;         // camera jitter of this frame in pixels (x right, y down); 0 if none
     float jitter_y = 0.f;
 
-    // The planes and this frame's jitter (the engine's super resolution places samples with it).
-    FrameView view() const {
-        FrameView v{color, depth, mv};
-        v.jitter_x = jitter_x;
-        v.jitter_y = jitter_y;
-        return v;
-    }
+    // The frame as the engine takes it, jitter included.
+    FrameView view() const { return FrameView{color, depth, mv, jitter_x, jitter_y}; }
 };
 
 enum class GroundTruth {

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace fgsr::capture {
 
@@ -51,5 +52,24 @@ Result<double> ssim(const ImageRGBA& a, const ImageRGBA& ref);
 // gain*|display(a) - display(b)|. Alpha is 1.
 // Errors: size_mismatch, empty_input, invalid_argument for a negative or non-finite gain.
 Result<ImageRGBA> abs_diff_image(const ImageRGBA& a, const ImageRGBA& b, float gain = 1.0f);
+
+// Temporal stability (QRISP section 4): the mean over pixels and RGB channels of the standard
+// deviation over frames of the display value (population std, display units in [0,1]; 0 for a
+// perfectly still image). Frames are added one at a time; all must have the first one's size.
+// A NaN channel value counts as 1. Not thread-safe.
+class TemporalStd {
+  public:
+    // Errors: size_mismatch (a size other than the first frame's, or a malformed rgba vector),
+    // empty_input (zero pixels).
+    Result<void> add(const ImageRGBA& frame);
+    size_t frames() const { return frames_; }
+    // Mean per-pixel standard deviation of the frames added so far (0 with fewer than 2 frames).
+    double mean_std() const;
+
+  private:
+    uint32_t width_ = 0, height_ = 0;
+    size_t frames_ = 0;
+    std::vector<double> sum_, sum_sq_; // per pixel and RGB channel
+};
 
 } // namespace fgsr::capture
