@@ -5,6 +5,8 @@
 #include "run_process.hpp"
 
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <array>
@@ -124,7 +126,7 @@ TEST(Calibrate, FittedDepthThresholdIsNeverWorseThanTheDefaultStart) {
 }
 
 TEST(Calibrate, WriteDefaultsWritesTheFittedConstants) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "fgsr-test-calibrate";
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("fgsr-test-calibrate-" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     const std::filesystem::path fresh = dir / "fresh.hpp", edited = dir / "defaults.hpp";

@@ -3,6 +3,8 @@
 #include "run_process.hpp"
 
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <array>
@@ -34,7 +36,7 @@ std::string capture_dir(const char* name) {
 }
 
 TEST(Eval, BuiltinCaptureRanksMethodsAndWritesFrames) {
-    const std::filesystem::path out = std::filesystem::temp_directory_path() / "fgsr-test-eval-out";
+    const std::filesystem::path out = std::filesystem::temp_directory_path() / ("fgsr-test-eval-out-" + std::to_string(::getpid()));
     std::filesystem::remove_all(out);
     nlohmann::json j = eval_json("--capture builtin --out " + out.string());
     ASSERT_FALSE(j.is_discarded());

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # One entry point for a fresh Debian 12 machine (run as root, or with the packages already there):
-#   tools/setup.sh demo   install what is missing, build, run the main job on the built-in capture
+#   tools/setup.sh demo   install what is missing, build, start fgsrd and replay the built-in capture
+#                         through it (outputs, telemetry and metrics under out/)
 #   tools/setup.sh test   install what is missing, build with warnings as errors, run the test suite
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -32,9 +33,25 @@ case "${1:-}" in
 demo)
     install_missing
     build release
-    echo "setup: fgsr eval on the built-in synthetic capture (interpolation, then extrapolation) -> out/" >&2
-    build/bin/fgsr eval --capture builtin --mode interp --out out/interp
-    build/bin/fgsr eval --capture builtin --mode extrap --out out/extrap
+    # The main job through the service: start fgsrd on a private socket, replay the built-in
+    # capture through it with the client library (interpolation, then extrapolation), print the
+    # telemetry summaries and metrics, stop the daemon.
+    rundir=$(mktemp -d)
+    sock="$rundir/fgsrd.sock"
+    build/bin/fgsrd --socket "$sock" --log-level warn &
+    daemon=$!
+    trap 'kill "$daemon" 2>/dev/null || true; wait "$daemon" 2>/dev/null || true; rm -rf "$rundir"' EXIT
+    for _ in $(seq 300); do
+        [ -S "$sock" ] && break
+        kill -0 "$daemon" 2>/dev/null || { echo "setup: fgsrd did not start" >&2; exit 1; }
+        sleep 0.1
+    done
+    mkdir -p out/interp out/extrap
+    echo "setup: fgsr replay of the built-in synthetic capture through fgsrd ($sock) -> out/" >&2
+    build/bin/fgsr replay --capture builtin --mode interp --socket "$sock" --out out/interp \
+        --telemetry out/interp/telemetry.csv
+    build/bin/fgsr replay --capture builtin --mode extrap --socket "$sock" --out out/extrap \
+        --telemetry out/extrap/telemetry.csv
     ;;
 test)
     install_missing
