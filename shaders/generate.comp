@@ -31,4 +31,14 @@ void store_output(uint i, vec4 c) { outp[i] = c; }
 #include "blend.h"
 #include "generate.h"
 
+#ifdef FGSR_TILED
+// Over the tiles classify and splat listed (moving or dirty); classify wrote the others.
+layout(std430, binding = GENERATE_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
+#include "tiles.h"
+void main() {
+    ivec2 p;
+    if (listed_pixel(p)) generate_pixel(p, pc.g);
+}
+#else
 void main() { generate_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }
+#endif

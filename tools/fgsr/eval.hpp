@@ -34,6 +34,8 @@ struct MethodScore {
     double mean_psnr = 0, mean_ssim = 0;
     double mean_ms = 0;                    // engine GPU milliseconds per generated frame (0 for baselines)
     std::map<std::string, double> pass_ms; // mean per pass
+    // Per pass that classifies tiles (Params::skip_tiles): tiles skipped and tiles in total, summed.
+    std::map<std::string, std::pair<uint64_t, uint64_t>> pass_tiles;
 };
 
 struct EvalReport {

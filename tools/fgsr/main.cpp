@@ -73,6 +73,11 @@ int main(int argc, char** argv) {
     eval->add_flag("--no-hole-fill", no_holes, "Disable disocclusion filling");
     eval->add_flag("--separate-passes", separate,
                    "Run refine, disocc, warp and blend as separate passes (per-pass timings; same frames)");
+    bool no_skip = false;
+    eval->add_flag("--no-skip-tiles", no_skip,
+                   "Run every pass over every tile (no per-tile classification; same frames)");
+    eval->add_option("--tile", eo.params.tile_size, "Tile side for skipping: 8, 16 or 32 (0: default)")
+        ->check(CLI::IsMember({0, 8, 16, 32}));
     eval->add_flag("--quiet", quiet, "No progress on stderr");
 
     // fgsr convert
@@ -103,6 +108,7 @@ int main(int argc, char** argv) {
                   : mode == "isr"  ? fgsr::cli::EvalMode::isr
                   : mode == "esr"  ? fgsr::cli::EvalMode::esr
                                    : fgsr::cli::EvalMode::interp;
+        eo.params.skip_tiles = !no_skip;
         eo.methods = split_list(methods);
         if (eo.mode != fgsr::cli::EvalMode::interp && eo.mode != fgsr::cli::EvalMode::extrap &&
             !eval->count("--methods"))

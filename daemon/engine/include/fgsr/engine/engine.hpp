@@ -68,6 +68,16 @@ struct Params {
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).
     bool mvs_contain_jitter = false;
+
+    // Per-tile work skipping (shaders/classify.h): a `classify` pass finds the tiles with no
+    // motion; splat, generate, sr and generate_sr run only over the tiles that need them
+    // (indirect dispatch over compacted tile lists) and the static tiles take a cheap path
+    // (copy-through, or the history read at the pixel itself). The frames equal those with
+    // skipping off up to float rounding (tests/test_tiles.cpp states the tolerance). Not applied
+    // with separate_passes.
+    bool skip_tiles = true;
+    // Tile side in pixels: 8, 16 or 32; 0 picks the measured default (TILES_NOTES.md).
+    uint32_t tile_size = 0;
 };
 
 struct PassTiming {
@@ -75,6 +85,10 @@ struct PassTiming {
     // ingest is timed at submit (Session::last_ingest_ms).
     std::string name;
     double ms = 0; // GPU time from timestamp queries
+    // Tiles of the frame and how many of them the pass skipped or took a cheap path for
+    // (Params::skip_tiles); both 0 when the pass does not classify tiles.
+    uint32_t tiles_total = 0;
+    uint32_t tiles_skipped = 0;
 };
 
 struct GeneratedFrame {
@@ -128,6 +142,11 @@ class Session {
     uint64_t frames_submitted() const;
     // GPU time of the last submit's ingest pass.
     double last_ingest_ms() const;
+    // TILE_* flags of the last submit's super-resolution classification (empty when it was not
+    // classified: no history, or Params::skip_tiles off), tiles of tile_side() pixels.
+    std::vector<uint32_t> last_sr_tile_flags() const;
+    // The tile side in use (Params::tile_size or the default).
+    uint32_t tile_side() const;
     // Output size: the frame size times Params::scale (the frame size without super resolution).
     uint32_t output_width() const;
     uint32_t output_height() const;
@@ -152,6 +171,10 @@ class Session {
         std::vector<uint32_t> field_state;
         std::vector<float> warped_color0, warped_color1; // 4 per pixel
         std::vector<float> warped_depth0, warped_depth1;
+        // TILE_* flags (shaders/common.h) per tile, row-major, of the last generated frame when it
+        // was classified (Params::skip_tiles); empty otherwise. Tile side: tile_side.
+        std::vector<uint32_t> tile_flags;
+        uint32_t tile_side = 0;
     };
     Result<Intermediates> read_intermediates() const;
     struct InternalFrameData {

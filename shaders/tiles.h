@@ -1,0 +1,66 @@
+// Entry-side helpers of the tiled pass variants (built with FGSR_TILED): an indirect dispatch over
+// a tile list (layout: common.h, TILE_LIST_HEADER) gives each listed tile span x span invocations,
+// span = tile_list[5], packed into FGSR_GROUP x FGSR_GROUP workgroups along x. GLSL only.
+//
+// Entry declares, in the FGSR_TILED variants: uint tile_list[] (the list it iterates, binding
+// <PASS>_COUNT + TILED_LIST). classify uses only tile_index and TILE_APPEND.
+
+#ifdef FGSR_TILED
+
+// The listed tile (tile units) and the invocation's position in its span x span square; false
+// for the invocations past the end of the list.
+bool listed_invocation(out ivec2 tile, out ivec2 local) {
+    uint span = tile_list[5];
+    uint per_tile = span * span;
+    uint lin = gl_WorkGroupID.x * uint(FGSR_GROUP * FGSR_GROUP) + gl_LocalInvocationIndex;
+    uint slot = lin / per_tile;
+    tile = ivec2(0);
+    local = ivec2(0);
+    if (slot >= tile_list[3]) return false;
+    uint packed = tile_list[TILE_LIST_HEADER + slot];
+    uint l = lin - slot * per_tile;
+    tile = ivec2(int(packed & 0xffffu), int(packed >> 16));
+    local = ivec2(int(l % span), int(l / span));
+    return true;
+}
+
+// Pixel of a pass at the tiles' own resolution (span = tile side).
+bool listed_pixel(out ivec2 p) {
+    ivec2 tile, local;
+    bool ok = listed_invocation(tile, local);
+    p = tile * int(tile_list[4]) + local;
+    return ok;
+}
+
+// Output pixel q of a pass at scale x the tiles' resolution (sr, generate_sr): the listed LR tile
+// covers the output pixels whose LR pixel clamp(floor((q + 0.5) / scale)) lies in it. The span
+// (ceil(tile * scale) + 3) covers them from floor(origin * scale) - 1 on; false for the others,
+// so each output pixel is processed by exactly one listed tile.
+bool listed_output_pixel(float scale, ivec2 lr_size, ivec2 out_size, out ivec2 q) {
+    ivec2 tile, local;
+    bool ok = listed_invocation(tile, local);
+    int side = int(tile_list[4]);
+    ivec2 origin = tile * side;
+    q = max(ivec2(floor(vec2(origin) * scale)) - ivec2(1), ivec2(0)) + local;
+    if (!ok || q.x >= out_size.x || q.y >= out_size.y) return false;
+    ivec2 t = clamp(ivec2(floor((vec2(q) + vec2(0.5f)) / scale)), ivec2(0), lr_size - ivec2(1));
+    return t.x / side == tile.x && t.y / side == tile.y;
+}
+
+#endif
+
+// Index (row-major) of the tile holding pixel p, tiles of `side` pixels over an image `width` wide.
+uint tile_index(ivec2 p, uint width, uint side) {
+    uint tiles_x = (width + side - 1u) / side;
+    return (uint(p.y) / side) * tiles_x + uint(p.x) / side;
+}
+
+// Appends a tile (packed x | y << 16) to a list and grows its dispatch to cover it, each listed
+// tile taking `invocations` invocations. A macro: GLSL cannot pass a buffer to a function.
+#define TILE_APPEND(list, packed, invocations)                                                            \
+    {                                                                                                     \
+        uint slot_ = atomicAdd(list[3], 1u);                                                              \
+        list[TILE_LIST_HEADER + slot_] = (packed);                                                        \
+        atomicMax(list[0], ((slot_ + 1u) * (invocations) + uint(FGSR_GROUP * FGSR_GROUP) - 1u) /          \
+                               uint(FGSR_GROUP * FGSR_GROUP));                                            \
+    }
