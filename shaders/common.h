@@ -99,9 +99,9 @@ struct SrParams {
 // workgroup counts for vkCmdDispatchIndirect (x grows with appends; y = z = 1), [3] number of
 // tiles, [4] tile side, [5] side of the square of invocations each listed tile gets, [6..7] 0,
 // then the tiles from TILE_LIST_HEADER on, packed x | y << 16 in tile units.
-#define TILE_MOVING 0u
-#define TILE_STATIC 1u // every pixel is a static source (generate) / static LR pixel (sr)
-#define TILE_DIRTY 2u  // with TILE_STATIC: a moving source splatted into the tile
+#define TILE_STATIC 1u  // every pixel is a static source (generate) / static LR pixel (sr)
+#define TILE_DIRTY 2u   // with TILE_STATIC: a moving source splatted into the tile
+#define TILE_MOVING 16u // some pixel is not static (set by classify's first stage, never cleared)
 #define CLASSIFY_GENERATE 0u
 #define CLASSIFY_SR 1u
 #define TILE_LIST_HEADER 8u
@@ -114,7 +114,7 @@ struct ClassifyParams {
     uint dilate;           // sr mode: vectors are dilated over 3x3
     uint work_invocations;   // invocations per tile of the pass over the work list (splat / sr)
     uint output_invocations; // invocations per tile of the passes over the generate / static lists
-    uint pad1;
+    uint stage;              // 0: per pixel, mark the moving tiles; 1: per pixel, write, list tiles
     uint pad2;
 };
 

@@ -308,11 +308,16 @@ struct Session::Impl {
         return static_cast<const uint32_t*>(list.mapped())[3];
     }
 
-    // The classify dispatch: one workgroup per block of max(group, tile) pixels a side.
-    Result<void> classify(const gpu::ClassifyParams& c, std::initializer_list<const vk::Buffer*> buffers) {
-        const uint32_t block = std::max(engine->group, c.tile);
-        FGSR_TRY(bind(kClassify, buffers, &c));
-        vkCmdDispatch(cmd, groups(c.g.width, block), groups(c.g.height, block), 1);
+    // The classify dispatches (both stages, shaders/classify.comp) after the lists' reset; the
+    // flags are buffers[CLASSIFY_FLAGS].
+    Result<void> classify(gpu::ClassifyParams c, std::initializer_list<const vk::Buffer*> buffers) {
+        vkCmdFillBuffer(cmd, buffers.begin()[CLASSIFY_FLAGS]->handle(), 0, VK_WHOLE_SIZE, 0u);
+        barrier();
+        c.stage = 0;
+        FGSR_TRY(dispatch(kClassify, buffers, &c, c.g.width, c.g.height));
+        barrier();
+        c.stage = 1;
+        FGSR_TRY(dispatch(kClassify, buffers, &c, c.g.width, c.g.height));
         return {};
     }
 
@@ -371,7 +376,7 @@ struct Session::Impl {
     }
 
     // Dispatches one invocation per pixel of a width x height image (0: the session's frame size).
-    Result<void> dispatch(PassId pass, std::initializer_list<const vk::Buffer*> buffers, const void* push,
+    Result<void> dispatch(uint32_t pass, std::initializer_list<const vk::Buffer*> buffers, const void* push,
                           uint32_t width = 0, uint32_t height = 0) {
         FGSR_TRY(bind(pass, buffers, push));
         vkCmdDispatch(cmd, groups(width ? width : format.width, engine->group),
