@@ -2,20 +2,19 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.h"
 #include "bindings.h"
-// Two dispatches over the pixels, a barrier between them (workgroup barriers and shared-memory
-// reductions were measured 2-3x slower than a whole generate pass on lavapipe):
-//   stage 0: a pixel that is not static ORs TILE_MOVING into its tile's flag (zeroed by the host);
-//   stage 1: every pixel of a static tile gets its own key, zero vectors and (write_output) its
-//            copy-through colour; the others an empty key. The tile's first pixel sets the flag of a
-//            static tile to TILE_STATIC (TILE_MOVING stays) and appends the tile to its lists.
+// Two dispatches, a barrier between them (workgroup barriers and shared-memory reductions were
+// measured slower than a whole generate pass on lavapipe):
+//   stage 0, per pixel: a pixel that is not static ORs TILE_MOVING into its tile's flag (zeroed by
+//            the host); a static one writes its copy-through colour (write_output), which the
+//            passes over the generate list overwrite where its tile is moving or gets dirty;
+//   stage 1, per tile: sets a static tile's flag to TILE_STATIC and appends every tile to its lists.
+// Keys and field vectors of static tiles are not written: the tiled passes derive them (tiles.h).
 layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
 layout(push_constant) uniform Push { ClassifyParams c; } pc;
 layout(std430, binding = GEN_MV1) readonly buffer Mv1 { vec2 mv1[]; };
 layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
-layout(std430, binding = GEN_KEYS) writeonly buffer Keys { uint64_t keys[]; };
-layout(std430, binding = GEN_MOTION) writeonly buffer Motion { vec4 motion[]; };
 layout(std430, binding = CLASSIFY_COLOR0) readonly buffer Color0 { uvec2 color0[]; }; // pack_color
 layout(std430, binding = CLASSIFY_COLOR1) readonly buffer Color1 { uvec2 color1[]; };
 layout(std430, binding = CLASSIFY_OUTPUT) writeonly buffer Output { vec4 outp[]; };
@@ -37,25 +36,22 @@ vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.c.g.width) +
 #include "tiles.h"
 
 void main() {
-    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-    if (!inside(p, pc.c.g)) return;
-    uint t = tile_index(p, pc.c.g.width, pc.c.tile);
     if (pc.c.stage == 0u) {
-        if (!static_pixel(p, pc.c) && (tile_flags[t] & TILE_MOVING) == 0u) atomicOr(tile_flags[t], TILE_MOVING);
+        ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+        if (!inside(p, pc.c.g)) return;
+        uint t = tile_index(p, pc.c.g.width, pc.c.tile);
+        if (!static_pixel(p, pc.c)) {
+            if ((tile_flags[t] & TILE_MOVING) == 0u) atomicOr(tile_flags[t], TILE_MOVING);
+        } else if (pc.c.mode == CLASSIFY_GENERATE && pc.c.write_output != 0u) {
+            outp[uint(p.y) * pc.c.g.width + uint(p.x)] = copy_through(p, pc.c.g);
+        }
         return;
     }
-    bool is_static = (tile_flags[t] & TILE_MOVING) == 0u;
-    if (pc.c.mode == CLASSIFY_GENERATE) {
-        uint i = uint(p.y) * pc.c.g.width + uint(p.x);
-        keys[i] = is_static ? own_key(p, pc.c.g) : ~uint64_t(0);
-        if (is_static) {
-            motion[i] = vec4(0.0f);
-            if (pc.c.write_output != 0u) outp[i] = copy_through(p, pc.c.g);
-        }
-    }
-    if (p.x % int(pc.c.tile) != 0 || p.y % int(pc.c.tile) != 0) return;
-    uint packed = uint(p.x) / pc.c.tile | ((uint(p.y) / pc.c.tile) << 16);
-    if (!is_static) {
+    ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
+    if (!inside(tile * int(pc.c.tile), pc.c.g)) return;
+    uint t = tile_index(tile * int(pc.c.tile), pc.c.g.width, pc.c.tile);
+    uint packed = uint(tile.x) | (uint(tile.y) << 16);
+    if ((tile_flags[t] & TILE_MOVING) != 0u) {
         TILE_APPEND(list_work, packed, pc.c.work_invocations);
         if (pc.c.mode == CLASSIFY_GENERATE) TILE_APPEND(list_generate, packed, pc.c.output_invocations);
     } else {

@@ -8,12 +8,13 @@
 // where the frame-0 vector m0 is read (quadratic model with frame-0 vectors), every frame-0 vector
 // motion.h may pick is zero (p's own when its depth agrees within 4 T_D, else its 4 edge
 // neighbours'). Such a pixel splats onto itself, key (depth1 << 32 | index), field vectors 0. A
-// tile whose pixels are all static sources is TILE_STATIC: classify writes those keys and zero
-// vectors itself, so splat runs only over the other tiles, and its atomicMin on top of them gives
-// exactly the keys of a full splat. Splat marks a static tile TILE_DIRTY when a moving source lands
+// tile whose pixels are all static sources is TILE_STATIC: splat runs only over the other tiles,
+// and the passes after it read a static tile's key as the nearer of that own key and what splat
+// left there (tiles.h, FGSR_TILED_KEYS), which is exactly the key of a full splat. Splat marks a static tile TILE_DIRTY when a moving source lands
 // in it (and appends it to the generate list). Every pixel of a static tile that is not dirty has
 // its own key, so refine, disocc and warp reduce to reading both frames at the pixel itself: the
-// generated frame there is copy_through() below, which classify writes (no motion and no depth
+// generated frame there is copy_through() below, which classify writes for every static pixel
+// (the passes over the generate list overwrite moving and dirty tiles) (no motion and no depth
 // change give the input colour itself; a depth or shading change without motion gives what blend
 // would give). Depth changes without motion therefore need no generation either.
 //

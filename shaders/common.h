@@ -114,7 +114,7 @@ struct ClassifyParams {
     uint dilate;           // sr mode: vectors are dilated over 3x3
     uint work_invocations;   // invocations per tile of the pass over the work list (splat / sr)
     uint output_invocations; // invocations per tile of the passes over the generate / static lists
-    uint stage;              // 0: per pixel, mark the moving tiles; 1: per pixel, write, list tiles
+    uint stage;              // 0: per pixel, mark moving tiles, copy-through; 1: per tile, list tiles
     uint pad2;
 };
 

@@ -22,6 +22,15 @@ layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { vec4 outp[]; };
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+#ifdef FGSR_TILED
+layout(std430, binding = GENSR_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
+layout(std430, binding = GENSR_COUNT + TILED_FLAGS) readonly buffer Flags { uint tile_flags[]; };
+#ifndef FGSR_STATIC_TILES
+#define FGSR_TILED_KEYS
+#endif
+#include "tiles.h"
+#endif
+
 #ifdef FGSR_STATIC_TILES
 // Static tiles that splat left alone (classify.h): every pixel holds its own key and zero vectors;
 // the host sets bilinear resampling, exact at phase 0.
@@ -29,7 +38,7 @@ uint64_t load_key(ivec2 q) {
     return (uint64_t(floatBitsToUint(load_depth1(q))) << 32) | uint64_t(uint(q.y) * pc.g.width + uint(q.x));
 }
 vec4 load_motion(uint i) { return vec4(0.0f); }
-#else
+#elif !defined(FGSR_TILED)
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
 vec4 load_motion(uint i) { return motion[i]; }
 #endif
@@ -45,12 +54,6 @@ float load_lut(uint i) { return lut[i]; }
 #include "blend.h"
 #include "resample.h"
 #include "generate_sr.h"
-
-#ifdef FGSR_TILED
-layout(std430, binding = GENSR_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
-layout(std430, binding = GENSR_COUNT + TILED_FLAGS) readonly buffer Flags { uint tile_flags[]; };
-#include "tiles.h"
-#endif
 
 void main() {
 #ifdef FGSR_TILED

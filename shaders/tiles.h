@@ -64,3 +64,21 @@ uint tile_index(ivec2 p, uint width, uint side) {
         atomicMax(list[0], ((slot_ + 1u) * (invocations) + uint(FGSR_GROUP * FGSR_GROUP) - 1u) /          \
                                uint(FGSR_GROUP * FGSR_GROUP));                                            \
     }
+
+#ifdef FGSR_TILED_KEYS
+// Keys and field vectors as a full splat leaves them, where classify wrote neither for static
+// tiles: a static source splats onto itself (own key, zero vectors), so a pixel of a static tile
+// holds the nearer of its own key and what the moving tiles splatted there (keys[], filled empty
+// by the host). Entry declares keys[], motion[], tile_flags[] and tile_list[].
+uint64_t load_key(ivec2 q) {
+    uint64_t k = keys[q.y * int(pc.g.width) + q.x];
+    if ((tile_flags[tile_index(q, pc.g.width, tile_list[4])] & TILE_STATIC) == 0u) return k;
+    uint64_t own = (uint64_t(floatBitsToUint(depth1[q.y * int(pc.g.width) + q.x])) << 32) |
+                   uint64_t(uint(q.y) * pc.g.width + uint(q.x));
+    return min(k, own);
+}
+vec4 load_motion(uint i) {
+    ivec2 q = ivec2(int(i % pc.g.width), int(i / pc.g.width));
+    return (tile_flags[tile_index(q, pc.g.width, tile_list[4])] & TILE_STATIC) != 0u ? vec4(0.0f) : motion[i];
+}
+#endif

@@ -114,6 +114,7 @@ int main(int argc, char** argv) {
 
     std::map<std::string, std::vector<double>> ms; // per config, per round
     std::map<std::string, std::vector<double>> skipped;
+    std::map<std::string, std::map<std::string, std::vector<double>>> pass_ms; // per config and pass
     for (int round = 0; round < repeats; ++round) {
         std::fprintf(stderr, "round %d/%d\n", round + 1, repeats);
         for (const Config& c : configs) {
@@ -155,6 +156,7 @@ int main(int argc, char** argv) {
                     out = std::move(*g);
                 }
                 for (const GeneratedFrame& g : out) {
+                    for (const PassTiming& pt : g.passes) pass_ms[c.label][pt.name].push_back(pt.ms);
                     sum += g.gpu_ms;
                     ++count;
                     for (const PassTiming& pt : g.passes)
@@ -174,6 +176,12 @@ int main(int argc, char** argv) {
     for (const Config& c : configs)
         fmt::print("{:<22} {:>9.2f} {:>8.1f}%\n", c.label, median(ms[c.label]),
                    100.0 * median(skipped[c.label]));
+    fmt::print("per pass (median over rounds and frames, ms):\n");
+    for (const Config& c : configs) {
+        std::string line;
+        for (const auto& [pass, v] : pass_ms[c.label]) line += fmt::format("{} {:.2f}  ", pass, median(v));
+        fmt::print("{:<22} {}\n", c.label, line);
+    }
     fmt::print("same-run ratios (median over rounds of the per-round ratio):\n");
     for (const char* mode : {"interp", "sr"})
         for (const char* cfg : {"off", "t8", "t16", "t32"}) {

@@ -308,16 +308,19 @@ struct Session::Impl {
         return static_cast<const uint32_t*>(list.mapped())[3];
     }
 
-    // The classify dispatches (both stages, shaders/classify.comp) after the lists' reset; the
-    // flags are buffers[CLASSIFY_FLAGS].
+    // The classify dispatches (both stages, shaders/classify.comp) after the lists' reset: per
+    // pixel, then per tile. The flags are buffers[CLASSIFY_FLAGS]; generate mode also empties the
+    // keys (buffers[GEN_KEYS]) for the tiled splat.
     Result<void> classify(gpu::ClassifyParams c, std::initializer_list<const vk::Buffer*> buffers) {
         vkCmdFillBuffer(cmd, buffers.begin()[CLASSIFY_FLAGS]->handle(), 0, VK_WHOLE_SIZE, 0u);
+        if (c.mode == CLASSIFY_GENERATE)
+            vkCmdFillBuffer(cmd, buffers.begin()[GEN_KEYS]->handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
         barrier();
         c.stage = 0;
         FGSR_TRY(dispatch(kClassify, buffers, &c, c.g.width, c.g.height));
         barrier();
         c.stage = 1;
-        FGSR_TRY(dispatch(kClassify, buffers, &c, c.g.width, c.g.height));
+        FGSR_TRY(dispatch(kClassify, buffers, &c, groups(c.g.width, c.tile), groups(c.g.height, c.tile)));
         return {};
     }
 
@@ -455,10 +458,6 @@ struct Session::Impl {
 
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
 
-    // Records generated frame k with tile skipping: classify (static tiles get their keys, zero
-    // vectors and, at input resolution, their copy-through output), splat over the moving tiles,
-    // then generate (or generate_sr) over the moving and dirtied tiles; with super resolution the
-    // static tiles that stayed clean take generate_sr's static form. Writes timestamps q..q+2.
     // Records the sr pass of a frame with history with tile skipping: classify in sr mode, then
     // sr over the moving tiles and its static form over the others. Writes timestamp 2 (after
     // classify); the caller writes the one after sr.
@@ -498,6 +497,10 @@ struct Session::Impl {
         return {};
     }
 
+    // Records generated frame k with tile skipping: classify (copy-through output of static
+    // pixels at input resolution, tile lists), splat over the moving tiles, then generate (or
+    // generate_sr) over the moving and dirtied tiles; with super resolution the static tiles that
+    // stayed clean take generate_sr's static form. Writes timestamps q..q+2.
     Result<void> record_tiled(size_t k, const gpu::GenParams& g, bool extrapolate, uint32_t& q) {
         const TileSet& ts = tile_sets[k];
         const vk::Buffer& out = outputs[k];

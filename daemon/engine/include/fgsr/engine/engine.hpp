@@ -164,6 +164,8 @@ class Session {
     // generated frame (the last alpha of the last call). Only the keys exist after a fused call;
     // the other vectors are filled when Params::separate_passes was set.
     struct Intermediates {
+        // With Params::skip_tiles, static tiles hold only what moving tiles splatted there (their
+        // own keys and zero vectors are implied, shaders/tiles.h).
         std::vector<uint64_t> keys;
         std::vector<float> motion; // 4 per frame-1 pixel: v0.xy, v1.xy (see ref::Splat)
         std::vector<float> field;  // 4 per pixel: v0.xy, v1.xy
