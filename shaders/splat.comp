@@ -24,13 +24,15 @@ layout(std430, binding = SPLAT_COUNT + TILED_APPEND) buffer ListGenerate { uint 
 
 void mark_dirty(uint i) {
     uint side = tile_list[4];
-    uint t = tile_index(ivec2(int(i % pc.g.width), int(i / pc.g.width)), pc.g.width, side);
+    uint y = udiv(i, pc.g.width);
+    uint t = tile_index(ivec2(int(i - y * pc.g.width), int(y)), pc.g.width, side);
     if (tile_flags[t] != TILE_STATIC ||
         atomicCompSwap(tile_flags[t], TILE_STATIC, TILE_STATIC | TILE_DIRTY) != TILE_STATIC)
         return;
-    uint tiles_x = (pc.g.width + side - 1u) / side;
+    uint tiles_x = (pc.g.width + side - 1u) >> tile_shift(side);
+    uint ty = udiv(t, tiles_x);
     uint span = list_generate[5];
-    TILE_APPEND(list_generate, (t % tiles_x) | ((t / tiles_x) << 16), span * span);
+    TILE_APPEND(list_generate, (t - ty * tiles_x) | (ty << 16), span * span);
 }
 #endif
 
