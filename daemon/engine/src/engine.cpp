@@ -89,6 +89,9 @@ uint32_t pass_push(uint32_t p) {
                             : kPassPush[kTilePasses[p - kPassCount].base];
 }
 
+constexpr double kMinSkipShare = 0.25;
+constexpr uint32_t kUnclassifiedRun = 7;
+
 // Tile side when Params::tile_size is 0 (measured on lavapipe, TILES_NOTES.md).
 constexpr uint32_t kDefaultTile = 16;
 constexpr uint32_t kMinTile = 8;
@@ -193,6 +196,11 @@ struct Session::Impl {
     uint32_t last_tile_side = 0; // of the last classification
     uint32_t sr_tiles_total = 0, sr_tiles_skipped = 0;
     double classify_sr_ms = 0;
+    // Classification pays only where tiles can be skipped (on lavapipe a frame with every tile
+    // moving costs about 2x with it, TILES_NOTES.md): after a classification that found less than
+    // kMinSkipShare of the tiles skippable, the next kUnclassifiedRun calls (generate) or submits
+    // (sr) run every tile without classifying, then classify again. Same frames either way.
+    uint32_t gen_unclassified_left = 0, sr_unclassified_left = 0;
     bool last_extrapolate = false;
     bool last_separate = false;
     size_t last_output = 0;
@@ -669,7 +677,8 @@ Result<void> Session::submit(const FrameView& frame) {
         const vk::Buffer& history = s.hr[size_t(s.hr_newest)];
         const vk::Buffer& out = s.hr[size_t(1 - s.hr_newest)];
         // Without history every pixel is a spatial upsample: nothing to classify.
-        sr_tiled = s.params.skip_tiles && sp.has_history != 0u;
+        sr_tiled = s.params.skip_tiles && sp.has_history != 0u && s.sr_unclassified_left == 0;
+        if (s.sr_unclassified_left > 0) --s.sr_unclassified_left;
         if (sr_tiled)
             FGSR_TRY(s.record_sr_tiled(sp, f, prev, history, out));
         else
@@ -688,6 +697,8 @@ Result<void> Session::submit(const FrameView& frame) {
         s.last_tile_side = s.tile_side();
         s.sr_tiles_total = s.tiles_total();
         s.sr_tiles_skipped = std::min(s.sr_tiles_total, Impl::list_count(s.tile_sets[0].statics));
+        if (double(s.sr_tiles_skipped) < kMinSkipShare * double(s.sr_tiles_total))
+            s.sr_unclassified_left = kUnclassifiedRun;
     }
     f.has_mv = has_mv;
     s.newest = slot;
@@ -721,7 +732,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
                                   (extrapolate ? "(0, 1] for extrapolation" : "(0, 1) for interpolation"));
     }
     FGSR_TRY(ensure_outputs(alphas.size()));
-    const bool tiled = params.skip_tiles && !(params.separate_passes && !sr());
+    const bool tiled = params.skip_tiles && !(params.separate_passes && !sr()) && gen_unclassified_left == 0;
+    if (gen_unclassified_left > 0) --gen_unclassified_left;
     if (tiled) FGSR_TRY(ensure_tile_sets(alphas.size()));
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
@@ -816,6 +828,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             gf.passes[0].tiles_total = gf.passes[1].tiles_total = gf.passes[2].tiles_total = total;
             gf.passes[1].tiles_skipped = total - std::min(total, list_count(ts.work));
             gf.passes[2].tiles_skipped = total - std::min(total, list_count(ts.generate));
+            if (double(gf.passes[2].tiles_skipped) < kMinSkipShare * double(total))
+                gen_unclassified_left = kUnclassifiedRun;
         }
         const size_t out_n = size_t(out_w) * out_h;
         gf.color.width = out_w;

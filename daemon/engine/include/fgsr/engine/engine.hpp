@@ -74,7 +74,8 @@ struct Params {
     // (indirect dispatch over compacted tile lists) and the static tiles take a cheap path
     // (copy-through, or the history read at the pixel itself). The frames equal those with
     // skipping off up to float rounding (tests/test_tiles.cpp states the tolerance). Not applied
-    // with separate_passes.
+    // with separate_passes. After a classification that finds less than a quarter of the tiles
+    // skippable, the next 7 calls (generate) or submits (sr) run without classifying.
     bool skip_tiles = true;
     // Tile side in pixels: 8, 16 or 32; 0 picks the measured default (TILES_NOTES.md).
     uint32_t tile_size = 0;
