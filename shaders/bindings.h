@@ -71,4 +71,23 @@
 #define GENSR_OUTPUT 10
 #define GENSR_COUNT 11
 
+// classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current
+// vectors, GEN_DEPTH1 = current depth, GEN_DEPTH0 = previous depth), then:
+#define CLASSIFY_COLOR0 6
+#define CLASSIFY_COLOR1 7
+#define CLASSIFY_OUTPUT 8 // copy-through pixels of static tiles (generate mode, write_output)
+#define CLASSIFY_FLAGS 9  // TILE_* per tile
+#define CLASSIFY_LIST_WORK 10
+#define CLASSIFY_LIST_GENERATE 11
+#define CLASSIFY_LIST_STATIC 12
+#define CLASSIFY_COUNT 13
+
+// Tiled variants (built with FGSR_TILED) of splat, generate, sr and generate_sr bind three more
+// buffers after their own, at <PASS>_COUNT + TILED_*: the tile list they iterate (an indirect
+// dispatch over it), the TILE_* flags, and the list splat appends the static tiles it dirties to.
+#define TILED_LIST 0
+#define TILED_FLAGS 1
+#define TILED_APPEND 2
+#define TILED_EXTRA 3
+
 #endif

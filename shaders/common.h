@@ -9,6 +9,7 @@
 #define FGSR_SHADERS_COMMON_H
 
 #ifdef __cplusplus
+#include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <glm/gtc/packing.hpp>
@@ -94,6 +95,29 @@ struct SrParams {
     uint pad2;
 };
 
+// classify (classify.h): per-tile work classification. Tile lists are uint buffers: [0..2]
+// workgroup counts for vkCmdDispatchIndirect (x grows with appends; y = z = 1), [3] number of
+// tiles, [4] tile side, [5] side of the square of invocations each listed tile gets, [6..7] 0,
+// then the tiles from TILE_LIST_HEADER on, packed x | y << 16 in tile units.
+#define TILE_STATIC 1u  // every pixel is a static source (generate) / static LR pixel (sr)
+#define TILE_DIRTY 2u   // with TILE_STATIC: a moving source splatted into the tile
+#define TILE_MOVING 16u // some pixel is not static (set by classify's first stage, never cleared)
+#define CLASSIFY_GENERATE 0u
+#define CLASSIFY_SR 1u
+#define TILE_LIST_HEADER 8u
+
+struct ClassifyParams {
+    GenParams g;           // generate mode: the generated frame's; sr mode: width, height (LR), t_depth
+    uint tile;             // tile side in pixels: 8, 16 or 32
+    uint mode;             // CLASSIFY_*
+    uint write_output;     // generate mode: 1 = write copy_through() for static tiles
+    uint dilate;           // sr mode: vectors are dilated over 3x3
+    uint work_invocations;   // invocations per tile of the pass over the work list (splat / sr)
+    uint output_invocations; // invocations per tile of the passes over the generate / static lists
+    uint stage;              // 0: per pixel, mark moving tiles, copy-through; 1: per tile, list tiles
+    uint pad2;
+};
+
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
 // (uvec2: packHalf2x16(r, g), packHalf2x16(b, a)). Ingest clamps channels to [0, 65504], so packing
 // never overflows; the half rounding (relative error <= 2^-11) is far below what the metrics see,
@@ -121,6 +145,7 @@ FGSR_INLINE float relative_depth_difference(float a, float b) { return abs(a - b
 #ifdef __cplusplus
 static_assert(sizeof(IngestParams) == 48 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
               "push constants are 4-byte scalars");
+static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

@@ -18,8 +18,16 @@ vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+#ifdef FGSR_TILED
+// Over the tiles classify and splat listed (moving or dirty); classify wrote the others.
+layout(std430, binding = GENERATE_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
+layout(std430, binding = GENERATE_COUNT + TILED_FLAGS) readonly buffer Flags { uint tile_flags[]; };
+#define FGSR_TILED_KEYS
+#include "tiles.h"
+#else
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
 vec4 load_motion(uint src) { return motion[src]; }
+#endif
 vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
 vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
 void store_output(uint i, vec4 c) { outp[i] = c; }
@@ -31,4 +39,11 @@ void store_output(uint i, vec4 c) { outp[i] = c; }
 #include "blend.h"
 #include "generate.h"
 
+#ifdef FGSR_TILED
+void main() {
+    ivec2 p;
+    if (listed_pixel(p)) generate_pixel(p, pc.g);
+}
+#else
 void main() { generate_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }
+#endif

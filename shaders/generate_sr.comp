@@ -22,8 +22,26 @@ layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { vec4 outp[]; };
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+#ifdef FGSR_TILED
+layout(std430, binding = GENSR_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
+layout(std430, binding = GENSR_COUNT + TILED_FLAGS) readonly buffer Flags { uint tile_flags[]; };
+#ifndef FGSR_STATIC_TILES
+#define FGSR_TILED_KEYS
+#endif
+#include "tiles.h"
+#endif
+
+#ifdef FGSR_STATIC_TILES
+// Static tiles that splat left alone (classify.h): every pixel holds its own key and zero vectors;
+// the host sets bilinear resampling, exact at phase 0.
+uint64_t load_key(ivec2 q) {
+    return (uint64_t(floatBitsToUint(load_depth1(q))) << 32) | uint64_t(uint(q.y) * pc.g.width + uint(q.x));
+}
+vec4 load_motion(uint i) { return vec4(0.0f); }
+#elif !defined(FGSR_TILED)
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
 vec4 load_motion(uint i) { return motion[i]; }
+#endif
 vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
 vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
 vec4 load_src(ivec2 q) { return src[q.y * int(pc.s.hr_width) + q.x]; }
@@ -38,7 +56,19 @@ float load_lut(uint i) { return lut[i]; }
 #include "generate_sr.h"
 
 void main() {
+#ifdef FGSR_TILED
+    ivec2 q;
+    if (!listed_output_pixel(pc.s.scale, ivec2(int(pc.g.width), int(pc.g.height)),
+                             ivec2(int(pc.s.hr_width), int(pc.s.hr_height)), q))
+        return;
+#ifdef FGSR_STATIC_TILES
+    ivec2 t = clamp(ivec2(floor((vec2(q) + vec2(0.5f)) / pc.s.scale)), ivec2(0),
+                    ivec2(int(pc.g.width) - 1, int(pc.g.height) - 1));
+    if ((tile_flags[tile_index(t, pc.g.width, tile_list[4])] & TILE_DIRTY) != 0u) return; // generate list
+#endif
+#else
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
     if (q.x >= int(pc.s.hr_width) || q.y >= int(pc.s.hr_height)) return;
+#endif
     outp[q.y * int(pc.s.hr_width) + q.x] = generate_sr_pixel(q, pc.g, pc.s);
 }

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -126,7 +126,8 @@ TEST(Calibrate, FittedDepthThresholdIsNeverWorseThanTheDefaultStart) {
 }
 
 TEST(Calibrate, WriteDefaultsWritesTheFittedConstants) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("fgsr-test-calibrate-" + std::to_string(::getpid()));
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("fgsr-test-calibrate-" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     const std::filesystem::path fresh = dir / "fresh.hpp", edited = dir / "defaults.hpp";

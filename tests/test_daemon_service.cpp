@@ -550,6 +550,57 @@ TEST_F(Daemon, OutputsTelemetryAndNotReadyOnTheFirstFrame) {
     }
 }
 
+// A still scene (same frame, zero vectors): the completion's pass records carry the engine's tile
+// counts, every splat tile is skipped (so the splat bit of skipped_passes is set), and a moving
+// scene skips none.
+TEST_F(Daemon, TelemetryReportsSkippedTilesOfAStillScene) {
+    fgsr_session_desc d = default_desc();
+    d.scale = 1.f;
+    d.modes = FGSR_MODE_INTERPOLATE;
+    auto c = open_session(path(), d);
+    ASSERT_TRUE(c);
+    RawSession& s = *c->s;
+    auto interp = [&](uint32_t frame, float shift, float step) {
+        s.fill(frame % 2, shift, step);
+        fgsr_submit_entry e = s.entry(frame % 2, FGSR_SUBMIT_HAS_MV);
+        e.interp_count = 1;
+        e.interp_alphas[0] = 0.5f;
+        s.push(e);
+        auto v = s.wait_submit();
+        for (const auto& x : v)
+            if (x.output_slot != FGSR_NO_SLOT) s.release(x.output_slot);
+        return v;
+    };
+    auto splat_record = [](const fgsr_completion_entry& e) -> const fgsr_pass_record* {
+        for (uint32_t i = 0; i < e.telemetry.pass_count; ++i)
+            if (e.telemetry.passes[i].pass == FGSR_PASS_SPLAT) return &e.telemetry.passes[i];
+        return nullptr;
+    };
+    interp(0, 0.f, 0.f);
+    auto still = interp(1, 0.f, 0.f);
+    ASSERT_EQ(still.size(), 1u);
+    ASSERT_EQ(still[0].status, FGSR_STATUS_OK);
+    const fgsr_pass_record* r = splat_record(still[0]);
+    ASSERT_NE(r, nullptr);
+    EXPECT_GT(r->tiles_total, 0u);
+    EXPECT_EQ(r->tiles_skipped, r->tiles_total);
+    EXPECT_NE(still[0].telemetry.skipped_passes & (1u << FGSR_PASS_SPLAT), 0u);
+    bool classified = false;
+    for (uint32_t i = 0; i < still[0].telemetry.pass_count; ++i)
+        classified |= still[0].telemetry.passes[i].pass == FGSR_PASS_CLASSIFY;
+    EXPECT_TRUE(classified);
+
+    auto moving = interp(2, 1.f, 1.f);
+    ASSERT_EQ(moving.size(), 1u);
+    ASSERT_EQ(moving[0].status, FGSR_STATUS_OK);
+    r = splat_record(moving[0]);
+    ASSERT_NE(r, nullptr);
+    if (r->tiles_total > 0) {
+        EXPECT_EQ(r->tiles_skipped, 0u); // every tile moves
+    }
+    EXPECT_EQ(moving[0].telemetry.skipped_passes & (1u << FGSR_PASS_SPLAT), 0u);
+}
+
 TEST_F(Daemon, BadFrameContentCompletesWithBadFrameAndTheSessionGoesOn) {
     auto c = open_session(path());
     ASSERT_TRUE(c);

@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -36,7 +36,8 @@ std::string capture_dir(const char* name) {
 }
 
 TEST(Eval, BuiltinCaptureRanksMethodsAndWritesFrames) {
-    const std::filesystem::path out = std::filesystem::temp_directory_path() / ("fgsr-test-eval-out-" + std::to_string(::getpid()));
+    const std::filesystem::path out =
+        std::filesystem::temp_directory_path() / ("fgsr-test-eval-out-" + std::to_string(::getpid()));
     std::filesystem::remove_all(out);
     nlohmann::json j = eval_json("--capture builtin --out " + out.string());
     ASSERT_FALSE(j.is_discarded());

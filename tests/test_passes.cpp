@@ -235,6 +235,7 @@ TEST_P(PassesMatchReference, EveryPass) {
 
     // The fused pass: against the CPU reference on the GPU's keys, and against the separate passes.
     params.separate_passes = false;
+    params.skip_tiles = false; // the fused pass over every tile (tests/test_tiles.cpp covers skipping)
     session.set_params(params);
     auto fused = c.extrapolate ? session.extrapolate(alphas) : session.interpolate(alphas);
     ASSERT_TRUE(fused) << fused.error().message;

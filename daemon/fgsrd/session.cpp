@@ -520,6 +520,11 @@ std::optional<std::string> ServiceSession::run(const Pending& p) {
             r.pass = pass_id(pt.name);
             r.gpu_begin_ns = pt.begin_ns;
             r.gpu_end_ns = pt.end_ns;
+            r.tiles_total = pt.tiles_total;
+            r.tiles_skipped = pt.tiles_skipped;
+            // A pass that skipped every tile (e.g. splat of a frame without motion) did no work.
+            if (pt.tiles_total > 0 && pt.tiles_skipped >= pt.tiles_total && r.pass < 32)
+                t.skipped_passes |= 1u << r.pass;
             t.gpu_ns += uint64_t(std::llround(pt.ms * 1e6));
         };
         add_pass(ingest);

@@ -15,8 +15,8 @@ namespace fgsr::cli {
 namespace {
 
 // Engine passes in pipeline order: fused ("generate") or separate.
-constexpr const char* kPassOrder[] = {"sr",     "splat",  "generate", "generate_sr",
-                                      "refine", "disocc", "warp",     "blend"};
+constexpr const char* kPassOrder[] = {"classify", "sr",     "splat", "generate", "generate_sr",
+                                      "refine",   "disocc", "warp",  "blend"};
 
 ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
     ImageRGBA out = a;
@@ -73,6 +73,9 @@ void add_timing(MethodScore& score, const GeneratedFrame& frame) {
     for (const PassTiming& p : frame.passes) {
         score.pass_ms[p.name] += p.ms;
         score.pass_samples[p.name].push_back(p.ms);
+        if (p.tiles_total == 0) continue;
+        score.pass_tiles[p.name].first += p.tiles_skipped;
+        score.pass_tiles[p.name].second += p.tiles_total;
     }
 }
 
@@ -271,6 +274,13 @@ std::string report_json(const EvalReport& r, bool per_frame) {
                 if (s.pass_ms.count(p)) passes[p] = s.pass_ms.at(p);
             jm["pass_ms"] = passes;
         }
+        if (!s.pass_tiles.empty()) { // share of the tiles each pass skipped, over every frame
+            nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
+            for (const char* p : kPassOrder)
+                if (s.pass_tiles.count(p) && p != std::string("classify"))
+                    skipped[p] = double(s.pass_tiles.at(p).first) / double(s.pass_tiles.at(p).second);
+            jm["skipped_tiles"] = skipped;
+        }
         if (per_frame) {
             jm["psnr_per_frame"] = s.psnr;
             jm["ssim_per_frame"] = s.ssim;
@@ -294,6 +304,13 @@ std::string report_table(const EvalReport& r) {
             if (ms.pass_ms.count(p)) passes += fmt::format("{} {:.2f}  ", p, ms.pass_ms.at(p));
         s += fmt::format("{:<8} {:>9.2f} {:>7.4f} {:>9.2f}   {}\n", m, ms.mean_psnr, ms.mean_ssim, ms.mean_ms,
                          passes);
+        std::string skipped;
+        for (const char* p : kPassOrder)
+            if (ms.pass_tiles.count(p) && p != std::string("classify"))
+                skipped += fmt::format("{} {:.1f}%  ", p,
+                                       100.0 * double(ms.pass_tiles.at(p).first) /
+                                           double(ms.pass_tiles.at(p).second));
+        if (!skipped.empty()) s += fmt::format("{:<8} skipped tiles: {}\n", "", skipped);
     }
     if (r.ingest_ms > 0) s += fmt::format("ingest: {:.2f} ms per input frame\n", r.ingest_ms);
     if (r.static_frames > 0) {

@@ -52,6 +52,8 @@ struct MethodScore {
     // Temporal stability (sr): mean per-pixel standard deviation of the display values over the
     // static stretch (capture::TemporalStd); negative when not measured.
     double stability_std = -1;
+    // Per pass that classifies tiles (Params::skip_tiles): tiles skipped and tiles in total, summed.
+    std::map<std::string, std::pair<uint64_t, uint64_t>> pass_tiles;
 };
 
 struct EvalReport {

@@ -4,14 +4,14 @@
 #include "cli_util.hpp"
 #include "eval.hpp"
 #include "lut_train.hpp"
-#include "stress.hpp"
 #include "replay.hpp"
+#include "stress.hpp"
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/engine/engine.hpp>
-#include <fgsr/engine/presets.hpp>
 #include <fgsr/engine/lut.hpp>
+#include <fgsr/engine/presets.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -85,6 +85,11 @@ int main(int argc, char** argv) {
     eval->add_flag("--no-hole-fill", no_holes, "Disable disocclusion filling");
     eval->add_flag("--separate-passes", separate,
                    "Run refine, disocc, warp and blend as separate passes (per-pass timings; same frames)");
+    bool no_skip = false;
+    eval->add_flag("--no-skip-tiles", no_skip,
+                   "Run every pass over every tile (no per-tile classification; same frames)");
+    eval->add_option("--tile", eo.params.tile_size, "Tile side for skipping: 8, 16 or 32 (0: default)")
+        ->check(CLI::IsMember({0, 8, 16, 32}));
     eval->add_flag("--quiet", quiet, "No progress on stderr");
     std::string preset;
     eval->add_option("--preset", preset,
@@ -163,6 +168,7 @@ int main(int argc, char** argv) {
                   : mode == "isr"  ? fgsr::cli::EvalMode::isr
                   : mode == "esr"  ? fgsr::cli::EvalMode::esr
                                    : fgsr::cli::EvalMode::interp;
+        eo.params.skip_tiles = !no_skip;
         eo.methods = split_list(methods);
         if (eo.mode != fgsr::cli::EvalMode::interp && eo.mode != fgsr::cli::EvalMode::extrap &&
             !eval->count("--methods"))

@@ -47,6 +47,62 @@ constexpr std::array<uint32_t, kPassCount> kPassPush = {
     sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::GenParams),
     sizeof(gpu::GenParams),    sizeof(gpu::SrParams),  sizeof(GenSrPush)};
 
+// Passes of tile skipping (shaders/classify.h, tiles.h), numbered after the others; the tiled
+// variants are timed under their base pass's name.
+enum TilePassId : uint32_t {
+    kClassify = uint32_t(kPassCount),
+    kSplatTiled,
+    kGenerateTiled,
+    kSrTiled,
+    kSrStatic,
+    kGenerateSrTiled,
+    kGenerateSrStatic,
+    kAllPassCount
+};
+struct TilePassInfo {
+    const char* shader; // embedded "<shader>_g<group>"
+    PassId base;        // timing name and bindings before the TILED_EXTRA ones
+};
+constexpr std::array<TilePassInfo, uint32_t(kAllPassCount) - uint32_t(kPassCount)> kTilePasses = {
+    {{"classify", kIngest},
+     {"splat_tiled", kSplat},
+     {"generate_tiled", kGenerate},
+     {"sr_tiled", kSr},
+     {"sr_static", kSr},
+     {"generate_sr_tiled", kGenerateSr},
+     {"generate_sr_static", kGenerateSr}}};
+const char* shader_name(uint32_t p) {
+    return p < kPassCount ? kPassNames[p] : kTilePasses[p - kPassCount].shader;
+}
+const char* timing_name(uint32_t p) {
+    return p < kPassCount   ? kPassNames[p]
+           : p == kClassify ? "classify"
+                            : kPassNames[kTilePasses[p - kPassCount].base];
+}
+uint32_t pass_bindings(uint32_t p) {
+    return p < kPassCount   ? kPassBindings[p]
+           : p == kClassify ? CLASSIFY_COUNT
+                            : kPassBindings[kTilePasses[p - kPassCount].base] + TILED_EXTRA;
+}
+uint32_t pass_push(uint32_t p) {
+    return p < kPassCount   ? kPassPush[p]
+           : p == kClassify ? uint32_t(sizeof(gpu::ClassifyParams))
+                            : kPassPush[kTilePasses[p - kPassCount].base];
+}
+
+constexpr double kMinSkipShare = 0.25;
+constexpr uint32_t kUnclassifiedRun = 7;
+
+// Tile side when Params::tile_size is 0 (measured on lavapipe, TILES_NOTES.md).
+constexpr uint32_t kDefaultTile = 16;
+constexpr uint32_t kMinTile = 8;
+
+// Invocations along one side of the square each listed LR tile of `tile` pixels gets in a pass at
+// `scale` x resolution (shaders/tiles.h, listed_output_pixel).
+uint32_t output_span(uint32_t tile, float scale) {
+    return scale == 1.f ? tile : uint32_t(std::ceil(double(tile) * double(scale))) + 3;
+}
+
 uint32_t groups(uint32_t n, uint32_t size) {
     return (n + size - 1) / size;
 }
@@ -85,7 +141,7 @@ size_t HostMemory::size() const {
 struct Engine::Impl {
     std::unique_ptr<vk::Context> ctx;
     uint32_t group = 8; // workgroup side of every pass
-    std::array<vk::Pipeline, kPassCount> pipelines;
+    std::array<vk::Pipeline, kAllPassCount> pipelines;
 };
 
 Engine::Engine(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -103,10 +159,10 @@ Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
         impl->ctx->props.limits.maxComputeWorkGroupSize[0] >= 32 &&
         impl->ctx->props.limits.maxComputeWorkGroupSize[1] >= 32)
         impl->group = 32;
-    for (uint32_t p = 0; p < kPassCount; ++p) {
-        const uint32_t push = kPassPush[p];
-        const std::string shader = std::string(kPassNames[p]) + "_g" + std::to_string(impl->group);
-        auto pipe = vk::Pipeline::create(*impl->ctx, shader, kPassBindings[p], push);
+    for (uint32_t p = 0; p < kAllPassCount; ++p) {
+        const uint32_t push = pass_push(p);
+        const std::string shader = std::string(shader_name(p)) + "_g" + std::to_string(impl->group);
+        auto pipe = vk::Pipeline::create(*impl->ctx, shader, pass_bindings(p), push);
         if (!pipe) return pipe.error();
         impl->pipelines[p] = std::move(*pipe);
     }
@@ -174,6 +230,24 @@ struct Session::Impl {
     vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1,
         warped_depth1;
     std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
+
+    // Tile skipping (shaders/classify.h): per generated frame of a call (and index 0 for the sr
+    // pass of a submit), the TILE_* flags and the tile lists, host-visible (the host writes their
+    // headers in the command buffer and reads the counts after the fence).
+    struct TileSet {
+        vk::Buffer flags, work, generate, statics;
+    };
+    std::vector<TileSet> tile_sets;
+    bool last_tiled = false;     // the last generated frame was classified
+    bool last_sr_tiled = false;  // the last submit's sr pass was classified
+    uint32_t last_tile_side = 0; // of the last classification
+    uint32_t sr_tiles_total = 0, sr_tiles_skipped = 0;
+    PassTiming classify_sr_timing{"classify"};
+    // Classification pays only where tiles can be skipped (on lavapipe a frame with every tile
+    // moving costs about 2x with it, TILES_NOTES.md): after a classification that found less than
+    // kMinSkipShare of the tiles skippable, the next kUnclassifiedRun calls (generate) or submits
+    // (sr) run every tile without classifying, then classify again. Same frames either way.
+    uint32_t gen_unclassified_left = 0, sr_unclassified_left = 0;
     bool last_extrapolate = false;
     bool last_separate = false;
     size_t last_output = 0;
@@ -206,7 +280,7 @@ struct Session::Impl {
         VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
         FGSR_VK(vkCreateFence(ctx->device, &fi, nullptr, &fence), "vkCreateFence");
         const uint32_t max_sets = kMaxAlphas * kPassCount + 4;
-        VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, max_sets * 9};
+        VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, max_sets * 16};
         VkDescriptorPoolCreateInfo di{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         di.maxSets = max_sets;
         di.poolSizeCount = 1;
@@ -251,6 +325,59 @@ struct Session::Impl {
     }
 
     bool sr() const { return out_w != format.width || out_h != format.height; }
+
+    uint32_t tile_side() const { return params.tile_size ? params.tile_size : kDefaultTile; }
+    uint32_t tiles_x() const { return (format.width + tile_side() - 1) / tile_side(); }
+    uint32_t tiles_total() const { return tiles_x() * ((format.height + tile_side() - 1) / tile_side()); }
+
+    Result<void> ensure_tile_sets(size_t count) {
+        // Sized for the smallest tile side, so that Params::tile_size may change between calls.
+        const VkDeviceSize max_tiles = VkDeviceSize((format.width + kMinTile - 1) / kMinTile) *
+                                       ((format.height + kMinTile - 1) / kMinTile);
+        const VkDeviceSize list_bytes = (TILE_LIST_HEADER + max_tiles) * 4;
+        while (tile_sets.size() < count) {
+            TileSet t;
+            for (auto [b, bytes] : {std::pair{&t.flags, max_tiles * 4}, std::pair{&t.work, list_bytes},
+                                    std::pair{&t.generate, list_bytes}, std::pair{&t.statics, list_bytes}}) {
+                auto r = vk::Buffer::create(*ctx, bytes, true);
+                if (!r) return r.error();
+                *b = std::move(*r);
+            }
+            tile_sets.push_back(std::move(t));
+        }
+        return {};
+    }
+
+    // Records the header of each list of a tile set: empty, dispatch (0, 1, 1), tile side, and the
+    // invocation span per listed tile of the passes over the work list and over the others.
+    void reset_lists(const TileSet& t, uint32_t work_span, uint32_t output_span) {
+        const uint32_t side = tile_side();
+        const std::array<uint32_t, TILE_LIST_HEADER> work{0, 1, 1, 0, side, work_span, 0, 0};
+        const std::array<uint32_t, TILE_LIST_HEADER> out{0, 1, 1, 0, side, output_span, 0, 0};
+        vkCmdUpdateBuffer(cmd, t.work.handle(), 0, sizeof(work), work.data());
+        vkCmdUpdateBuffer(cmd, t.generate.handle(), 0, sizeof(out), out.data());
+        vkCmdUpdateBuffer(cmd, t.statics.handle(), 0, sizeof(out), out.data());
+    }
+
+    static uint32_t list_count(const vk::Buffer& list) {
+        return static_cast<const uint32_t*>(list.mapped())[3];
+    }
+
+    // The classify dispatches (both stages, shaders/classify.comp) after the lists' reset: per
+    // pixel, then per tile. The flags are buffers[CLASSIFY_FLAGS]; generate mode also empties the
+    // keys (buffers[GEN_KEYS]) for the tiled splat.
+    Result<void> classify(gpu::ClassifyParams c, std::initializer_list<BufRef> buffers) {
+        vkCmdFillBuffer(cmd, buffers.begin()[CLASSIFY_FLAGS].buffer, 0, VK_WHOLE_SIZE, 0u);
+        if (c.mode == CLASSIFY_GENERATE)
+            vkCmdFillBuffer(cmd, buffers.begin()[GEN_KEYS].buffer, 0, VK_WHOLE_SIZE, 0xffffffffu);
+        barrier();
+        c.stage = 0;
+        FGSR_TRY(dispatch(kClassify, buffers, &c, c.g.width, c.g.height));
+        barrier();
+        c.stage = 1;
+        FGSR_TRY(dispatch(kClassify, buffers, &c, groups(c.g.width, c.tile), groups(c.g.height, c.tile)));
+        return {};
+    }
 
     Result<void> upload_lut() {
         Lut l = params.lut.size() == kLutSize ? Lut{params.scale, params.lut} : default_lut(params.scale);
@@ -330,10 +457,10 @@ struct Session::Impl {
         mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
         mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
-                           VK_ACCESS_HOST_READ_BIT;
+                           VK_ACCESS_HOST_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
         vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                              VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                                 VK_PIPELINE_STAGE_HOST_BIT,
+                                 VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
                              0, 1, &mb, 0, nullptr, 0, nullptr);
     }
 
@@ -342,8 +469,26 @@ struct Session::Impl {
     }
 
     // Dispatches one invocation per pixel of a width x height image (0: the session's frame size).
-    Result<void> dispatch(PassId pass, std::initializer_list<BufRef> buffers, const void* push,
+    Result<void> dispatch(uint32_t pass, std::initializer_list<BufRef> buffers, const void* push,
                           uint32_t width = 0, uint32_t height = 0) {
+        FGSR_TRY(bind(pass, buffers, push));
+        vkCmdDispatch(cmd, groups(width ? width : format.width, engine->group),
+                      groups(height ? height : format.height, engine->group), 1);
+        return {};
+    }
+
+    // Dispatches a tiled pass over a tile list (shaders/tiles.h); the list is also bound at
+    // <PASS>_COUNT + TILED_LIST, followed by the flags and the list splat appends to.
+    Result<void> dispatch_tiles(uint32_t pass, std::initializer_list<BufRef> buffers, const void* push,
+                                const vk::Buffer& list) {
+        FGSR_TRY(bind(pass, buffers, push));
+        vkCmdDispatchIndirect(cmd, list.handle(), 0);
+        return {};
+    }
+
+    // Binds a pass's pipeline, a fresh descriptor set of `buffers` (binding i = i-th buffer) and
+    // its push constants.
+    Result<void> bind(uint32_t pass, std::initializer_list<BufRef> buffers, const void* push) {
         const vk::Pipeline& p = engine->pipelines[pass];
         VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
         ai.descriptorPool = desc_pool;
@@ -369,8 +514,6 @@ struct Session::Impl {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
         vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, p.push_size(), push);
-        vkCmdDispatch(cmd, groups(width ? width : format.width, engine->group),
-                      groups(height ? height : format.height, engine->group), 1);
         return {};
     }
 
@@ -408,6 +551,99 @@ struct Session::Impl {
 
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
     Result<void> submit(const FrameView& frame, const HostMemory* memory);
+
+    // Records the sr pass of a frame with history with tile skipping: classify in sr mode, then
+    // sr over the moving tiles and its static form over the others. Writes timestamp 2 (after
+    // classify); the caller writes the one after sr.
+    Result<void> record_sr_tiled(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,
+                                 const vk::Buffer& history, const vk::Buffer& out) {
+        FGSR_TRY(ensure_tile_sets(1));
+        const TileSet& ts = tile_sets[0];
+        const uint32_t side = tile_side();
+        const uint32_t span = output_span(side, sp.scale);
+        reset_lists(ts, span, span);
+        barrier();
+        gpu::ClassifyParams c{};
+        c.g.width = format.width;
+        c.g.height = format.height;
+        c.g.t_depth = sp.t_depth;
+        c.tile = side;
+        c.mode = CLASSIFY_SR;
+        c.dilate = sp.dilate;
+        c.work_invocations = span * span;
+        c.output_invocations = span * span;
+        // Generate-mode bindings the sr mode does not touch get any buffer of the right kind.
+        FGSR_TRY(classify(c, {&f.mv, &prev.mv, &f.depth, &prev.depth, &keys, &motion, &f.color, &f.color,
+                              &out, &ts.flags, &ts.work, &ts.generate, &ts.statics}));
+        barrier();
+        timestamp(2);
+        FGSR_TRY(dispatch_tiles(
+            kSrTiled,
+            {&f.color, &f.depth, &f.mv, &prev.depth, &history, &lut, &out, &ts.work, &ts.flags, &ts.generate},
+            &sp, ts.work));
+        gpu::SrParams st = sp;
+        st.resample = uint32_t(Resample::bilinear); // exact at the static pixels' phase 0
+        st.dilate = 0;                              // every vector around a static pixel is zero
+        FGSR_TRY(dispatch_tiles(kSrStatic,
+                                {&f.color, &f.depth, &f.mv, &prev.depth, &history, &lut, &out, &ts.statics,
+                                 &ts.flags, &ts.generate},
+                                &st, ts.statics));
+        return {};
+    }
+
+    // Records generated frame k with tile skipping: classify (copy-through output of static
+    // pixels at input resolution, tile lists), splat over the moving tiles, then generate (or
+    // generate_sr) over the moving and dirtied tiles; with super resolution the static tiles that
+    // stayed clean take generate_sr's static form. Writes timestamps q..q+2.
+    Result<void> record_tiled(size_t k, const gpu::GenParams& g, bool extrapolate, uint32_t& q) {
+        const TileSet& ts = tile_sets[k];
+        const vk::Buffer& out = outputs[k];
+        const GpuFrame& f1 = frames[size_t(newest)];
+        const GpuFrame& f0 = frames[size_t(1 - newest)];
+        const uint32_t side = tile_side();
+        const float scale = sr() ? float(out_w) / float(format.width) : 1.f;
+        const uint32_t span = output_span(side, scale);
+        reset_lists(ts, side, span);
+        barrier();
+        gpu::ClassifyParams c{};
+        c.g = g;
+        c.tile = side;
+        c.mode = CLASSIFY_GENERATE;
+        c.write_output = sr() ? 0u : 1u;
+        c.work_invocations = side * side;
+        c.output_invocations = span * span;
+        FGSR_TRY(classify(c, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color, &f1.color,
+                              &out, &ts.flags, &ts.work, &ts.generate, &ts.statics}));
+        barrier();
+        timestamp(q++);
+        FGSR_TRY(dispatch_tiles(
+            kSplatTiled,
+            {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &ts.work, &ts.flags, &ts.generate}, &g,
+            ts.work));
+        barrier();
+        timestamp(q++);
+        if (!sr()) {
+            FGSR_TRY(dispatch_tiles(kGenerateTiled,
+                                    {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color,
+                                     &f1.color, &out, &ts.generate, &ts.flags, &ts.generate},
+                                    &g, ts.generate));
+        } else {
+            GenSrPush push{g, ref::sr_params(format, params, out_w, out_h, jitter_x, jitter_y, true)};
+            const vk::Buffer& src = hr[size_t(extrapolate ? hr_newest : 1 - hr_newest)];
+            FGSR_TRY(dispatch_tiles(kGenerateSrTiled,
+                                    {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color,
+                                     &f1.color, &src, &lut, &out, &ts.generate, &ts.flags, &ts.generate},
+                                    &push, ts.generate));
+            push.s.resample = uint32_t(Resample::bilinear); // exact at the static pixels' phase 0
+            FGSR_TRY(dispatch_tiles(kGenerateSrStatic,
+                                    {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion, &f0.color,
+                                     &f1.color, &src, &lut, &out, &ts.statics, &ts.flags, &ts.generate},
+                                    &push, ts.statics));
+        }
+        barrier();
+        timestamp(q++);
+        return {};
+    }
 };
 
 Result<void> validate(const Params& p) {
@@ -459,6 +695,9 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     if (impl->out_w > 16384 || impl->out_h > 16384)
         return make_error(Errc::invalid_argument, "output size " + std::to_string(impl->out_w) + "x" +
                                                       std::to_string(impl->out_h) + " exceeds 16384x16384");
+    if (params.tile_size != 0 && params.tile_size != 8 && params.tile_size != 16 && params.tile_size != 32)
+        return make_error(Errc::invalid_argument,
+                          "tile size " + std::to_string(params.tile_size) + " is not 0, 8, 16 or 32");
     // A view with planes of exactly the right size validates conventions and limits.
     std::vector<std::byte> c(n * bytes_per_pixel(format.color_format)), d(n * 4);
     FGSR_TRY(ref::validate(format, FrameView{c, d, {}}));
@@ -483,6 +722,7 @@ void Session::set_params(const Params& p) {
     const bool lut_changed = p.lut != impl_->params.lut;
     impl_->params = p;
     impl_->params.scale = scale;
+    if (p.tile_size != 8 && p.tile_size != 16 && p.tile_size != 32) impl_->params.tile_size = 0;
     if (lut_changed && impl_->sr()) (void)impl_->upload_lut();
 }
 uint32_t Session::output_width() const {
@@ -499,6 +739,15 @@ double Session::last_ingest_ms() const {
 }
 PassTiming Session::last_ingest_timing() const {
     return impl_->ingest_timing;
+}
+uint32_t Session::tile_side() const {
+    return impl_->tile_side();
+}
+std::vector<uint32_t> Session::last_sr_tile_flags() const {
+    const Impl& s = *impl_;
+    if (!s.last_sr_tiled || s.tile_sets.empty()) return {};
+    const uint32_t* flags = static_cast<const uint32_t*>(s.tile_sets[0].flags.mapped());
+    return std::vector<uint32_t>(flags, flags + s.sr_tiles_total);
 }
 
 void Session::reset() {
@@ -567,21 +816,38 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     FGSR_TRY(s.dispatch(kIngest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p));
     s.barrier();
     s.timestamp(1);
+    bool sr_tiled = false;
     if (s.sr()) {
         gpu::SrParams sp = ref::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x,
                                           frame.jitter_y, !restart && s.hr_valid && has_mv);
         const vk::Buffer& history = s.hr[size_t(s.hr_newest)];
         const vk::Buffer& out = s.hr[size_t(1 - s.hr_newest)];
-        FGSR_TRY(s.dispatch(kSr, {&f.color, &f.depth, &f.mv, &prev.depth, &history, &s.lut, &out}, &sp,
-                            s.out_w, s.out_h));
+        // Without history every pixel is a spatial upsample: nothing to classify.
+        sr_tiled = s.params.skip_tiles && sp.has_history != 0u && s.sr_unclassified_left == 0;
+        if (s.sr_unclassified_left > 0) --s.sr_unclassified_left;
+        if (sr_tiled)
+            FGSR_TRY(s.record_sr_tiled(sp, f, prev, history, out));
+        else
+            FGSR_TRY(s.dispatch(kSr, {&f.color, &f.depth, &f.mv, &prev.depth, &history, &s.lut, &out}, &sp,
+                                s.out_w, s.out_h));
         s.barrier();
-        s.timestamp(2);
+        s.timestamp(sr_tiled ? 3 : 2);
     }
     FGSR_TRY(s.finish(true));
-    auto t = s.read_times(0, s.sr() ? 2 : 1);
+    auto t = s.read_times(0, s.sr() ? (sr_tiled ? 3 : 2) : 1);
     if (!t) return t.error();
     s.ingest_timing = (*t)[0];
     s.ingest_timing.name = "ingest";
+    s.last_sr_tiled = sr_tiled;
+    s.classify_sr_timing = sr_tiled ? (*t)[1] : PassTiming{};
+    s.classify_sr_timing.name = "classify";
+    if (sr_tiled) {
+        s.last_tile_side = s.tile_side();
+        s.sr_tiles_total = s.tiles_total();
+        s.sr_tiles_skipped = std::min(s.sr_tiles_total, Impl::list_count(s.tile_sets[0].statics));
+        if (double(s.sr_tiles_skipped) < kMinSkipShare * double(s.sr_tiles_total))
+            s.sr_unclassified_left = kUnclassifiedRun;
+    }
     f.has_mv = has_mv;
     s.newest = slot;
     s.jitter_x = frame.jitter_x;
@@ -589,7 +855,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (restart) s.submitted = 0;
     ++s.submitted;
     if (s.sr()) {
-        s.sr_timing = (*t)[1];
+        s.sr_timing = (*t)[sr_tiled ? 2 : 1];
         s.sr_timing.name = "sr";
         s.hr_newest = 1 - s.hr_newest;
         s.hr_valid = true;
@@ -615,10 +881,13 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
                                   (extrapolate ? "(0, 1] for extrapolation" : "(0, 1) for interpolation"));
     }
     FGSR_TRY(ensure_outputs(alphas.size()));
+    const bool tiled = params.skip_tiles && !(params.separate_passes && !sr()) && gen_unclassified_left == 0;
+    if (gen_unclassified_left > 0) --gen_unclassified_left;
+    if (tiled) FGSR_TRY(ensure_tile_sets(alphas.size()));
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
 
-    std::vector<std::vector<PassId>> timings(alphas.size()); // passes timed per generated frame, in order
+    std::vector<std::vector<uint32_t>> timings(alphas.size()); // passes timed per generated frame, in order
     FGSR_TRY(begin());
     for (size_t k = 0; k < alphas.size(); ++k) {
         const gpu::GenParams g =
@@ -627,6 +896,11 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         uint32_t q = q0;
         const vk::Buffer& out = outputs[k];
         timestamp(q++);
+        if (tiled) {
+            FGSR_TRY(record_tiled(k, g, extrapolate, q));
+            timings[k] = {kClassify, kSplatTiled, sr() ? kGenerateSrTiled : kGenerateTiled};
+            continue;
+        }
         vkCmdFillBuffer(cmd, keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
         barrier();
         FGSR_TRY(dispatch(kSplat, {&f1.mv, &f0.mv, &f1.depth, &f0.depth, &keys, &motion}, &g));
@@ -695,9 +969,18 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         if (!t) return t.error();
         for (size_t p = 0; p < timings[k].size(); ++p) {
             PassTiming pt = (*t)[p];
-            pt.name = kPassNames[timings[k][p]];
+            pt.name = timing_name(timings[k][p]);
             gf.gpu_ms += pt.ms;
             gf.passes.push_back(std::move(pt));
+        }
+        if (tiled) { // classify, splat, generate(_sr): tiles outside the lists were skipped
+            const TileSet& ts = tile_sets[k];
+            const uint32_t total = tiles_total();
+            gf.passes[0].tiles_total = gf.passes[1].tiles_total = gf.passes[2].tiles_total = total;
+            gf.passes[1].tiles_skipped = total - std::min(total, list_count(ts.work));
+            gf.passes[2].tiles_skipped = total - std::min(total, list_count(ts.generate));
+            if (double(gf.passes[2].tiles_skipped) < kMinSkipShare * double(total))
+                gen_unclassified_left = kUnclassifiedRun;
         }
         const size_t out_n = size_t(out_w) * out_h;
         gf.color.width = out_w;
@@ -707,6 +990,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     }
     last_extrapolate = extrapolate;
     last_separate = params.separate_passes && !sr();
+    last_tiled = tiled;
+    last_tile_side = tile_side();
     last_output = alphas.size() - 1;
     return result;
 }
@@ -722,8 +1007,17 @@ Result<GeneratedFrame> Session::super_resolved() {
     GeneratedFrame gf;
     gf.time = 1.f;
     gf.color = ImageRGBA{s.out_w, s.out_h, std::move(*px)};
-    gf.passes.push_back(s.sr_timing);
-    gf.gpu_ms = s.sr_timing.ms;
+    PassTiming sr = s.sr_timing;
+    if (s.last_sr_tiled) {
+        PassTiming cl = s.classify_sr_timing;
+        cl.tiles_total = s.sr_tiles_total;
+        gf.passes.push_back(cl);
+        gf.gpu_ms += cl.ms;
+        sr.tiles_total = s.sr_tiles_total;
+        sr.tiles_skipped = s.sr_tiles_skipped;
+    }
+    gf.passes.push_back(sr);
+    gf.gpu_ms += sr.ms;
     return gf;
 }
 
@@ -744,6 +1038,11 @@ Result<Session::Intermediates> Session::read_intermediates() const {
     auto motion = s.download<float>(s.motion, s.n * 4);
     if (!motion) return motion.error();
     out.motion = std::move(*motion);
+    if (s.last_tiled && s.last_output < s.tile_sets.size()) {
+        const uint32_t* flags = static_cast<const uint32_t*>(s.tile_sets[s.last_output].flags.mapped());
+        out.tile_flags.assign(flags, flags + s.tiles_total());
+        out.tile_side = s.last_tile_side;
+    }
     if (!s.last_separate) return out; // the fused pass keeps no other intermediates
     auto get_f = [&](const vk::Buffer& b, size_t count, std::vector<float>& dst) -> Result<void> {
         auto r = s.download<float>(b, count);

@@ -86,6 +86,12 @@ struct GenerateCpu : KeysCpu {
 #include "generate.h"
 };
 
+struct ClassifyCpu : FramesCpu {
+#include "field.h"
+#include "blend.h"
+#include "classify.h"
+};
+
 struct ResampleCpu {
     const std::vector<vec4>* src;
     uint width;
@@ -364,6 +370,22 @@ std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1
         return std::vector<glm::vec4>(warped.color.begin() + long(n), warped.color.end());
     }
     return blend(warped, field, g);
+}
+
+std::vector<uint32_t> classify(const InternalFrame& f0, const InternalFrame& f1, const ClassifyParams& c) {
+    const uint32_t tx = (c.g.width + c.tile - 1) / c.tile, ty = (c.g.height + c.tile - 1) / c.tile;
+    std::vector<uint32_t> flags(size_t(tx) * ty);
+    gpu::ClassifyCpu cpu{{&f0, &f1}};
+    for (uint32_t y = 0; y < ty; ++y)
+        for (uint32_t x = 0; x < tx; ++x)
+            flags[size_t(y) * tx + x] =
+                cpu.classify_tile(glm::ivec2(int(x), int(y)), c) ? TILE_STATIC : TILE_MOVING;
+    return flags;
+}
+
+glm::vec4 copy_through(const InternalFrame& f0, const InternalFrame& f1, glm::ivec2 p, const GenParams& g) {
+    gpu::ClassifyCpu cpu{{&f0, &f1}};
+    return cpu.copy_through(p, g);
 }
 
 std::vector<glm::vec4> resample_image(const std::vector<glm::vec4>& src, uint32_t w, uint32_t h,

@@ -378,7 +378,7 @@ Result<Buffer> Buffer::create(Context& ctx, VkDeviceSize size, bool host) {
     VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     bi.size = std::max<VkDeviceSize>(size, 16);
     bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-               VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
     bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     FGSR_VK(vkCreateBuffer(ctx.device, &bi, nullptr, &b.buffer_), "vkCreateBuffer");
     VkMemoryRequirements req;

@@ -68,6 +68,17 @@ struct Params {
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).
     bool mvs_contain_jitter = false;
+
+    // Per-tile work skipping (shaders/classify.h): a `classify` pass finds the tiles with no
+    // motion; splat, generate, sr and generate_sr run only over the tiles that need them
+    // (indirect dispatch over compacted tile lists) and the static tiles take a cheap path
+    // (copy-through, or the history read at the pixel itself). The frames equal those with
+    // skipping off up to float rounding (tests/test_tiles.cpp states the tolerance). Not applied
+    // with separate_passes. After a classification that finds less than a quarter of the tiles
+    // skippable, the next 7 calls (generate) or submits (sr) run without classifying.
+    bool skip_tiles = true;
+    // Tile side in pixels: 8, 16 or 32; 0 picks the measured default (TILES_NOTES.md).
+    uint32_t tile_size = 0;
 };
 
 // Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b finite
@@ -86,6 +97,10 @@ struct PassTiming {
     // early by the queue's start-up latency).
     uint64_t begin_ns = 0;
     uint64_t end_ns = 0;
+    // Tiles of the frame and how many of them the pass skipped or took a cheap path for
+    // (Params::skip_tiles); both 0 when the pass does not classify tiles.
+    uint32_t tiles_total = 0;
+    uint32_t tiles_skipped = 0;
 };
 
 struct GeneratedFrame {
@@ -177,6 +192,11 @@ class Session {
     double last_ingest_ms() const;
     // Timing of the last submit's ingest pass (with CLOCK_MONOTONIC begin/end).
     PassTiming last_ingest_timing() const;
+    // TILE_* flags of the last submit's super-resolution classification (empty when it was not
+    // classified: no history, or Params::skip_tiles off), tiles of tile_side() pixels.
+    std::vector<uint32_t> last_sr_tile_flags() const;
+    // The tile side in use (Params::tile_size or the default).
+    uint32_t tile_side() const;
     // Output size: the frame size times Params::scale (the frame size without super resolution).
     uint32_t output_width() const;
     uint32_t output_height() const;
@@ -194,6 +214,8 @@ class Session {
     // generated frame (the last alpha of the last call). Only the keys exist after a fused call;
     // the other vectors are filled when Params::separate_passes was set.
     struct Intermediates {
+        // With Params::skip_tiles, static tiles hold only what moving tiles splatted there (their
+        // own keys and zero vectors are implied, shaders/tiles.h).
         std::vector<uint64_t> keys;
         std::vector<float> motion; // 4 per frame-1 pixel: v0.xy, v1.xy (see ref::Splat)
         std::vector<float> field;  // 4 per pixel: v0.xy, v1.xy
@@ -201,6 +223,10 @@ class Session {
         std::vector<uint32_t> field_state;
         std::vector<float> warped_color0, warped_color1; // 4 per pixel
         std::vector<float> warped_depth0, warped_depth1;
+        // TILE_* flags (shaders/common.h) per tile, row-major, of the last generated frame when it
+        // was classified (Params::skip_tiles); empty otherwise. Tile side: tile_side.
+        std::vector<uint32_t> tile_flags;
+        uint32_t tile_side = 0;
     };
     Result<Intermediates> read_intermediates() const;
     struct InternalFrameData {

@@ -15,6 +15,7 @@
 
 namespace fgsr::ref {
 
+using gpu::ClassifyParams;
 using gpu::GenParams;
 using gpu::IngestParams;
 using gpu::SrParams;
@@ -99,6 +100,13 @@ std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFra
 
 // The whole chain of separate passes: interpolated (blend output) or extrapolated (warped frame 1).
 std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
+
+// Pass `classify` (shaders/classify.h): TILE_STATIC or TILE_MOVING per tile of c.tile pixels,
+// row-major. Generate mode: f0, f1 the frames of the generated frame. SR mode: f1 the current
+// frame, f0 the previous one (only its depth is read).
+std::vector<uint32_t> classify(const InternalFrame& f0, const InternalFrame& f1, const ClassifyParams& c);
+// The copy-through value generate mode gives a pixel of a static tile that splat left alone.
+glm::vec4 copy_through(const InternalFrame& f0, const InternalFrame& f1, glm::ivec2 p, const GenParams& g);
 
 // Resamples `src` (w x h) at every pixel centre + shift (pixels, x right, y down), with the
 // engine's resampling (shaders/resample.h): out(x, y) = resample(src, (x + 0.5, y + 0.5) + shift).

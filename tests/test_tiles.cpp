@@ -1,0 +1,384 @@
+// Per-tile work skipping (Params::skip_tiles, shaders/classify.h): the classify pass against its
+// CPU reference, and every mode run with skipping on and off on the same frames.
+//
+// Tolerance of on against off: per channel |on - off| <= 1e-5 * max(1, |off|) and PSNR >= 90 dB.
+// Skipping is exact by construction (the static paths compute the same expressions on the same
+// values: a static pixel's key, zero vectors, and phase-0 resampling, which every kind returns
+// unchanged), so the only admissible difference is float rounding where the copy-through
+// (classify) or the static sr / generate_sr variants are compiled separately from the full passes
+// and the compiler may contract or reorder differently: a few ulps of values in [0, 65504].
+// Measured: bit-identical on lavapipe (the tests report the max difference they saw).
+#include "engine_fixture.hpp"
+
+#include <fgsr/capture/capture.hpp>
+#include <fgsr/capture/metrics.hpp>
+#include <fgsr/capture/synthetic.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+
+namespace fgsr::test {
+namespace {
+
+constexpr float kRelTolerance = 1e-5f;
+constexpr double kMinPsnr = 90.0;
+
+struct Diff {
+    float max_abs = 0; // max over channels of |on - off| / max(1, |off|)
+    double psnr = 1e9; // display-referred, capped at capture::kPsnrIdentical
+};
+
+Diff compare(const ImageRGBA& on, const ImageRGBA& off) {
+    Diff d;
+    EXPECT_EQ(on.rgba.size(), off.rgba.size());
+    for (size_t i = 0; i < std::min(on.rgba.size(), off.rgba.size()); ++i)
+        d.max_abs =
+            std::max(d.max_abs, std::abs(on.rgba[i] - off.rgba[i]) / std::max(1.f, std::abs(off.rgba[i])));
+    auto p = capture::psnr(on, off);
+    d.psnr = p ? *p : 0.0;
+    return d;
+}
+
+// Every output of a run: generated frames, then (with SR) the super-resolved frames.
+struct Outputs {
+    std::vector<ImageRGBA> frames;
+    std::vector<GeneratedFrame> generated; // timings and tile counts of the generated frames
+};
+
+enum class Mode { interp, extrap, sr };
+
+// Submits `inputs` in order; after each from the second on, generates at `alphas` (interp /
+// extrap) or collects the super-resolved frame (sr, every input; with `generate_too` also an
+// interpolation at 0.5, i.e. ISR).
+Outputs run(const FrameFormat& format, const std::vector<FrameView>& inputs, const std::vector<float>& jitter,
+            Params params, Mode mode, bool generate_too = false) {
+    Outputs r;
+    auto s = engine().create_session(format, params);
+    EXPECT_TRUE(s) << s.error().message;
+    if (!s) return r;
+    const std::vector<float> alphas =
+        mode == Mode::extrap ? std::vector<float>{0.5f, 1.f} : std::vector<float>{0.25f, 0.5f};
+    for (size_t k = 0; k < inputs.size(); ++k) {
+        FrameView v = inputs[k];
+        if (!jitter.empty()) {
+            v.jitter_x = jitter[(2 * k) % jitter.size()];
+            v.jitter_y = jitter[(2 * k + 1) % jitter.size()];
+        }
+        auto ok = (*s)->submit(v);
+        EXPECT_TRUE(bool(ok)) << (ok ? "" : ok.error().message);
+        if (mode == Mode::sr) {
+            auto f = (*s)->super_resolved();
+            EXPECT_TRUE(f);
+            if (f) r.frames.push_back(f->color);
+        }
+        if (k == 0 || (mode == Mode::sr && !generate_too)) continue;
+        auto g = mode == Mode::extrap ? (*s)->extrapolate(alphas) : (*s)->interpolate(alphas);
+        EXPECT_TRUE(g) << g.error().message;
+        if (!g) continue;
+        for (GeneratedFrame& f : *g) {
+            r.frames.push_back(f.color);
+            r.generated.push_back(std::move(f));
+        }
+    }
+    expect_no_validation_errors();
+    return r;
+}
+
+// Runs with skipping on and off and checks the tolerance; returns the run with skipping on.
+Outputs expect_same_on_off(const FrameFormat& format, const std::vector<FrameView>& inputs,
+                           const std::vector<float>& jitter, Params params, Mode mode,
+                           bool generate_too = false) {
+    params.skip_tiles = false;
+    const Outputs off = run(format, inputs, jitter, params, mode, generate_too);
+    params.skip_tiles = true;
+    Outputs on = run(format, inputs, jitter, params, mode, generate_too);
+    EXPECT_EQ(on.frames.size(), off.frames.size());
+    Diff worst;
+    for (size_t i = 0; i < std::min(on.frames.size(), off.frames.size()); ++i) {
+        const Diff d = compare(on.frames[i], off.frames[i]);
+        EXPECT_LE(d.max_abs, kRelTolerance) << "frame " << i;
+        EXPECT_GE(d.psnr, kMinPsnr) << "frame " << i;
+        worst.max_abs = std::max(worst.max_abs, d.max_abs);
+        worst.psnr = std::min(worst.psnr, d.psnr);
+    }
+    std::printf("  on vs off: %zu frames, max relative difference %.3g, min PSNR %.1f dB\n", on.frames.size(),
+                double(worst.max_abs), worst.psnr);
+    return on;
+}
+
+// Share of tiles a pass skipped over a run.
+double skipped_share(const Outputs& r, const std::string& pass) {
+    uint64_t total = 0, skipped = 0;
+    for (const GeneratedFrame& f : r.generated)
+        for (const PassTiming& p : f.passes)
+            if (p.name == pass) {
+                total += p.tiles_total;
+                skipped += p.tiles_skipped;
+            }
+    return total ? double(skipped) / double(total) : -1.0;
+}
+
+// A textured static background (depth 50) with, when `moving`, a 12x12 square (depth 5) at
+// (x0 + k * speed, y0) in frame k, vectors to the previous frame.
+RawFrame scene_frame(uint32_t w, uint32_t h, int k, float speed, bool with_square) {
+    std::vector<glm::vec4> c(size_t(w) * h);
+    std::vector<float> d(size_t(w) * h, 50.f);
+    std::vector<glm::vec2> m(size_t(w) * h, glm::vec2(0.f));
+    const float x0 = 10.f + float(k) * speed, y0 = 20.f;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            c[i] =
+                glm::vec4(0.5f + 0.4f * std::sin(0.37f * float(x)), 0.5f + 0.4f * std::cos(0.23f * float(y)),
+                          float((x / 4 + y / 4) % 2) * 0.5f + 0.25f, 1.f);
+            if (with_square && float(x) + 0.5f >= x0 && float(x) + 0.5f < x0 + 12.f &&
+                float(y) + 0.5f >= y0 && float(y) + 0.5f < y0 + 12.f) {
+                c[i] = glm::vec4(0.9f, 0.1f, 0.1f, 1.f);
+                d[i] = 5.f;
+                m[i] = glm::vec2(-speed, 0.f);
+            }
+        }
+    return make_raw(c, d, m);
+}
+
+std::vector<FrameView> views(const std::vector<RawFrame>& frames) {
+    std::vector<FrameView> v;
+    for (const RawFrame& f : frames) v.push_back(f.view());
+    return v;
+}
+
+const std::vector<float> kJitter = {0.25f, -0.25f, -0.125f, 0.375f, 0.375f, 0.125f, -0.375f, -0.125f};
+
+TEST(Tiles, ClassifyMatchesCpuReference) {
+    const uint32_t w = 77, h = 45; // partial border tiles at every size
+    // Frame 0: random; frame 1: the left half static (zero vectors, and frame 0's vectors zeroed
+    // there too), the right half moving; a few isolated moving pixels in the static half.
+    RawFrame r0 = random_frame(w, h, 5, 4.f), r1 = random_frame(w, h, 6, 4.f);
+    auto* mv0 = reinterpret_cast<glm::vec2*>(r0.mv.data());
+    auto* mv1 = reinterpret_cast<glm::vec2*>(r1.mv.data());
+    auto* d0 = reinterpret_cast<float*>(r0.depth.data());
+    auto* d1 = reinterpret_cast<float*>(r1.depth.data());
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w / 2; ++x) {
+            const size_t i = size_t(y) * w + x;
+            mv0[i] = mv1[i] = glm::vec2(0.f);
+            if (x < 20) d0[i] = d1[i]; // the rest has depth changes: m0 comes from the neighbours
+        }
+    mv1[size_t(3) * w + 5] = glm::vec2(0.5f, 0.f);
+    mv0[size_t(30) * w + 12] = glm::vec2(0.f, -1.f);
+    const FrameFormat fmt = internal_format(w, h);
+    for (uint32_t tile : {8u, 16u, 32u})
+        for (MotionModel motion : {MotionModel::quadratic, MotionModel::linear}) {
+            Params p;
+            p.tile_size = tile;
+            p.motion = motion;
+            auto s = engine().create_session(fmt, p);
+            ASSERT_TRUE(s) << s.error().message;
+            ASSERT_TRUE((*s)->submit(r0.view()));
+            ASSERT_TRUE((*s)->submit(r1.view()));
+            const float alpha = 0.5f;
+            auto g = (*s)->interpolate(std::span(&alpha, 1));
+            ASSERT_TRUE(g) << g.error().message;
+            auto inter = (*s)->read_intermediates();
+            ASSERT_TRUE(inter);
+            const ref::InternalFrame f0 = to_internal(*(*s)->read_frame(0), w, h);
+            const ref::InternalFrame f1 = to_internal(*(*s)->read_frame(1), w, h);
+            ref::ClassifyParams c{};
+            c.g = ref::gen_params(fmt, p, alpha, false, true, true);
+            c.tile = tile;
+            c.mode = CLASSIFY_GENERATE;
+            const std::vector<uint32_t> want = ref::classify(f0, f1, c);
+            ASSERT_EQ(inter->tile_flags.size(), want.size());
+            EXPECT_EQ(inter->tile_side, tile);
+            size_t statics = 0;
+            for (size_t i = 0; i < want.size(); ++i) {
+                EXPECT_EQ((inter->tile_flags[i] & TILE_STATIC) != 0u, want[i] == TILE_STATIC)
+                    << "tile " << i << " side " << tile;
+                statics += want[i] == TILE_STATIC ? 1 : 0;
+            }
+            EXPECT_GT(statics, 0u) << "the scene has static tiles at side " << tile;
+            EXPECT_LT(statics, want.size());
+            // The generated frame on a static tile that stayed clean is the copy-through value.
+            for (size_t i = 0; i < want.size(); ++i) {
+                if (inter->tile_flags[i] != TILE_STATIC) continue;
+                const uint32_t tx = (w + tile - 1) / tile;
+                const glm::ivec2 px(int((i % tx) * tile), int((i / tx) * tile));
+                const glm::vec4 e = ref::copy_through(f0, f1, px, c.g);
+                const float* got = &(*g)[0].color.rgba[(size_t(px.y) * w + size_t(px.x)) * 4];
+                for (int ch = 0; ch < 4; ++ch) EXPECT_NEAR(got[ch], e[ch], 1e-6f) << "tile " << i;
+            }
+        }
+    expect_no_validation_errors();
+}
+
+TEST(Tiles, ClassifySrMatchesCpuReference) {
+    const uint32_t w = 50, h = 34;
+    RawFrame r0 = random_frame(w, h, 8, 2.f), r1 = random_frame(w, h, 9, 2.f);
+    auto* mv1 = reinterpret_cast<glm::vec2*>(r1.mv.data());
+    auto* d0 = reinterpret_cast<float*>(r0.depth.data());
+    auto* d1 = reinterpret_cast<float*>(r1.depth.data());
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            if (x < 24) {
+                mv1[i] = glm::vec2(0.f);
+                d1[i] = d0[i] * 1.01f; // within T_D
+            }
+        }
+    d1[size_t(20) * w + 10] *= 2.f; // a disocclusion without motion: tile (1, 2) needs rectification
+    const FrameFormat fmt = internal_format(w, h);
+    for (bool dilate : {false, true}) {
+        Params p;
+        p.scale = 2.f;
+        p.tile_size = 8;
+        p.dilate_mvs = dilate;
+        auto s = engine().create_session(fmt, p);
+        ASSERT_TRUE(s);
+        ASSERT_TRUE((*s)->submit(r0.view()));
+        EXPECT_TRUE((*s)->last_sr_tile_flags().empty()) << "no history: nothing classified";
+        ASSERT_TRUE((*s)->submit(r1.view()));
+        const ref::InternalFrame f0 = to_internal(*(*s)->read_frame(0), w, h);
+        const ref::InternalFrame f1 = to_internal(*(*s)->read_frame(1), w, h);
+        ref::ClassifyParams c{};
+        c.g.width = w;
+        c.g.height = h;
+        c.g.t_depth = p.t_depth;
+        c.tile = 8;
+        c.mode = CLASSIFY_SR;
+        c.dilate = dilate ? 1u : 0u;
+        const std::vector<uint32_t> want = ref::classify(f0, f1, c);
+        const std::vector<uint32_t> got = (*s)->last_sr_tile_flags();
+        ASSERT_EQ(got.size(), want.size());
+        size_t statics = 0;
+        for (size_t i = 0; i < want.size(); ++i) {
+            EXPECT_EQ(got[i], want[i]) << "tile " << i << " dilate " << dilate;
+            statics += want[i] == TILE_STATIC ? 1 : 0;
+        }
+        // Tile columns 0-2 of 5 rows have zero vectors (0-1 with the dilation halo), less tile (1, 2).
+        EXPECT_EQ(statics, dilate ? 9u : 14u);
+    }
+    expect_no_validation_errors();
+}
+
+TEST(Tiles, StillSceneIsCopiedThroughAndSkipsEverything) {
+    const uint32_t w = 64, h = 40;
+    const RawFrame f = scene_frame(w, h, 0, 0.f, false);
+    const std::vector<FrameView> in = {f.view(), f.view(), f.view()};
+    const FrameFormat fmt = internal_format(w, h);
+    for (Mode mode : {Mode::interp, Mode::extrap}) {
+        const Outputs on = expect_same_on_off(fmt, in, {}, Params{}, mode);
+        EXPECT_EQ(skipped_share(on, "splat"), 1.0);
+        EXPECT_EQ(skipped_share(on, "generate"), 1.0);
+        // Identical frames: the generated frame is the input (colours are exact halves).
+        const auto* src = reinterpret_cast<const float*>(f.color.data());
+        for (const ImageRGBA& img : on.frames)
+            for (size_t i = 0; i < img.rgba.size(); ++i)
+                ASSERT_NEAR(img.rgba[i], src[i], 1e-3f * src[i]) << i;
+    }
+}
+
+TEST(Tiles, PartiallyMovingSceneSkipsTheStaticTiles) {
+    const uint32_t w = 96, h = 64;
+    std::vector<RawFrame> frames;
+    for (int k = 0; k < 4; ++k) frames.push_back(scene_frame(w, h, k, 3.f, true));
+    const FrameFormat fmt = internal_format(w, h);
+    for (Mode mode : {Mode::interp, Mode::extrap}) {
+        const Outputs on = expect_same_on_off(fmt, views(frames), {}, Params{}, mode);
+        const double share = skipped_share(on, "generate");
+        EXPECT_GT(share, 0.5) << "a 12x12 square moves on a 96x64 background";
+        EXPECT_LT(share, 1.0);
+        EXPECT_LE(share, skipped_share(on, "splat")) << "splat dirties static tiles, never cleans them";
+    }
+    Params linear;
+    linear.motion = MotionModel::linear;
+    linear.blend = BlendMode::select;
+    (void)expect_same_on_off(fmt, views(frames), {}, linear, Mode::interp);
+}
+
+TEST(Tiles, SuperResolutionOnOff) {
+    const uint32_t w = 48, h = 40;
+    std::vector<RawFrame> still, moving;
+    for (int k = 0; k < 5; ++k) {
+        still.push_back(scene_frame(w, h, 0, 0.f, false));
+        moving.push_back(scene_frame(w, h, k, 2.f, true));
+    }
+    const FrameFormat fmt = internal_format(w, h);
+    for (float scale : {2.f, 1.5f})
+        for (Resample resample : {Resample::lut, Resample::catmull_rom}) {
+            Params p;
+            p.scale = scale;
+            p.resample = resample;
+            p.tile_size = 8;
+            (void)expect_same_on_off(fmt, views(still), kJitter, p, Mode::sr);
+            (void)expect_same_on_off(fmt, views(moving), kJitter, p, Mode::sr);
+            p.dilate_mvs = true;
+            (void)expect_same_on_off(fmt, views(moving), kJitter, p, Mode::sr);
+        }
+    // ISR and ESR: classify and splat at input resolution, generate_sr over the listed tiles.
+    Params p;
+    p.scale = 2.f;
+    p.tile_size = 8;
+    const Outputs isr = expect_same_on_off(fmt, views(moving), kJitter, p, Mode::sr, true);
+    EXPECT_GT(skipped_share(isr, "generate_sr"), 0.3);
+    (void)expect_same_on_off(fmt, views(still), kJitter, p, Mode::sr, true);
+    (void)expect_same_on_off(fmt, views(moving), kJitter, p, Mode::extrap);
+}
+
+TEST(Tiles, SyntheticCaptureOnOff) {
+    capture::SceneOptions o;
+    o.width = 160;
+    o.height = 90;
+    o.supersample = 1;
+    auto c = capture::make_synthetic_capture(o, 3);
+    ASSERT_TRUE(c) << c.error().message;
+    std::vector<FrameView> in;
+    for (const capture::Frame& f : c->inputs) in.push_back(f.view());
+    for (Mode mode : {Mode::interp, Mode::extrap})
+        (void)expect_same_on_off(c->format, in, {}, Params{}, mode);
+}
+
+// The shared captures (CI has them), a few frames each.
+void shared_capture_on_off(const char* name, bool lr, bool sr) {
+    const std::filesystem::path dir = std::filesystem::path(FGSR_SHARED_CAPTURES) / name;
+    if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " not found (captures exist in CI only)";
+    auto c = capture::load(dir, lr, 3);
+    ASSERT_TRUE(c) << c.error().message;
+    std::vector<FrameView> in;
+    std::vector<float> jitter;
+    for (const capture::Frame& f : c->inputs) {
+        in.push_back(f.view());
+        in.back().jitter_x = f.jitter_x;
+        in.back().jitter_y = f.jitter_y;
+    }
+    if (!sr) {
+        for (Mode mode : {Mode::interp, Mode::extrap})
+            (void)expect_same_on_off(c->format, in, {}, Params{}, mode);
+        return;
+    }
+    Params p;
+    p.scale = 2.f;
+    (void)expect_same_on_off(c->format, in, {}, p, Mode::sr, true);
+}
+
+TEST(Tiles, TossFgOnOff) {
+    shared_capture_on_off("blender/toss-fg", false, false);
+}
+TEST(Tiles, MobfgsrBunkerOnOff) {
+    shared_capture_on_off("mobfgsr-bunker", true, false);
+}
+TEST(Tiles, OrbitSrOnOff) {
+    shared_capture_on_off("blender/orbit-sr", false, true);
+}
+
+TEST(Tiles, RejectsBadTileSize) {
+    Params p;
+    p.tile_size = 12;
+    auto s = engine().create_session(internal_format(16, 16), p);
+    ASSERT_FALSE(s);
+    EXPECT_EQ(s.error().code, Errc::invalid_argument);
+}
+
+} // namespace
+} // namespace fgsr::test
