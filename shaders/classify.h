@@ -1,7 +1,7 @@
 // Pass `classify`: per-tile classification of the work a frame needs, before the expensive passes.
 //
 // Tiles are square, `tile` pixels a side (8, 16 or 32; the engine's default was measured, see
-// TILES_NOTES.md), at multiples of `tile` from the top-left corner; border tiles are clipped.
+// docs/TILES.md), at multiples of `tile` from the top-left corner; border tiles are clipped.
 //
 // Generate mode (frame generation and ISR / ESR): a frame-1 pixel p is a *static source* when its
 // motion to the generated instant is exactly zero under motion.h for every alpha: mv1(p) == 0 and,

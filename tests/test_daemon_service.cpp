@@ -1028,11 +1028,13 @@ pid_t spawn_client(const std::string& path, State state, int ready) {
 TEST(DaemonProcess, KillNineAtEachProtocolStateLeavesNoFdOrMappingBehind) {
     auto d = FgsrdProcess::start();
     ASSERT_TRUE(d) << FgsrdProcess::last_error();
-    // Warm up once (first-session allocations that stay, e.g. driver caches), then the baseline.
+    // Warm up once (first-session allocations that stay, e.g. driver caches and the code of
+    // every pipeline variant: first frame, moving frames, still frames with tile skipping), then
+    // the baseline.
     {
         auto c = open_session(d->socket_path());
         ASSERT_TRUE(c);
-        ASSERT_EQ(roundtrip(*c->s, 0.f).size(), 1u);
+        for (float shift : {0.f, 1.f, 2.f, 3.f, 3.f, 3.f}) ASSERT_EQ(roundtrip(*c->s, shift).size(), 1u);
     }
     const Usage base = quiesce(*d);
     ASSERT_GT(base.fds, 0);

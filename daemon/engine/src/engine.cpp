@@ -93,7 +93,7 @@ uint32_t pass_push(uint32_t p) {
 constexpr double kMinSkipShare = 0.25;
 constexpr uint32_t kUnclassifiedRun = 7;
 
-// Tile side when Params::tile_size is 0 (measured on lavapipe, TILES_NOTES.md).
+// Tile side when Params::tile_size is 0 (measured on lavapipe, docs/TILES.md).
 constexpr uint32_t kDefaultTile = 16;
 constexpr uint32_t kMinTile = 8;
 
@@ -244,7 +244,7 @@ struct Session::Impl {
     uint32_t sr_tiles_total = 0, sr_tiles_skipped = 0;
     PassTiming classify_sr_timing{"classify"};
     // Classification pays only where tiles can be skipped (on lavapipe a frame with every tile
-    // moving costs about 2x with it, TILES_NOTES.md): after a classification that found less than
+    // moving costs about 2x with it, docs/TILES.md): after a classification that found less than
     // kMinSkipShare of the tiles skippable, the next kUnclassifiedRun calls (generate) or submits
     // (sr) run every tile without classifying, then classify again. Same frames either way.
     uint32_t gen_unclassified_left = 0, sr_unclassified_left = 0;

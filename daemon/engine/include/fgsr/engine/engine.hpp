@@ -77,7 +77,7 @@ struct Params {
     // with separate_passes. After a classification that finds less than a quarter of the tiles
     // skippable, the next 7 calls (generate) or submits (sr) run without classifying.
     bool skip_tiles = true;
-    // Tile side in pixels: 8, 16 or 32; 0 picks the measured default (TILES_NOTES.md).
+    // Tile side in pixels: 8, 16 or 32; 0 picks the measured default (docs/TILES.md).
     uint32_t tile_size = 0;
 };
 
