@@ -465,6 +465,9 @@ std::optional<std::string> ServiceSession::run(const Pending& p) {
         if (count == 0) return;
         if (!two_frames) {
             st = FGSR_STATUS_NOT_READY;
+            log::info("session {}: frame {}: {} not ready: needs two submitted frames since the start or the "
+                      "last reset",
+                      id_, e.sequence, extrapolate ? "extrapolation" : "interpolation");
         } else {
             auto r = extrapolate ? engine_session_->extrapolate({alphas, count})
                                  : engine_session_->interpolate({alphas, count});

@@ -14,7 +14,7 @@ namespace fgsr::cli {
 CLI::App* add_stress_command(CLI::App& app, StressCli& o) {
     auto* cmd = app.add_subcommand(
         "stress", "Numerical stress cases (non-finite and extreme inputs, sizes, rejections, long SR drift) "
-                  "fed to the engine; exit status 1 on any failure");
+                  "fed to the engine or, with --daemon, to fgsrd; exit status 1 on any failure");
     cmd->add_option("--sr-frames", o.sr_frames,
                     "Frames of the long SR run on a looped static capture (full run: 100000)")
         ->check(CLI::Range(size_t(1), size_t(100000000)))
@@ -26,10 +26,15 @@ CLI::App* add_stress_command(CLI::App& app, StressCli& o) {
     cmd->add_option("--filter", o.filter, "Run only the cases whose name contains this text");
     cmd->add_flag("--reduced", o.reduced, "The test suite's sizes (no 1920x1080 frame)");
     cmd->add_flag("--quiet", o.quiet, "No progress on stderr");
+    cmd->add_flag("--daemon", o.daemon,
+                  "Feed the cases through fgsrd with libfgsr_client (spawns build/bin/fgsrd on a temporary "
+                  "socket unless --socket is given)");
+    cmd->add_option("--socket", o.socket, "With --daemon: the socket of an fgsrd already running");
     return cmd;
 }
 
 int stress_main(const StressCli& o) {
+    if (o.daemon || !o.socket.empty()) return stress_daemon_main(o);
     DeviceOptions d;
     d.device = o.device;
     auto engine = Engine::create(d);

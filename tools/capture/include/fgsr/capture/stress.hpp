@@ -93,6 +93,11 @@ struct CaseResult {
     // above 1e-3 fails the case; on GPUs it is reported only.
     std::optional<double> max_cpu_difference;
     double seconds = 0;
+    // Daemon feeder (fgsr/stress/daemon.hpp) only: steps, or with `applicable` false the whole
+    // case, that the protocol cannot express, each with the reason ("step 3 (submit): ...").
+    // They are reported, never counted as passed checks.
+    bool applicable = true;
+    std::vector<std::string> not_applicable;
 };
 
 struct RunOptions {
