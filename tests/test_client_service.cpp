@@ -6,6 +6,7 @@
 #include "run_process.hpp"
 
 #include <fgsr/capture/capture.hpp>
+#include <fgsr/capture/session_desc.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/client.hpp>
 #include <fgsr/engine/engine.hpp>
@@ -69,22 +70,8 @@ const Expected& expected() {
 }
 
 fgsr_session_desc desc_for(const fgsr::FrameFormat& f, uint32_t policy = FGSR_QUEUE_FIFO) {
-    fgsr_session_desc d{};
-    d.struct_size = sizeof(d);
-    d.width = f.width;
-    d.height = f.height;
-    d.color_format = uint32_t(f.color_format);
-    d.mv_format = uint32_t(f.mv_format);
-    d.depth_kind = uint32_t(f.conventions.depth_kind);
-    d.mv_units = uint32_t(f.conventions.mv_units);
-    d.mv_direction = uint32_t(f.conventions.mv_direction);
-    d.near_plane = f.conventions.near_plane;
-    d.far_plane = f.conventions.far_plane;
-    d.flags = f.conventions.mv_y_up ? FGSR_SESSION_MV_Y_UP : 0u;
-    d.scale = 1.f;
-    d.modes = FGSR_MODE_INTERPOLATE;
+    fgsr_session_desc d = fgsr::capture::session_desc(f, fgsr::Params{}, FGSR_MODE_INTERPOLATE);
     d.queue_policy = policy;
-    d.output_format = FGSR_COLOR_RGBA32F_LINEAR;
     return d;
 }
 

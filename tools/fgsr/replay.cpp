@@ -6,6 +6,7 @@
 #include "replay.hpp"
 
 #include <fgsr/capture/image_io.hpp>
+#include <fgsr/capture/session_desc.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/client.hpp>
 
@@ -111,29 +112,9 @@ struct Stream {
 };
 
 fgsr_session_desc make_desc(const FrameFormat& f, const ReplayOptions& o, float scale, uint32_t modes) {
-    fgsr_session_desc d{};
-    d.struct_size = sizeof(d);
-    d.width = f.width;
-    d.height = f.height;
-    d.color_format = uint32_t(f.color_format);
-    d.mv_format = uint32_t(f.mv_format);
-    d.depth_kind = uint32_t(f.conventions.depth_kind);
-    d.mv_units = uint32_t(f.conventions.mv_units);
-    d.mv_direction = uint32_t(f.conventions.mv_direction);
-    d.near_plane = f.conventions.near_plane;
-    d.far_plane = f.conventions.far_plane;
+    fgsr_session_desc d = capture::session_desc(f, o.params, modes);
     d.scale = scale;
-    d.modes = modes;
-    d.flags = (f.conventions.mv_y_up ? FGSR_SESSION_MV_Y_UP : 0u) |
-              (o.params.dilate_mvs ? FGSR_SESSION_DILATE_MVS : 0u) |
-              (o.params.mvs_contain_jitter ? FGSR_SESSION_MVS_CONTAIN_JITTER : 0u) |
-              (o.params.motion == MotionModel::linear ? FGSR_SESSION_LINEAR_MOTION : 0u);
     d.queue_policy = o.mailbox ? FGSR_QUEUE_MAILBOX : FGSR_QUEUE_FIFO;
-    d.output_format = FGSR_COLOR_RGBA32F_LINEAR;
-    d.t_depth = o.params.t_depth;
-    d.t_bright = o.params.t_bright;
-    d.sr_a = o.params.sr_a;
-    d.sr_b = o.params.sr_b;
     return d;
 }
 

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 namespace fgsr::cli {
 
@@ -43,6 +44,18 @@ int stress_main(const StressCli& o) {
                      engine.error().message.c_str());
         return 1;
     }
+    nlohmann::json header;
+    header["device"] = (*engine)->device_name();
+    return run_and_report(o, "fgsr stress on " + (*engine)->device_name(), header,
+                          [&](const stress::Case& c, const stress::RunOptions& ro) {
+                              return stress::run_on_engine(**engine, c, ro);
+                          });
+}
+
+int run_and_report(
+    const StressCli& o, const std::string& title, nlohmann::json header,
+    const std::function<stress::CaseResult(const stress::Case&, const stress::RunOptions&)>& run,
+    const std::function<bool()>& stop) {
     stress::CaseOptions co;
     co.sr_frames = o.sr_frames;
     co.reduced = o.reduced;
@@ -57,19 +70,25 @@ int stress_main(const StressCli& o) {
     for (const stress::Case& c : cases) {
         if (c.name.find(o.filter) == std::string::npos) continue;
         if (!o.quiet) std::fprintf(stderr, "[%zu/%zu] %s\n", results.size() + 1, selected, c.name.c_str());
-        results.push_back(stress::run_on_engine(**engine, c, ro));
+        results.push_back(run(c, ro));
         if (!o.quiet && !results.back().pass)
             std::fprintf(stderr, "  FAIL: %s\n", results.back().failure.c_str());
+        if (stop && stop()) break;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    size_t failed = 0;
-    for (const auto& r : results) failed += r.pass ? 0 : 1;
+    size_t passed = 0, failed = 0, na = 0;
+    for (const auto& r : results) {
+        failed += r.pass ? 0 : 1;
+        na += r.pass && !r.applicable ? 1 : 0;
+        passed += r.pass && r.applicable ? 1 : 0;
+    }
+    failed += selected - results.size(); // not run: the run stopped early
 
     if (o.json) {
-        nlohmann::json j;
-        j["device"] = (*engine)->device_name();
+        nlohmann::json& j = header;
         j["sr_frames"] = o.sr_frames;
-        j["passed"] = results.size() - failed;
+        j["passed"] = passed;
+        j["not_applicable"] = na;
         j["failed"] = failed;
         j["seconds"] = seconds;
         j["cases"] = nlohmann::json::array();
@@ -77,9 +96,11 @@ int stress_main(const StressCli& o) {
             nlohmann::json c;
             c["name"] = r.name;
             c["pass"] = r.pass;
+            c["applicable"] = r.applicable;
             c["checks"] = r.checks;
             if (!r.pass) c["failure"] = r.failure;
             c["rejections"] = r.rejections;
+            c["not_applicable_steps"] = r.not_applicable;
             c["steps"] = r.steps_run;
             c["outputs_checked"] = r.outputs_checked;
             c["values_checked"] = r.values_checked;
@@ -90,18 +111,23 @@ int stress_main(const StressCli& o) {
         }
         std::printf("%s\n", j.dump(2).c_str());
     } else {
-        std::printf("fgsr stress on %s\n", (*engine)->device_name().c_str());
+        std::printf("%s\n", title.c_str());
         for (const auto& r : results) {
-            std::printf("%s  %-40s %s", r.pass ? "PASS" : "FAIL", r.name.c_str(), r.checks.c_str());
+            const char* tag = !r.pass ? "FAIL" : r.applicable ? "PASS" : "N/A ";
+            std::printf("%s  %-40s %s", tag, r.name.c_str(), r.checks.c_str());
             if (r.drift_db) std::printf(" [drift: %.2f dB]", *r.drift_db);
             if (r.max_cpu_difference) std::printf(" [GPU-CPU: %.2g]", *r.max_cpu_difference);
-            std::printf(" (%zu outputs, %llu values finite, %.2f s)\n", r.outputs_checked,
-                        static_cast<unsigned long long>(r.values_checked), r.seconds);
+            if (r.applicable)
+                std::printf(" (%zu outputs, %llu values finite, %.2f s)\n", r.outputs_checked,
+                            static_cast<unsigned long long>(r.values_checked), r.seconds);
+            else
+                std::printf("\n");
             for (const auto& why : r.rejections) std::printf("        rejected: %s\n", why.c_str());
+            for (const auto& why : r.not_applicable) std::printf("        n/a here: %s\n", why.c_str());
             if (!r.pass) std::printf("        FAILED: %s\n", r.failure.c_str());
         }
-        std::printf("%zu cases: %zu passed, %zu failed, %.1f s\n", results.size(), results.size() - failed,
-                    failed, seconds);
+        std::printf("%zu cases: %zu passed, %zu n/a, %zu failed, %.1f s\n", selected, passed, na, failed,
+                    seconds);
     }
     return failed ? 1 : 0;
 }

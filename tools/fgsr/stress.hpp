@@ -4,9 +4,13 @@
 // through fgsrd (its own or --socket's).
 #pragma once
 
+#include <fgsr/capture/stress.hpp>
+
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 namespace fgsr::cli {
@@ -26,5 +30,12 @@ CLI::App* add_stress_command(CLI::App& app, StressCli& o);
 int stress_main(const StressCli& o);
 // The --daemon run: the cases fed through fgsrd with libfgsr_client; exit status as stress_main.
 int stress_daemon_main(const StressCli& o);
+// Runs the cases selected by `o` with `run`, stopping early when `stop` (may be empty) says so
+// after a case, and prints the report (`title` first; `header` holds the JSON report's fields
+// naming the target). Returns 1 when any selected case failed or did not run, else 0.
+int run_and_report(
+    const StressCli& o, const std::string& title, nlohmann::json header,
+    const std::function<stress::CaseResult(const stress::Case&, const stress::RunOptions&)>& run,
+    const std::function<bool()>& stop = {});
 
 } // namespace fgsr::cli

@@ -159,85 +159,20 @@ int stress_daemon_main(const StressCli& o) {
     // report: the feeder reads the reasons from the daemon's log instead.
     setenv("FGSR_CLIENT_QUIET", "1", 1);
 
-    stress::CaseOptions co;
-    co.sr_frames = o.sr_frames;
-    co.reduced = o.reduced;
-    std::vector<stress::Case> cases = stress::make_cases(co);
-    stress::RunOptions ro;
-    if (!o.quiet) ro.progress = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
-
-    const auto t0 = std::chrono::steady_clock::now();
-    std::vector<stress::CaseResult> results;
-    size_t selected = 0;
-    for (const stress::Case& c : cases) selected += c.name.find(o.filter) != std::string::npos;
-    for (const stress::Case& c : cases) {
-        if (c.name.find(o.filter) == std::string::npos) continue;
-        if (!o.quiet) std::fprintf(stderr, "[%zu/%zu] %s\n", results.size() + 1, selected, c.name.c_str());
-        results.push_back(stress::run_on_daemon(target, c, ro, kMaxDaemonPixels));
-        if (!o.quiet && !results.back().pass)
-            std::fprintf(stderr, "  FAIL: %s\n", results.back().failure.c_str());
-        if (own && !own->alive()) {
+    nlohmann::json header;
+    header["target"] = "fgsrd";
+    header["socket"] = target.socket;
+    return run_and_report(
+        o, "fgsr stress through fgsrd (" + target.socket + ")", header,
+        [&](const stress::Case& c, const stress::RunOptions& ro) {
+            return stress::run_on_daemon(target, c, ro, kMaxDaemonPixels);
+        },
+        [&] {
+            if (!own || own->alive()) return false;
             std::fprintf(stderr, "fgsr: fgsrd died (wait status %d); its log:\n%s\n", own->status(),
                          own->log_text().c_str());
-            break;
-        }
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    size_t passed = 0, failed = 0, na = 0;
-    for (const auto& r : results) {
-        failed += r.pass ? 0 : 1;
-        na += r.pass && !r.applicable ? 1 : 0;
-        passed += r.pass && r.applicable ? 1 : 0;
-    }
-    failed += selected - results.size(); // not run: the daemon died
-
-    if (o.json) {
-        nlohmann::json j;
-        j["target"] = "fgsrd";
-        j["socket"] = target.socket;
-        j["sr_frames"] = o.sr_frames;
-        j["passed"] = passed;
-        j["not_applicable"] = na;
-        j["failed"] = failed;
-        j["seconds"] = seconds;
-        j["cases"] = nlohmann::json::array();
-        for (const auto& r : results) {
-            nlohmann::json c;
-            c["name"] = r.name;
-            c["pass"] = r.pass;
-            c["applicable"] = r.applicable;
-            c["checks"] = r.checks;
-            if (!r.pass) c["failure"] = r.failure;
-            c["rejections"] = r.rejections;
-            c["not_applicable_steps"] = r.not_applicable;
-            c["steps"] = r.steps_run;
-            c["outputs_checked"] = r.outputs_checked;
-            c["values_checked"] = r.values_checked;
-            if (r.drift_db) c["drift_db"] = *r.drift_db;
-            c["seconds"] = r.seconds;
-            j["cases"].push_back(std::move(c));
-        }
-        std::printf("%s\n", j.dump(2).c_str());
-    } else {
-        std::printf("fgsr stress through fgsrd (%s)\n", target.socket.c_str());
-        for (const auto& r : results) {
-            const char* tag = !r.pass ? "FAIL" : r.applicable ? "PASS" : "N/A ";
-            std::printf("%s  %-40s %s", tag, r.name.c_str(), r.checks.c_str());
-            if (r.drift_db) std::printf(" [drift: %.2f dB]", *r.drift_db);
-            if (r.applicable)
-                std::printf(" (%zu outputs, %llu values finite, %.2f s)\n", r.outputs_checked,
-                            static_cast<unsigned long long>(r.values_checked), r.seconds);
-            else
-                std::printf("\n");
-            for (const auto& why : r.rejections) std::printf("        rejected: %s\n", why.c_str());
-            for (const auto& why : r.not_applicable)
-                std::printf("        n/a through the daemon: %s\n", why.c_str());
-            if (!r.pass) std::printf("        FAILED: %s\n", r.failure.c_str());
-        }
-        std::printf("%zu cases: %zu passed, %zu n/a through the daemon, %zu failed, %.1f s\n", selected,
-                    passed, na, failed, seconds);
-    }
-    return failed ? 1 : 0;
+            return true;
+        });
 }
 
 } // namespace fgsr::cli

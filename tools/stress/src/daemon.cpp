@@ -1,5 +1,6 @@
 // The daemon feeder of the numerical stress cases (see fgsr/stress/daemon.hpp).
 #include <fgsr/capture/metrics.hpp>
+#include <fgsr/capture/session_desc.hpp>
 #include <fgsr/client.hpp>
 #include <fgsr/stress/daemon.hpp>
 
@@ -58,33 +59,12 @@ std::string inexpressible_params(const Params& p) {
 }
 
 fgsr_session_desc make_desc(const FrameFormat& f, const Params& p) {
-    fgsr_session_desc d{};
-    d.struct_size = sizeof(d);
-    d.width = f.width;
-    d.height = f.height;
-    d.color_format = uint32_t(f.color_format);
-    d.mv_format = uint32_t(f.mv_format);
-    d.depth_kind = uint32_t(f.conventions.depth_kind);
-    d.mv_units = uint32_t(f.conventions.mv_units);
-    d.mv_direction = uint32_t(f.conventions.mv_direction);
-    d.near_plane = f.conventions.near_plane;
-    d.far_plane = f.conventions.far_plane;
-    d.scale = p.scale;
     // Every mode the session may be asked for; SR only where the scale allows it (a request for SR
     // in a session that does not upscale is then refused by the client, as the engine refuses it).
-    d.modes = FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE | (p.scale > 1.f ? FGSR_MODE_SR : 0u);
-    d.flags = (f.conventions.mv_y_up ? FGSR_SESSION_MV_Y_UP : 0u) |
-              (p.dilate_mvs ? FGSR_SESSION_DILATE_MVS : 0u) |
-              (p.mvs_contain_jitter ? FGSR_SESSION_MVS_CONTAIN_JITTER : 0u) |
-              (p.motion == MotionModel::linear ? FGSR_SESSION_LINEAR_MOTION : 0u);
-    d.queue_policy = FGSR_QUEUE_FIFO;
+    fgsr_session_desc d = capture::session_desc(
+        f, p, FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE | (p.scale > 1.f ? FGSR_MODE_SR : 0u));
     d.input_slots = 2;
     d.output_slots = kOutputSlots;
-    d.output_format = FGSR_COLOR_RGBA32F_LINEAR;
-    d.t_depth = p.t_depth;
-    d.t_bright = p.t_bright;
-    d.sr_a = p.sr_a;
-    d.sr_b = p.sr_b;
     return d;
 }
 
