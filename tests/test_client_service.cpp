@@ -17,6 +17,7 @@
 #include <cstring>
 #include <dirent.h>
 #include <fstream>
+#include <iterator>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -306,6 +307,10 @@ TEST_F(ClientService, ReplayPrintsTheSameMetricsAsEval) {
     while (std::getline(csv, line)) ++rows;
     EXPECT_GE(rows, 2); // half rate of 5 frames: 2 targets, plus first-frame completions
     EXPECT_TRUE(fs::exists(dir / "out" / "fgsr" / "0001.exr"));
+    // --out also gets eval's metrics.json, with the same PSNR as in-process eval.
+    std::ifstream mj(dir / "out" / "metrics.json");
+    const std::string metrics((std::istreambuf_iterator<char>(mj)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(field(metrics, "psnr"), field(ev.out, "psnr")) << metrics;
     std::error_code ec;
     fs::remove_all(dir, ec);
 }

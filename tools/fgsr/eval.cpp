@@ -238,14 +238,18 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
     }
     rep.ingest_ms = ingest_count ? ingest_sum / double(ingest_count) : 0;
     finish_means(rep);
-    if (o.out) {
-        FILE* f = std::fopen((*o.out / "metrics.json").c_str(), "w");
-        if (!f) return make_error(Errc::io, "cannot write " + (*o.out / "metrics.json").string());
-        std::string js = report_json(rep, true);
-        std::fwrite(js.data(), 1, js.size(), f);
-        std::fclose(f);
-    }
+    if (o.out) FGSR_TRY(write_metrics_json(rep, *o.out));
     return rep;
+}
+
+Result<void> write_metrics_json(const EvalReport& r, const std::filesystem::path& dir) {
+    const std::filesystem::path path = dir / "metrics.json";
+    FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) return make_error(Errc::io, "cannot write " + path.string());
+    const std::string js = report_json(r, true);
+    const bool ok = std::fwrite(js.data(), 1, js.size(), f) == js.size();
+    if (std::fclose(f) != 0 || !ok) return make_error(Errc::io, "cannot write " + path.string());
+    return {};
 }
 
 std::string report_json(const EvalReport& r, bool per_frame) {

@@ -103,6 +103,8 @@ Result<EvalReport> run_eval_joint(const EvalOptions& options, capture::Capture c
 ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, Resample kind, float jitter_x,
                           float jitter_y);
 std::string report_json(const EvalReport& r, bool per_frame);
+// Writes report_json(r, per_frame = true) to dir/metrics.json (eval --out, replay --out).
+Result<void> write_metrics_json(const EvalReport& r, const std::filesystem::path& dir);
 std::string report_table(const EvalReport& r);
 
 } // namespace fgsr::cli
