@@ -733,12 +733,18 @@ void record_and_compare(bool through_env) {
 
 // fgsr_capture_format cannot link the engine (the client library links it), so it has its own
 // bytes-per-pixel table: pinned equal to the engine's here.
-TEST(ClientFake, CaptureFormatBytesPerPixelEqualTheEngines) {
-    for (auto f : {fgsr::ColorFormat::rgba8_srgb, fgsr::ColorFormat::rgba16f_linear,
-                   fgsr::ColorFormat::rgba32f_linear})
-        EXPECT_EQ(fgsr::capture::fgsr_bytes_per_pixel(f), fgsr::bytes_per_pixel(f)) << uint32_t(f);
-    for (auto f : {fgsr::MvFormat::rg16f, fgsr::MvFormat::rg32f})
-        EXPECT_EQ(fgsr::capture::fgsr_bytes_per_pixel(f), fgsr::bytes_per_pixel(f)) << uint32_t(f);
+// The plane sizes the protocol, the capture format and the engine share (types.hpp, header-only so
+// the client's recorder uses the same function): pinned to the documented formats.
+TEST(ClientFake, PlaneBytesPerPixelAreTheDocumentedOnes) {
+    EXPECT_EQ(fgsr::bytes_per_pixel(fgsr::ColorFormat::rgba8_srgb), 4u);
+    EXPECT_EQ(fgsr::bytes_per_pixel(fgsr::ColorFormat::rgba16f_linear), 8u);
+    EXPECT_EQ(fgsr::bytes_per_pixel(fgsr::ColorFormat::rgba32f_linear), 16u);
+    EXPECT_EQ(fgsr::bytes_per_pixel(fgsr::MvFormat::rg16f), 4u);
+    EXPECT_EQ(fgsr::bytes_per_pixel(fgsr::MvFormat::rg32f), 8u);
+    EXPECT_EQ(fgsr::bytes_per_pixel(static_cast<fgsr::ColorFormat>(7)), 0u);
+    // The protocol's enum values are the engine's.
+    EXPECT_EQ(uint32_t(fgsr::ColorFormat::rgba16f_linear), uint32_t(FGSR_COLOR_RGBA16F_LINEAR));
+    EXPECT_EQ(uint32_t(fgsr::MvFormat::rg32f), uint32_t(FGSR_MV_RG32F));
 }
 
 TEST(ClientFake, RecordingThroughApiLoadsBackBitIdentical) {

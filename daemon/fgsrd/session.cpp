@@ -40,8 +40,9 @@ constexpr uint32_t kKnownSessionFlags = FGSR_SESSION_MVS_CONTAIN_JITTER | FGSR_S
                                         FGSR_SESSION_MV_Y_UP | FGSR_SESSION_LINEAR_MOTION;
 constexpr uint32_t kKnownSubmitFlags = FGSR_SUBMIT_RESET | FGSR_SUBMIT_HAS_MV | FGSR_SUBMIT_WANT_SR;
 
+// Plane sizes of a validated description (the protocol's format values are the engine's).
 uint32_t color_bpp(uint32_t f) {
-    return f == FGSR_COLOR_RGBA8_SRGB ? 4 : f == FGSR_COLOR_RGBA16F_LINEAR ? 8 : 16;
+    return uint32_t(fgsr::bytes_per_pixel(fgsr::ColorFormat(f)));
 }
 
 uint32_t pass_id(const std::string& name) {
@@ -149,7 +150,7 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uin
     l.output_slot_count = d.output_slots;
     l.color = {0, px * color_bpp(d.color_format), d.width * color_bpp(d.color_format), d.color_format};
     l.depth = {fgsr_align_up(l.color.size, FGSR_PLANE_ALIGNMENT), px * 4, d.width * 4, 0};
-    const uint32_t mv_bpp = d.mv_format == FGSR_MV_RG16F ? 4 : 8;
+    const uint32_t mv_bpp = uint32_t(fgsr::bytes_per_pixel(fgsr::MvFormat(d.mv_format)));
     l.mv = {fgsr_align_up(l.depth.offset + l.depth.size, FGSR_PLANE_ALIGNMENT), px * mv_bpp, d.width * mv_bpp,
             d.mv_format};
     l.input_slot_stride = fgsr_align_up(l.mv.offset + l.mv.size, FGSR_PLANE_ALIGNMENT);

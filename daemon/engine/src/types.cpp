@@ -23,28 +23,6 @@ const char* errc_name(Errc c) {
     return "unknown error";
 }
 
-size_t bytes_per_pixel(ColorFormat f) {
-    switch (f) {
-    case ColorFormat::rgba8_srgb:
-        return 4;
-    case ColorFormat::rgba16f_linear:
-        return 8;
-    case ColorFormat::rgba32f_linear:
-        return 16;
-    }
-    return 0;
-}
-
-size_t bytes_per_pixel(MvFormat f) {
-    switch (f) {
-    case MvFormat::rg16f:
-        return 4;
-    case MvFormat::rg32f:
-        return 8;
-    }
-    return 0;
-}
-
 std::string_view to_string(ColorFormat f) {
     switch (f) {
     case ColorFormat::rgba8_srgb:

@@ -165,7 +165,7 @@ Result<Frame> exr_to_frame(const FrameFormat& fmt, const fs::path& p, bool has_m
     const size_t n = size_t(fmt.width) * fmt.height;
     const auto& ch = img->channels;
     Frame f;
-    f.color.resize(n * fgsr_bytes_per_pixel(fmt.color_format));
+    f.color.resize(n * bytes_per_pixel(fmt.color_format));
     for (size_t c = 0; c < 4; ++c) {
         const float* src = ch[c].data.data();
         switch (fmt.color_format) {
@@ -238,30 +238,8 @@ std::string fgsr_file_name(size_t index) {
     return buf;
 }
 
-size_t fgsr_bytes_per_pixel(ColorFormat f) {
-    switch (f) {
-    case ColorFormat::rgba8_srgb:
-        return 4;
-    case ColorFormat::rgba16f_linear:
-        return 8;
-    case ColorFormat::rgba32f_linear:
-        return 16;
-    }
-    return 0;
-}
-
-size_t fgsr_bytes_per_pixel(MvFormat f) {
-    switch (f) {
-    case MvFormat::rg16f:
-        return 4;
-    case MvFormat::rg32f:
-        return 8;
-    }
-    return 0;
-}
-
 Result<void> write_fgsr_frame(const fs::path& file, const FrameFormat& fmt, const FrameView& f) {
-    const size_t cb = fgsr_bytes_per_pixel(fmt.color_format), mb = fgsr_bytes_per_pixel(fmt.mv_format);
+    const size_t cb = bytes_per_pixel(fmt.color_format), mb = bytes_per_pixel(fmt.mv_format);
     if (cb == 0) return make_error(Errc::unsupported, file.string() + ": unknown colour format");
     if (mb == 0) return make_error(Errc::unsupported, file.string() + ": unknown vector format");
     if (fmt.width == 0 || fmt.height == 0)
@@ -363,7 +341,7 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
     if (!enum_name(kDepthNames, fmt.conventions.depth_kind) ||
         !enum_name(kUnitNames, fmt.conventions.mv_units) ||
         !enum_name(kDirNames, fmt.conventions.mv_direction) || !enum_name(kGtNames, c.ground_truth_kind) ||
-        fgsr_bytes_per_pixel(fmt.color_format) == 0 || fgsr_bytes_per_pixel(fmt.mv_format) == 0)
+        bytes_per_pixel(fmt.color_format) == 0 || bytes_per_pixel(fmt.mv_format) == 0)
         return make_error(Errc::unsupported, "save_fgsr: unknown format or convention value");
     FGSR_TRY(ensure_dir(dir / "frames"));
     for (size_t i = 0; i < c.inputs.size(); ++i) {

@@ -62,8 +62,28 @@ struct FrameFormat {
     Conventions conventions{};
 };
 
-size_t bytes_per_pixel(ColorFormat f);
-size_t bytes_per_pixel(MvFormat f);
+// Bytes per pixel of a plane (0 for a value outside the enum). Header-only so that libraries that
+// must not link the engine (the capture-format writer inside libfgsr_client) share it.
+constexpr size_t bytes_per_pixel(ColorFormat f) {
+    switch (f) {
+    case ColorFormat::rgba8_srgb:
+        return 4;
+    case ColorFormat::rgba16f_linear:
+        return 8;
+    case ColorFormat::rgba32f_linear:
+        return 16;
+    }
+    return 0;
+}
+constexpr size_t bytes_per_pixel(MvFormat f) {
+    switch (f) {
+    case MvFormat::rg16f:
+        return 4;
+    case MvFormat::rg32f:
+        return 8;
+    }
+    return 0;
+}
 std::string_view to_string(ColorFormat f);
 std::string_view to_string(DepthKind k);
 std::string_view to_string(MvFormat f);

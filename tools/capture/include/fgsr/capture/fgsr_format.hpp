@@ -17,11 +17,6 @@ namespace fgsr::capture {
 // "0000.exr", "0001.exr", ...: the name of the i-th file of a list (frames/, gt/, hr/, hr_gt/).
 std::string fgsr_file_name(size_t index);
 
-// Bytes per pixel of the plane formats as the format stores them (0 for an unknown value). Equal
-// to the engine's bytes_per_pixel (pinned by a test); this library does not link the engine.
-size_t fgsr_bytes_per_pixel(ColorFormat f);
-size_t fgsr_bytes_per_pixel(MvFormat f);
-
 // Writes one input frame file (colour, depth and, when frame.mv is not empty, vectors) for frames
 // of `format`. Planes are tightly packed rows; sizes are checked (Errc::size_mismatch). The
 // parent directory must exist.
