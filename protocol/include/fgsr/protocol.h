@@ -418,7 +418,9 @@ typedef struct fgsr_telemetry {
     uint32_t pass_count;     /* valid entries of passes[] */
     float target_time;       /* alpha (interpolated), 1 + alpha (extrapolated), 1 (upscaled) */
     uint32_t skipped_passes; /* bit (1 << fgsr_pass_id) per pass skipped for this frame
-                              * (fgsrd: the passes an output with a non-OK status did not run) */
+                              * (fgsrd: the passes an output with a non-OK status did not run,
+                              * and the passes that skipped every tile, e.g. splat of a still
+                              * frame; per-tile shares are in passes[].tiles_*) */
     uint64_t target_present_ns; /* present time the frame stands for (0: unknown). fgsrd:
                                  * upscaled = present_time_ns; generated = previous present +
                                  * (present - previous present) * target_time when both known */
