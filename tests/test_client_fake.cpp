@@ -337,6 +337,18 @@ fgsr_status connect_to(const std::string& path, fgsr_connection** c) {
     return fgsr_connect(&info, c);
 }
 
+// Connects to the fake daemon, creates a small session and submits one frame without requests.
+void open_and_submit(FakeDaemon& d, fgsr::client::Connection& c, fgsr::client::Session& s) {
+    ASSERT_EQ(c.connect(d.path.c_str()), FGSR_STATUS_OK);
+    ASSERT_EQ(s.create(c, small_desc()), FGSR_STATUS_OK);
+    fgsr_input_slot in{};
+    ASSERT_EQ(s.acquire_input(0, in), FGSR_STATUS_OK);
+    fgsr_submit_info info{};
+    info.struct_size = sizeof(info);
+    info.input_slot = in.index;
+    ASSERT_EQ(s.submit(info), FGSR_STATUS_OK);
+}
+
 struct QuietClient {
     QuietClient() { setenv("FGSR_CLIENT_QUIET", "1", 1); }
     ~QuietClient() { unsetenv("FGSR_CLIENT_QUIET"); }
@@ -610,15 +622,8 @@ TEST(ClientFake, CorruptedCompletionsAreRejected) {
         FakeDaemon d;
         d.start();
         fgsr::client::Connection c;
-        ASSERT_EQ(c.connect(d.path.c_str()), FGSR_STATUS_OK);
         fgsr::client::Session s;
-        ASSERT_EQ(s.create(c, small_desc()), FGSR_STATUS_OK);
-        fgsr_input_slot in{};
-        ASSERT_EQ(s.acquire_input(0, in), FGSR_STATUS_OK);
-        fgsr_submit_info info{};
-        info.struct_size = sizeof(info);
-        info.input_slot = in.index;
-        ASSERT_EQ(s.submit(info), FGSR_STATUS_OK);
+        ASSERT_NO_FATAL_FAILURE(open_and_submit(d, c, s));
         fgsr_submit_entry e{};
         ASSERT_TRUE(d.pop_submit(e));
         fgsr_completion_entry ce{};
@@ -640,15 +645,8 @@ TEST(ClientFake, DaemonGoneIsDisconnected) {
         FakeDaemon d;
         d.start();
         fgsr::client::Connection c;
-        ASSERT_EQ(c.connect(d.path.c_str()), FGSR_STATUS_OK);
         fgsr::client::Session s;
-        ASSERT_EQ(s.create(c, small_desc()), FGSR_STATUS_OK);
-        fgsr_input_slot in{};
-        ASSERT_EQ(s.acquire_input(0, in), FGSR_STATUS_OK);
-        fgsr_submit_info info{};
-        info.struct_size = sizeof(info);
-        info.input_slot = in.index;
-        ASSERT_EQ(s.submit(info), FGSR_STATUS_OK);
+        ASSERT_NO_FATAL_FAILURE(open_and_submit(d, c, s));
         ASSERT_TRUE(d.complete_plain());
         d.stop(); // the daemon dies after publishing one completion
         fgsr_output out{};

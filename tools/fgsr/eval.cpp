@@ -161,15 +161,8 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
 
-    EvalReport rep;
-    rep.capture = cap.name;
-    rep.mode = extrap ? "extrap" : "interp";
-    rep.alpha = o.alpha;
-    rep.frames = targets.size();
-    rep.composed_vectors = cap.composed_vectors;
-    rep.width = cap.format.width;
-    rep.height = cap.format.height;
-    rep.method_order = o.methods;
+    EvalReport rep = new_report(cap, extrap ? "extrap" : "interp", o.alpha, targets.size(), cap.format.width,
+                                cap.format.height, o.methods);
 
     std::unique_ptr<Engine> engine;
     auto made = make_sessions(
@@ -250,6 +243,20 @@ Result<void> write_metrics_json(const EvalReport& r, const std::filesystem::path
     const bool ok = std::fwrite(js.data(), 1, js.size(), f) == js.size();
     if (std::fclose(f) != 0 || !ok) return make_error(Errc::io, "cannot write " + path.string());
     return {};
+}
+
+EvalReport new_report(const capture::Capture& cap, std::string mode, float alpha, size_t frames,
+                      uint32_t width, uint32_t height, std::vector<std::string> methods) {
+    EvalReport rep;
+    rep.capture = cap.name;
+    rep.mode = std::move(mode);
+    rep.alpha = alpha;
+    rep.frames = frames;
+    rep.composed_vectors = cap.composed_vectors;
+    rep.width = width;
+    rep.height = height;
+    rep.method_order = std::move(methods);
+    return rep;
 }
 
 std::string report_json(const EvalReport& r, bool per_frame) {

@@ -102,6 +102,10 @@ Result<EvalReport> run_eval_joint(const EvalOptions& options, capture::Capture c
 // Spatial upscale of an LR frame that sampled the scene at pixel centres + jitter (LR pixels).
 ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, Resample kind, float jitter_x,
                           float jitter_y);
+// The header of a report: capture name and its composed_vectors, mode, alpha, scored frames, the
+// size of the scored images and the methods in table order (scores filled in by the caller).
+EvalReport new_report(const capture::Capture& cap, std::string mode, float alpha, size_t frames,
+                      uint32_t width, uint32_t height, std::vector<std::string> methods);
 std::string report_json(const EvalReport& r, bool per_frame);
 // Writes report_json(r, per_frame = true) to dir/metrics.json (eval --out, replay --out).
 Result<void> write_metrics_json(const EvalReport& r, const std::filesystem::path& dir);

@@ -138,16 +138,9 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
                                                  std::to_string(out_h) +
                                                  " is not a uniform scale of the input size");
 
-    EvalReport rep;
-    rep.capture = cap.name;
-    rep.mode = "sr";
-    rep.alpha = 0.f;
-    rep.width = out_w;
-    rep.height = out_h;
-    rep.method_order = o.methods;
     size_t frames = cap.inputs.size();
     if (o.max_frames > 0) frames = std::min(frames, size_t(o.max_frames));
-    rep.frames = frames;
+    EvalReport rep = new_report(cap, "sr", 0.f, frames, out_w, out_h, o.methods);
 
     std::unique_ptr<Engine> engine;
     auto made = make_sessions(o, cap.format, sr_params_for(o, scale), engine, rep);
@@ -221,15 +214,8 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames");
 
-    EvalReport rep;
-    rep.capture = cap.name;
-    rep.mode = extrap ? "esr" : "isr";
-    rep.alpha = o.alpha;
-    rep.frames = targets.size();
-    rep.composed_vectors = cap.composed_vectors;
-    rep.width = out_w;
-    rep.height = out_h;
-    rep.method_order = o.methods;
+    EvalReport rep =
+        new_report(cap, extrap ? "esr" : "isr", o.alpha, targets.size(), out_w, out_h, o.methods);
 
     std::unique_ptr<Engine> engine;
     auto made = make_sessions(o, cap.format, sr_params_for(o, scale), engine, rep);

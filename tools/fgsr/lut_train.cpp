@@ -134,6 +134,30 @@ std::vector<double> param_grad(const std::vector<double>& gw, const std::vector<
     return gc;
 }
 
+// SSIM of `out` against `ref` (both cropped by `m` from images `full_w` wide), per RGB channel on
+// display values, summed over the channels. Writes -dSSIM/d(linear value) / divisor into `g`
+// (the full-size gradient) at the cropped pixels.
+double ssim_rgb_with_grad(const RgbImage& out, const RgbImage& ref, int m, uint32_t full_w, double divisor,
+                          std::vector<float>& g) {
+    const size_t n = size_t(out.width) * out.height;
+    double ssim_sum = 0;
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> a(n), r(n), grad;
+        for (size_t i = 0; i < n; ++i) {
+            a[i] = display_value(out.rgb[i * 3 + size_t(c)]);
+            r[i] = display_value(ref.rgb[i * 3 + size_t(c)]);
+        }
+        ssim_sum += ssim_with_grad(a, r, out.width, out.height, &grad);
+        for (uint32_t y = 0; y < out.height; ++y)
+            for (uint32_t x = 0; x < out.width; ++x) {
+                const size_t i = size_t(y) * out.width + x;
+                const size_t p = ((size_t(y) + size_t(m)) * full_w + x + size_t(m)) * 3 + size_t(c);
+                g[p] = float(-grad[i] / divisor * display_slope(out.rgb[i * 3 + size_t(c)]));
+            }
+    }
+    return ssim_sum;
+}
+
 // Loss (1 - mean SSIM over RGB, display values) of one six-fold sequence on `img`, adding the
 // gradient with respect to the LUT to gw.
 double sequence_loss(const RgbImage& img, const ShiftSequence& q, const std::vector<float>& lut,
@@ -144,23 +168,8 @@ double sequence_loss(const RgbImage& img, const ShiftSequence& q, const std::vec
         chain[size_t(k) + 1] = lut_resample(chain[size_t(k)], q.shift[size_t(k)], lut);
     const int m = q.margin;
     const RgbImage out = crop(chain[kSteps], m), gt = crop(img, m, q.total);
-    const size_t n = size_t(out.width) * out.height;
     std::vector<float> g(img.rgb.size(), 0.f);
-    double ssim_sum = 0;
-    for (int c = 0; c < 3; ++c) {
-        std::vector<double> a(n), r(n), grad;
-        for (size_t i = 0; i < n; ++i) {
-            a[i] = display_value(out.rgb[i * 3 + size_t(c)]);
-            r[i] = display_value(gt.rgb[i * 3 + size_t(c)]);
-        }
-        ssim_sum += ssim_with_grad(a, r, out.width, out.height, &grad);
-        for (uint32_t y = 0; y < out.height; ++y)
-            for (uint32_t x = 0; x < out.width; ++x) {
-                const size_t i = size_t(y) * out.width + x;
-                const size_t p = ((size_t(y) + size_t(m)) * img.width + x + size_t(m)) * 3 + size_t(c);
-                g[p] = float(-grad[i] / 3 * display_slope(out.rgb[i * 3 + size_t(c)]));
-            }
-    }
+    const double ssim_sum = ssim_rgb_with_grad(out, gt, m, img.width, 3, g);
     for (int k = kSteps; k >= 1; --k) {
         std::vector<float> gprev;
         if (k > 1) gprev.assign(img.rgb.size(), 0.f);
@@ -184,22 +193,7 @@ double sr_loop_loss(const SrLoop& l, const std::vector<float>& lut, float a, flo
         g[size_t(t)].assign(out[size_t(t)].rgb.size(), 0.f);
         if (t == 0) continue; // the spatial upsample: no history, no LUT
         const RgbImage o = crop(out[size_t(t)], m), r = crop(l.target[size_t(t)], m);
-        const size_t n = size_t(o.width) * o.height;
-        for (int c = 0; c < 3; ++c) {
-            std::vector<double> av(n), rv(n), grad;
-            for (size_t i = 0; i < n; ++i) {
-                av[i] = display_value(o.rgb[i * 3 + size_t(c)]);
-                rv[i] = display_value(r.rgb[i * 3 + size_t(c)]);
-            }
-            ssim_sum += ssim_with_grad(av, rv, o.width, o.height, &grad);
-            for (uint32_t y = 0; y < o.height; ++y)
-                for (uint32_t x = 0; x < o.width; ++x) {
-                    const size_t i = size_t(y) * o.width + x;
-                    const size_t p = ((size_t(y) + size_t(m)) * l.out_w + x + size_t(m)) * 3 + size_t(c);
-                    g[size_t(t)][p] =
-                        float(-grad[i] / (3 * kScored) * display_slope(o.rgb[i * 3 + size_t(c)]));
-                }
-        }
+        ssim_sum += ssim_rgb_with_grad(o, r, m, l.out_w, 3 * kScored, g[size_t(t)]);
     }
     sr_loop_backward(l, out, std::move(g), lut, a, b, gw);
     return 1 - ssim_sum / (3 * kScored);

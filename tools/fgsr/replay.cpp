@@ -213,16 +213,9 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
     if (s != FGSR_STATUS_OK) return client_error(s, "cannot create a session");
     (void)st.session.layout(st.layout);
 
-    EvalReport rep;
-    rep.capture = cap.name;
-    rep.mode = st.summary.mode;
-    rep.alpha = o.mode == EvalMode::sr ? 0.f : o.alpha;
-    rep.frames = scored;
-    rep.composed_vectors = cap.composed_vectors;
-    rep.width = st.layout.output_width;
-    rep.height = st.layout.output_height;
+    EvalReport rep = new_report(cap, st.summary.mode, o.mode == EvalMode::sr ? 0.f : o.alpha, scored,
+                                st.layout.output_width, st.layout.output_height, {"fgsr"});
     rep.device = info.device;
-    rep.method_order = {"fgsr"};
     MethodScore& score = rep.methods["fgsr"];
 
     if (o.out) {
