@@ -118,6 +118,26 @@ struct ClassifyParams {
     uint pad2;
 };
 
+// denoise (denoise.h): adaptive pre-filter of the low-resolution colour of SR sessions.
+#define DENOISE_HISTOGRAM 0u // stage 0: noise histogram, one invocation per 2x2 block
+#define DENOISE_LEVEL 1u     // stage 1: noise level and filter range, one invocation
+#define DENOISE_FILTER 2u    // stage 2: the filter, one invocation per pixel
+#define DENOISE_BINS 128u    // histogram bins; the noise buffer holds them, then sigma and range
+#define DENOISE_SIGMA DENOISE_BINS        // uint index of the estimated noise sigma (float bits)
+#define DENOISE_RANGE (DENOISE_BINS + 1u) // uint index of the filter's range (float bits)
+#define DENOISE_WORDS (DENOISE_BINS + 4u)
+
+struct DenoiseParams {
+    uint width;
+    uint height;
+    uint stage;     // DENOISE_*
+    uint pad0;
+    float strength; // filter range in estimated noise sigmas; 0: no filtering
+    float noise_floor; // noise sigma (linear colour units) left unfiltered
+    float pad1;
+    float pad2;
+};
+
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
 // (uvec2: packHalf2x16(r, g), packHalf2x16(b, a)). Ingest clamps channels to [0, 65504], so packing
 // never overflows; the half rounding (relative error <= 2^-11) is far below what the metrics see,
@@ -146,6 +166,7 @@ FGSR_INLINE float relative_depth_difference(float a, float b) { return abs(a - b
 static_assert(sizeof(IngestParams) == 48 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
+static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

@@ -320,13 +320,14 @@ TEST(ProtocolAbi, EnumValues) {
     EXPECT_EQ(int64_t(FGSR_PASS_SR), int64_t(7));
     EXPECT_EQ(int64_t(FGSR_PASS_GENERATE_SR), int64_t(8));
     EXPECT_EQ(int64_t(FGSR_PASS_CLASSIFY), int64_t(9));
-    EXPECT_EQ(int64_t(FGSR_PASS_COUNT_), int64_t(10));
+    EXPECT_EQ(int64_t(FGSR_PASS_DENOISE), int64_t(10));
+    EXPECT_EQ(int64_t(FGSR_PASS_COUNT_), int64_t(11));
 }
 
 TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAGIC), uint64_t(0x52534746u));
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAJOR), uint64_t(1u));
-    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(0u));
+    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(1u));
     EXPECT_EQ(uint64_t(FGSR_CACHE_LINE), uint64_t(64u));
     EXPECT_EQ(uint64_t(FGSR_PLANE_ALIGNMENT), uint64_t(4096u));
     EXPECT_EQ(uint64_t(FGSR_MAX_ALPHAS), uint64_t(8u));
@@ -341,6 +342,7 @@ TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_SESSION_DILATE_MVS), uint64_t(0x2u));
     EXPECT_EQ(uint64_t(FGSR_SESSION_MV_Y_UP), uint64_t(0x4u));
     EXPECT_EQ(uint64_t(FGSR_SESSION_LINEAR_MOTION), uint64_t(0x8u));
+    EXPECT_EQ(uint64_t(FGSR_SESSION_NO_DENOISE), uint64_t(0x10u));
     EXPECT_EQ(uint64_t(FGSR_CAP_ZERO_COPY_INPUT), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_CAP_SR), uint64_t(0x2u));
     EXPECT_EQ(uint64_t(FGSR_CAP_INTERPOLATE), uint64_t(0x4u));
@@ -351,6 +353,14 @@ TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_SUBMIT_WANT_SR), uint64_t(0x4u));
     EXPECT_EQ(uint64_t(FGSR_COMPLETION_INPUT_RELEASED), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_COMPLETION_LAST), uint64_t(0x2u));
+}
+
+TEST(ProtocolAbi, PassNames) {
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_INGEST)), "ingest");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_GENERATE_SR)), "generate_sr");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_CLASSIFY)), "classify");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_DENOISE)), "denoise");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_COUNT_)), "unknown");
 }
 
 TEST(ProtocolAbi, StatusStrings) {

@@ -37,7 +37,8 @@ constexpr uint32_t kMaxRingCapacity = 4096;
 constexpr size_t kLatencySamples = 4096;
 constexpr uint32_t kKnownModes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
 constexpr uint32_t kKnownSessionFlags = FGSR_SESSION_MVS_CONTAIN_JITTER | FGSR_SESSION_DILATE_MVS |
-                                        FGSR_SESSION_MV_Y_UP | FGSR_SESSION_LINEAR_MOTION;
+                                        FGSR_SESSION_MV_Y_UP | FGSR_SESSION_LINEAR_MOTION |
+                                        FGSR_SESSION_NO_DENOISE;
 constexpr uint32_t kKnownSubmitFlags = FGSR_SUBMIT_RESET | FGSR_SUBMIT_HAS_MV | FGSR_SUBMIT_WANT_SR;
 
 // Plane sizes of a validated description (the protocol's format values are the engine's).
@@ -46,10 +47,8 @@ uint32_t color_bpp(uint32_t f) {
 }
 
 uint32_t pass_id(const std::string& name) {
-    static const char* names[] = {"ingest", "splat",    "refine", "disocc",      "warp",
-                                  "blend",  "generate", "sr",     "generate_sr", "classify"};
     for (uint32_t i = 0; i < FGSR_PASS_COUNT_; ++i)
-        if (name == names[i]) return i;
+        if (name == fgsr_pass_name(i)) return i;
     return FGSR_PASS_COUNT_;
 }
 
@@ -138,6 +137,7 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uin
         (d.flags & FGSR_SESSION_LINEAR_MOTION) ? fgsr::MotionModel::linear : fgsr::MotionModel::quadratic;
     params.dilate_mvs = (d.flags & FGSR_SESSION_DILATE_MVS) != 0;
     params.mvs_contain_jitter = (d.flags & FGSR_SESSION_MVS_CONTAIN_JITTER) != 0;
+    params.denoise = (d.flags & FGSR_SESSION_NO_DENOISE) == 0;
 
     std::unique_ptr<ServiceSession> s(new ServiceSession());
     s->id_ = id;

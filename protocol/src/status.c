@@ -1,4 +1,4 @@
-/* fgsr_status_string: the one table of status descriptions. */
+/* fgsr_status_string and fgsr_pass_name: the one table of status descriptions and of pass names. */
 #include <fgsr/protocol.h>
 
 const char* fgsr_status_string(int32_t status) {
@@ -23,4 +23,11 @@ const char* fgsr_status_string(int32_t status) {
     case FGSR_STATUS_COUNT_: break;
     }
     return "unknown status";
+}
+
+const char* fgsr_pass_name(uint32_t pass) {
+    static const char* const names[FGSR_PASS_COUNT_] = {"ingest", "splat",       "refine",   "disocc",
+                                                         "warp",   "blend",       "generate", "sr",
+                                                         "generate_sr", "classify", "denoise"};
+    return pass < FGSR_PASS_COUNT_ ? names[pass] : "unknown";
 }

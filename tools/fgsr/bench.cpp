@@ -101,6 +101,7 @@ bool switch_applies(const std::string& key, const std::string& mode) {
     if (key == "passes") return fg;                               // SR passes are always fused
     if (key == "resample") return mode == "sr" || joint;
     if (key == "dilate_mvs") return mode == "sr";
+    if (key == "denoise") return mode == "sr" || joint;
     return false;
 }
 

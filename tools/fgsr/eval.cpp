@@ -15,8 +15,8 @@ namespace fgsr::cli {
 namespace {
 
 // Engine passes in pipeline order: fused ("generate") or separate.
-constexpr const char* kPassOrder[] = {"classify", "sr",     "splat", "generate", "generate_sr",
-                                      "refine",   "disocc", "warp",  "blend"};
+constexpr const char* kPassOrder[] = {"denoise",     "classify", "sr",     "splat", "generate",
+                                      "generate_sr", "refine",   "disocc", "warp",  "blend"};
 
 ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
     ImageRGBA out = a;

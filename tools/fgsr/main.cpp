@@ -72,6 +72,14 @@ int main(int argc, char** argv) {
                      "SR: history resampling table (.lut file, fgsr lut-train) instead of the shipped one");
     eval->add_flag("--dilate", eo.params.dilate_mvs,
                    "SR: depth-informed motion-vector dilation (frontmost of 3x3)");
+    bool no_denoise = false;
+    eval->add_flag("--no-denoise", no_denoise, "SR: no pre-filter of noisy input (shaders/denoise.h)");
+    eval->add_option("--denoise-strength", eo.params.denoise_strength,
+                     "SR: pre-filter range in estimated noise sigmas")
+        ->capture_default_str();
+    eval->add_option("--noise-floor", eo.params.noise_floor,
+                     "SR: estimated noise (linear units) at or below which input is not filtered")
+        ->capture_default_str();
     eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")
         ->capture_default_str();
     std::string blend = "mix";
@@ -182,8 +190,11 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-a")) p.sr_a = eo.params.sr_a;
             if (eval->count("--sr-b")) p.sr_b = eo.params.sr_b;
             if (eval->count("--dilate")) p.dilate_mvs = true;
+            if (eval->count("--denoise-strength")) p.denoise_strength = eo.params.denoise_strength;
+            if (eval->count("--noise-floor")) p.noise_floor = eo.params.noise_floor;
             eo.params = p;
         }
+        if (no_denoise) eo.params.denoise = false;
         if (preset.empty() || eval->count("--blend"))
             eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;
         if (preset.empty() || no_gaps) eo.params.fill_gaps = !no_gaps;

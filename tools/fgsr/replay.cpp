@@ -41,12 +41,6 @@ Error client_error(fgsr_status s, const std::string& what) {
     return make_error(c, what + ": " + fgsr_status_string(s));
 }
 
-const char* pass_name(uint32_t id) {
-    static const char* names[] = {"ingest", "splat",    "refine", "disocc",      "warp",
-                                  "blend",  "generate", "sr",     "generate_sr", "classify"};
-    return id < FGSR_PASS_COUNT_ ? names[id] : "unknown";
-}
-
 const char* frame_type_name(uint32_t t) {
     switch (t) {
     case FGSR_FRAME_UPSCALED:
@@ -229,7 +223,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         st.csv = std::fopen(o.telemetry->c_str(), "w");
         if (!st.csv) return make_error(Errc::io, "cannot write " + o.telemetry->string());
         std::fprintf(st.csv, "sequence,output_index,status,frame_type,target_time,gpu_ms");
-        for (uint32_t p = 0; p < FGSR_PASS_COUNT_; ++p) std::fprintf(st.csv, ",%s_ms", pass_name(p));
+        for (uint32_t p = 0; p < FGSR_PASS_COUNT_; ++p) std::fprintf(st.csv, ",%s_ms", fgsr_pass_name(p));
         std::fprintf(st.csv,
                      ",queue_wait_ms,daemon_latency_ms,client_latency_ms,daemon_cpu_ms,skipped_passes\n");
     }
@@ -286,7 +280,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         gf.gpu_ms = double(t.gpu_ns) * 1e-6;
         for (uint32_t i = 0; i < t.pass_count && i < FGSR_MAX_PASSES; ++i)
             if (t.passes[i].pass != FGSR_PASS_INGEST)
-                gf.passes.push_back({pass_name(t.passes[i].pass),
+                gf.passes.push_back({fgsr_pass_name(t.passes[i].pass),
                                      double(t.passes[i].gpu_end_ns - t.passes[i].gpu_begin_ns) * 1e-6});
         add_timing(score, gf);
         return {};

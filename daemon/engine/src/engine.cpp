@@ -29,13 +29,14 @@ enum PassId : uint32_t {
     kGenerate,
     kSr,
     kGenerateSr,
+    kDenoise,
     kPassCount
 };
 constexpr std::array<const char*, kPassCount> kPassNames = {
-    "ingest", "splat", "refine", "disocc", "warp", "blend", "generate", "sr", "generate_sr"};
-constexpr std::array<uint32_t, kPassCount> kPassBindings = {INGEST_COUNT,   SPLAT_COUNT, REFINE_COUNT,
-                                                            DISOCC_COUNT,   WARP_COUNT,  BLEND_COUNT,
-                                                            GENERATE_COUNT, SR_COUNT,    GENSR_COUNT};
+    "ingest", "splat", "refine", "disocc", "warp", "blend", "generate", "sr", "generate_sr", "denoise"};
+constexpr std::array<uint32_t, kPassCount> kPassBindings = {
+    INGEST_COUNT, SPLAT_COUNT,    REFINE_COUNT, DISOCC_COUNT, WARP_COUNT,
+    BLEND_COUNT,  GENERATE_COUNT, SR_COUNT,     GENSR_COUNT,  DENOISE_COUNT};
 // generate_sr's push block is GenParams followed by SrParams.
 struct GenSrPush {
     gpu::GenParams g;
@@ -43,9 +44,9 @@ struct GenSrPush {
 };
 static_assert(offsetof(GenSrPush, s) == sizeof(gpu::GenParams) && sizeof(GenSrPush) <= 128);
 constexpr std::array<uint32_t, kPassCount> kPassPush = {
-    sizeof(gpu::IngestParams), sizeof(gpu::GenParams), sizeof(gpu::GenParams),
-    sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::GenParams),
-    sizeof(gpu::GenParams),    sizeof(gpu::SrParams),  sizeof(GenSrPush)};
+    sizeof(gpu::IngestParams), sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::GenParams),
+    sizeof(gpu::GenParams),    sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::SrParams),
+    sizeof(GenSrPush),         sizeof(gpu::DenoiseParams)};
 
 // Passes of tile skipping (shaders/classify.h, tiles.h), numbered after the others; the tiled
 // variants are timed under their base pass's name.
@@ -225,6 +226,11 @@ struct Session::Impl {
     int hr_newest = 0;
     bool hr_valid = false;
     vk::Buffer lut;
+    // Params::denoise (shaders/denoise.h): ingest writes color_ingested, denoise writes the
+    // frame's colour; noise (host-visible) holds the histogram and the estimate.
+    vk::Buffer color_ingested, noise;
+    PassTiming denoise_timing{"denoise"};
+    NoiseEstimate noise_estimate;
 
     // Intermediates of one generated frame, reused by each alpha in turn.
     vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1,
@@ -320,11 +326,32 @@ struct Session::Impl {
             for (vk::Buffer& b : hr) FGSR_TRY(make(b, hpx * 16, false));
             FGSR_TRY(make(lut, kLutSize * 4, true));
             FGSR_TRY(upload_lut());
+            if (params.denoise) {
+                FGSR_TRY(make(color_ingested, px * 8, false));
+                FGSR_TRY(make(noise, DENOISE_WORDS * 4, true));
+            }
         }
         return {};
     }
 
     bool sr() const { return out_w != format.width || out_h != format.height; }
+    bool denoise() const { return sr() && params.denoise; }
+
+    // Records the three denoise dispatches (shaders/denoise.comp) from color_ingested into `out`.
+    Result<void> record_denoise(const vk::Buffer& out) {
+        vkCmdFillBuffer(cmd, noise.handle(), 0, VK_WHOLE_SIZE, 0u);
+        barrier();
+        gpu::DenoiseParams d = ref::denoise_params(format, params);
+        d.stage = DENOISE_HISTOGRAM;
+        FGSR_TRY(dispatch(kDenoise, {&color_ingested, &out, &noise}, &d, (format.width + 1) / 2,
+                          (format.height + 1) / 2));
+        barrier();
+        d.stage = DENOISE_LEVEL;
+        FGSR_TRY(dispatch(kDenoise, {&color_ingested, &out, &noise}, &d, 1, 1));
+        barrier();
+        d.stage = DENOISE_FILTER;
+        return dispatch(kDenoise, {&color_ingested, &out, &noise}, &d);
+    }
 
     uint32_t tile_side() const { return params.tile_size ? params.tile_size : kDefaultTile; }
     uint32_t tiles_x() const { return (format.width + tile_side() - 1) / tile_side(); }
@@ -553,10 +580,10 @@ struct Session::Impl {
     Result<void> submit(const FrameView& frame, const HostMemory* memory);
 
     // Records the sr pass of a frame with history with tile skipping: classify in sr mode, then
-    // sr over the moving tiles and its static form over the others. Writes timestamp 2 (after
-    // classify); the caller writes the one after sr.
+    // sr over the moving tiles and its static form over the others. Writes timestamp `query`
+    // (after classify); the caller writes the one after sr.
     Result<void> record_sr_tiled(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,
-                                 const vk::Buffer& history, const vk::Buffer& out) {
+                                 const vk::Buffer& history, const vk::Buffer& out, uint32_t query) {
         FGSR_TRY(ensure_tile_sets(1));
         const TileSet& ts = tile_sets[0];
         const uint32_t side = tile_side();
@@ -576,7 +603,7 @@ struct Session::Impl {
         FGSR_TRY(classify(c, {&f.mv, &prev.mv, &f.depth, &prev.depth, &keys, &motion, &f.color, &f.color,
                               &out, &ts.flags, &ts.work, &ts.generate, &ts.statics}));
         barrier();
-        timestamp(2);
+        timestamp(query);
         FGSR_TRY(dispatch_tiles(
             kSrTiled,
             {&f.color, &f.depth, &f.mv, &prev.depth, &history, &lut, &out, &ts.work, &ts.flags, &ts.generate},
@@ -655,6 +682,10 @@ Result<void> validate(const Params& p) {
     if (!(std::isfinite(p.t_bright) && p.t_bright >= 0.f)) return bad("t_bright", p.t_bright, "[0, inf)");
     if (!(p.sr_a >= 0.f && p.sr_a <= 1.f)) return bad("sr_a", p.sr_a, "[0, 1]");
     if (!(std::isfinite(p.sr_b) && p.sr_b >= 0.f)) return bad("sr_b", p.sr_b, "[0, inf)");
+    if (!(p.denoise_strength >= 0.f && p.denoise_strength <= 64.f))
+        return bad("denoise_strength", p.denoise_strength, "[0, 64]");
+    if (!(std::isfinite(p.noise_floor) && p.noise_floor >= 0.f))
+        return bad("noise_floor", p.noise_floor, "[0, inf)");
     if (!(std::isfinite(p.scale) && p.scale >= 1.f && p.scale <= 4.f))
         return make_error(Errc::invalid_argument,
                           "scale factor " + std::to_string(p.scale) + " is outside [1, 4]");
@@ -734,6 +765,9 @@ uint32_t Session::output_height() const {
 uint64_t Session::frames_submitted() const {
     return impl_->submitted;
 }
+NoiseEstimate Session::last_noise_estimate() const {
+    return impl_->noise_estimate;
+}
 double Session::last_ingest_ms() const {
     return impl_->ingest_timing.ms;
 }
@@ -812,10 +846,19 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         p.mv_offset_y = s.jitter_y - frame.jitter_y;
     }
     FGSR_TRY(s.begin());
-    s.timestamp(0);
-    FGSR_TRY(s.dispatch(kIngest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p));
+    // Timestamps: 0, after ingest, [after denoise], [after classify], after sr.
+    uint32_t q = 0;
+    s.timestamp(q++);
+    const bool denoise = s.denoise();
+    FGSR_TRY(s.dispatch(
+        kIngest, {raw[0], raw[1], raw[2], denoise ? &s.color_ingested : &f.color, &f.depth, &f.mv}, &p));
     s.barrier();
-    s.timestamp(1);
+    s.timestamp(q++);
+    if (denoise) {
+        FGSR_TRY(s.record_denoise(f.color));
+        s.barrier();
+        s.timestamp(q++);
+    }
     bool sr_tiled = false;
     if (s.sr()) {
         gpu::SrParams sp = ref::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x,
@@ -825,21 +868,30 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         // Without history every pixel is a spatial upsample: nothing to classify.
         sr_tiled = s.params.skip_tiles && sp.has_history != 0u && s.sr_unclassified_left == 0;
         if (s.sr_unclassified_left > 0) --s.sr_unclassified_left;
-        if (sr_tiled)
-            FGSR_TRY(s.record_sr_tiled(sp, f, prev, history, out));
-        else
+        if (sr_tiled) {
+            FGSR_TRY(s.record_sr_tiled(sp, f, prev, history, out, q++));
+        } else {
             FGSR_TRY(s.dispatch(kSr, {&f.color, &f.depth, &f.mv, &prev.depth, &history, &s.lut, &out}, &sp,
                                 s.out_w, s.out_h));
+        }
         s.barrier();
-        s.timestamp(sr_tiled ? 3 : 2);
+        s.timestamp(q++);
     }
     FGSR_TRY(s.finish(true));
-    auto t = s.read_times(0, s.sr() ? (sr_tiled ? 3 : 2) : 1);
+    auto t = s.read_times(0, q - 1);
     if (!t) return t.error();
-    s.ingest_timing = (*t)[0];
+    size_t ti = 0;
+    s.ingest_timing = (*t)[ti++];
     s.ingest_timing.name = "ingest";
+    if (denoise) {
+        s.denoise_timing = (*t)[ti++];
+        s.denoise_timing.name = "denoise";
+        const uint32_t* words = static_cast<const uint32_t*>(s.noise.mapped());
+        std::memcpy(&s.noise_estimate.sigma, &words[DENOISE_SIGMA], 4);
+        std::memcpy(&s.noise_estimate.range, &words[DENOISE_RANGE], 4);
+    }
     s.last_sr_tiled = sr_tiled;
-    s.classify_sr_timing = sr_tiled ? (*t)[1] : PassTiming{};
+    s.classify_sr_timing = sr_tiled ? (*t)[ti++] : PassTiming{};
     s.classify_sr_timing.name = "classify";
     if (sr_tiled) {
         s.last_tile_side = s.tile_side();
@@ -855,7 +907,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (restart) s.submitted = 0;
     ++s.submitted;
     if (s.sr()) {
-        s.sr_timing = (*t)[sr_tiled ? 2 : 1];
+        s.sr_timing = (*t)[ti];
         s.sr_timing.name = "sr";
         s.hr_newest = 1 - s.hr_newest;
         s.hr_valid = true;
@@ -1008,6 +1060,10 @@ Result<GeneratedFrame> Session::super_resolved() {
     gf.time = 1.f;
     gf.color = ImageRGBA{s.out_w, s.out_h, std::move(*px)};
     PassTiming sr = s.sr_timing;
+    if (s.denoise()) {
+        gf.passes.push_back(s.denoise_timing);
+        gf.gpu_ms += s.denoise_timing.ms;
+    }
     if (s.last_sr_tiled) {
         PassTiming cl = s.classify_sr_timing;
         cl.tiles_total = s.sr_tiles_total;

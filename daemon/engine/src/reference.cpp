@@ -3,6 +3,7 @@
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -115,6 +116,22 @@ struct SrCpu {
     float load_lut(uint i) const { return lut[i]; }
 #include "resample.h"
 #include "sr.h"
+};
+
+struct DenoiseCpu {
+    const ref::InternalFrame* in;
+    std::vector<vec4>* out;
+    std::array<uint, DENOISE_WORDS>* noise;
+    vec4 load_color(ivec2 q) const { return in->color[size_t(q.y) * in->width + size_t(q.x)]; }
+    void store_color(uint i, vec4 c) { (*out)[i] = unpack_color(pack_color(c)); } // as the GPU stores it
+    void add_to_bin(uint b) { ++(*noise)[b]; }
+    uint load_bin(uint b) const { return (*noise)[b]; }
+    void store_level(float sigma, float range) {
+        (*noise)[DENOISE_SIGMA] = floatBitsToUint(sigma);
+        (*noise)[DENOISE_RANGE] = floatBitsToUint(range);
+    }
+    float load_range() const { return uintBitsToFloat((*noise)[DENOISE_RANGE]); }
+#include "denoise.h"
 };
 
 struct GenerateSrCpu : KeysCpu {
@@ -284,6 +301,36 @@ std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector
     for (uint32_t y = 0; y < p.hr_height; ++y)
         for (uint32_t x = 0; x < p.hr_width; ++x)
             out[size_t(y) * p.hr_width + x] = cpu.super_resolve(glm::ivec2(int(x), int(y)), p);
+    return out;
+}
+
+DenoiseParams denoise_params(const FrameFormat& format, const Params& params) {
+    DenoiseParams d{};
+    d.width = format.width;
+    d.height = format.height;
+    d.strength = params.denoise_strength;
+    d.noise_floor = params.noise_floor;
+    return d;
+}
+
+NoiseEstimate noise_level(const InternalFrame& f, const DenoiseParams& p) {
+    std::array<uint32_t, DENOISE_WORDS> noise{};
+    gpu::DenoiseCpu cpu{&f, nullptr, &noise};
+    for (uint32_t j = 0; j < (p.height + 1) / 2; ++j)
+        for (uint32_t i = 0; i < (p.width + 1) / 2; ++i) cpu.denoise_histogram(glm::ivec2(int(i), int(j)), p);
+    cpu.denoise_level(p);
+    return NoiseEstimate{glm::uintBitsToFloat(noise[DENOISE_SIGMA]),
+                         glm::uintBitsToFloat(noise[DENOISE_RANGE])};
+}
+
+std::vector<glm::vec4> denoise(const InternalFrame& f, const DenoiseParams& p, float range) {
+    std::array<uint32_t, DENOISE_WORDS> noise{};
+    noise[DENOISE_RANGE] = glm::floatBitsToUint(range);
+    std::vector<glm::vec4> out(size_t(p.width) * p.height);
+    gpu::DenoiseCpu cpu{&f, &out, &noise};
+    for (uint32_t y = 0; y < p.height; ++y)
+        for (uint32_t x = 0; x < p.width; ++x)
+            cpu.store_color(y * p.width + x, cpu.denoise_pixel(glm::ivec2(int(x), int(y)), p));
     return out;
 }
 

@@ -52,7 +52,7 @@ extern "C" {
 
 #define FGSR_PROTOCOL_MAGIC 0x52534746u /* "FGSR" little-endian */
 #define FGSR_PROTOCOL_MAJOR 1u
-#define FGSR_PROTOCOL_MINOR 0u
+#define FGSR_PROTOCOL_MINOR 1u /* 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE */
 
 #define FGSR_CACHE_LINE 64u
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
@@ -129,6 +129,7 @@ typedef enum fgsr_queue_policy {
 #define FGSR_SESSION_DILATE_MVS 0x2u         /* frontmost vector of the 3x3 neighbourhood */
 #define FGSR_SESSION_MV_Y_UP 0x4u            /* +y of the vectors points up on screen */
 #define FGSR_SESSION_LINEAR_MOTION 0x8u      /* uniform velocity instead of quadratic motion */
+#define FGSR_SESSION_NO_DENOISE 0x10u        /* SR: no pre-filter of noisy input (minor 1) */
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */
 #define FGSR_CAP_ZERO_COPY_INPUT 0x1u /* inputs imported without a copy (external host memory) */
@@ -399,8 +400,12 @@ typedef enum fgsr_pass_id {
     FGSR_PASS_SR = 7,          /* temporal super resolution */
     FGSR_PASS_GENERATE_SR = 8, /* generation at output resolution (ISR/ESR) */
     FGSR_PASS_CLASSIFY = 9,    /* per-tile work classification */
-    FGSR_PASS_COUNT_ = 10
+    FGSR_PASS_DENOISE = 10,    /* SR: noise estimate and pre-filter of the rendered frame (minor 1) */
+    FGSR_PASS_COUNT_ = 11
 } fgsr_pass_id;
+
+/* The engine's name of a pass ("ingest", ..., "denoise"; "unknown" for values out of range). */
+const char* fgsr_pass_name(uint32_t pass);
 
 typedef struct fgsr_pass_record {
     uint32_t pass;         /* fgsr_pass_id */

@@ -1041,6 +1041,18 @@ class Runner {
                                      ? glm::vec2(cs_.jitter_x - fr.jitter_x, cs_.jitter_y - fr.jitter_y)
                                      : glm::vec2(0.f);
         ref::InternalFrame cur = ref::ingest(f, fr.view(), offset);
+        if (sr && c_.params.denoise) {
+            // The pre-filter with the GPU's range; its estimate must agree with the CPU's up to a
+            // histogram bin (log2 rounding at bin edges).
+            const ref::DenoiseParams dp = ref::denoise_params(f, c_.params);
+            const NoiseEstimate cpu = ref::noise_level(cur, dp), gpu = s.last_noise_estimate();
+            if (!(std::isfinite(gpu.sigma) && std::isfinite(gpu.range)))
+                return fail(where + ": noise estimate is not finite");
+            if (cpu.sigma > 0.f && !(std::abs(std::log2(gpu.sigma / cpu.sigma)) <= 0.126f))
+                return fail(where + ": noise estimate " + std::to_string(gpu.sigma) + " (GPU) against " +
+                            std::to_string(cpu.sigma) + " (CPU)");
+            cur.color = ref::denoise(cur, dp, gpu.range);
+        }
         if (sr) {
             const ref::SrParams p =
                 ref::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,

@@ -68,6 +68,13 @@ struct Params {
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).
     bool mvs_contain_jitter = false;
+    // Noisy input (shaders/denoise.h): a `denoise` pass estimates the noise of each rendered frame
+    // (median absolute Laplacian) and, where it exceeds noise_floor, filters the frame with a 3x3
+    // bilateral filter of range denoise_strength x (noise above the floor) before accumulation.
+    // Clean input (estimate at or below the floor) passes unchanged. SR sessions only.
+    bool denoise = true;
+    float denoise_strength = defaults::denoise_strength; // range in noise sigmas, [0, 64]
+    float noise_floor = defaults::noise_floor;           // linear colour units, >= 0
 
     // Per-tile work skipping (shaders/classify.h): a `classify` pass finds the tiles with no
     // motion; splat, generate, sr and generate_sr run only over the tiles that need them
@@ -82,7 +89,8 @@ struct Params {
 };
 
 // Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b finite
-// and >= 0, scale finite in [1, 4], lut empty or kLutSize finite weights, known enum values.
+// and >= 0, scale finite in [1, 4], lut empty or kLutSize finite weights, denoise_strength in
+// [0, 64], noise_floor finite and >= 0, known enum values.
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);
 
@@ -101,6 +109,12 @@ struct PassTiming {
     // (Params::skip_tiles); both 0 when the pass does not classify tiles.
     uint32_t tiles_total = 0;
     uint32_t tiles_skipped = 0;
+};
+
+// Noise of a rendered frame as the `denoise` pass estimated it (shaders/denoise.h).
+struct NoiseEstimate {
+    float sigma = 0; // standard deviation of the per-pixel noise, linear colour units
+    float range = 0; // range of the bilateral filter applied (0: the frame was not filtered)
 };
 
 struct GeneratedFrame {
@@ -192,6 +206,8 @@ class Session {
     double last_ingest_ms() const;
     // Timing of the last submit's ingest pass (with CLOCK_MONOTONIC begin/end).
     PassTiming last_ingest_timing() const;
+    // The last submit's noise estimate (Params::denoise; zeros without it).
+    NoiseEstimate last_noise_estimate() const;
     // TILE_* flags of the last submit's super-resolution classification (empty when it was not
     // classified: no history, or Params::skip_tiles off), tiles of tile_side() pixels.
     std::vector<uint32_t> last_sr_tile_flags() const;

@@ -9,7 +9,8 @@
 //   quality      everything on: uniform acceleration, gap and hole filling, mix blend, the learned
 //                LUT for SR history, depth-informed vector dilation, fused passes (the separate
 //                passes give the same frames, only slower).
-// Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset.
+// Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
+// pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing).
 //
 // Switches are "key=value" settings of one field each, e.g. "motion=linear", "resample=lut",
 // "fill_gaps=off", "passes=separate"; kSwitches lists every key and its values, and
@@ -79,13 +80,14 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 7> kSwitches{{
+inline constexpr std::array<SwitchInfo, 8> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", {"bilinear", "catmull_rom", "lut"}, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
     {"fill_holes", {"on", "off", ""}, "disocc: give disocclusion holes a vector"},
     {"blend", {"select", "mix", ""}, "where both warped frames agree: closer frame or alpha mix"},
     {"dilate_mvs", {"on", "off", ""}, "SR: vector of the frontmost 3x3 neighbour"},
+    {"denoise", {"on", "off", ""}, "SR: pre-filter input whose estimated noise exceeds the floor"},
     {"passes", {"fused", "separate", ""}, "one fused generate pass or refine/disocc/warp/blend"},
 }};
 
@@ -101,6 +103,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "fill_holes") return onoff(p.fill_holes);
     if (key == "blend") return p.blend == BlendMode::select ? "select" : "mix";
     if (key == "dilate_mvs") return onoff(p.dilate_mvs);
+    if (key == "denoise") return onoff(p.denoise);
     if (key == "passes") return p.separate_passes ? "separate" : "fused";
     return "";
 }
@@ -117,7 +120,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
         return make_error(
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
-                "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, passes)");
+                "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -137,6 +140,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "fill_holes") p.fill_holes = on;
     if (key == "blend") p.blend = value == "select" ? BlendMode::select : BlendMode::mix;
     if (key == "dilate_mvs") p.dilate_mvs = on;
+    if (key == "denoise") p.denoise = on;
     if (key == "passes") p.separate_passes = value == "separate";
     return {};
 }

@@ -16,6 +16,7 @@
 namespace fgsr::ref {
 
 using gpu::ClassifyParams;
+using gpu::DenoiseParams;
 using gpu::GenParams;
 using gpu::IngestParams;
 using gpu::SrParams;
@@ -73,6 +74,16 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
 // the frame is no reset).
 SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width, uint32_t out_height,
                    float jitter_x, float jitter_y, bool has_history);
+
+// The push constants of the `denoise` pass (stage left 0) for frames of this format.
+DenoiseParams denoise_params(const FrameFormat& format, const Params& params);
+
+// The `denoise` pass's noise estimate of one ingested frame (stages histogram and level).
+NoiseEstimate noise_level(const InternalFrame& f, const DenoiseParams& p);
+
+// The `denoise` filter of one ingested frame with the given range (stage filter); colours as the
+// engine stores them (rounded to half).
+std::vector<glm::vec4> denoise(const InternalFrame& f, const DenoiseParams& p, float range);
 
 // One frame of super resolution on the CPU: `cur` the new LR frame, `prev_depth` the previous LR
 // depth, `history` the previous output (out_width x out_height), `lut` for Resample::lut.

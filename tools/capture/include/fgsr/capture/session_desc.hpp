@@ -28,7 +28,8 @@ inline fgsr_session_desc session_desc(const FrameFormat& f, const Params& p, uin
     d.flags = (f.conventions.mv_y_up ? FGSR_SESSION_MV_Y_UP : 0u) |
               (p.dilate_mvs ? FGSR_SESSION_DILATE_MVS : 0u) |
               (p.mvs_contain_jitter ? FGSR_SESSION_MVS_CONTAIN_JITTER : 0u) |
-              (p.motion == MotionModel::linear ? FGSR_SESSION_LINEAR_MOTION : 0u);
+              (p.motion == MotionModel::linear ? FGSR_SESSION_LINEAR_MOTION : 0u) |
+              (p.denoise ? 0u : FGSR_SESSION_NO_DENOISE);
     d.queue_policy = FGSR_QUEUE_FIFO;
     d.output_format = FGSR_COLOR_RGBA32F_LINEAR;
     d.t_depth = p.t_depth;

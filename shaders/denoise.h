@@ -1,0 +1,95 @@
+// Pass `denoise` (super-resolution sessions, Params::denoise): an adaptive pre-filter of the
+// rendered low-resolution colour before `sr` accumulates it (docs/SR.md, "Noisy input").
+//
+// Why: Eq. 2 with the calibrated a (~0.66) keeps most of each frame's samples, so per-pixel noise
+// in the input (Monte Carlo shading, sub-pixel texture detail point-sampled at one sample per
+// pixel) stays in the output, and a sharp history resampler (the LUT) keeps it in the history.
+// On clean rasterised input the estimate falls below the floor and the filter is the identity.
+//
+// Stage DENOISE_HISTOGRAM, one invocation per 2x2 block, at the block's pixel (2i+1, 2j+1) where
+// it is interior: the Laplacian L = [1 -2 1; -2 4 -2; 1 -2 1] of the luminance (mean of R, G, B);
+// for white noise of standard deviation sigma, L / 6 has standard deviation sigma. |L| / 6 is
+// counted in a histogram of DENOISE_BINS bins: bin 0 below 2^-16, then 8 bins per octave.
+// Stage DENOISE_LEVEL, one invocation: sigma = median(|L| / 6) / 0.6745 (the median absolute
+// deviation of a normal distribution); edges and texture are a minority of the blocks and move
+// the median little. The noise above the floor, sqrt(max(sigma^2 - floor^2, 0)), times the
+// strength is the filter's range r. A median bin stands for its geometric centre (bins are 9 %
+// wide). Fewer than 1 interior block (width or height < 3): sigma 0.
+// Stage DENOISE_FILTER, one invocation per pixel: a 3x3 bilateral filter, weight
+// s(dx) s(dy) exp(-d^2 / (2 r^2)) with s(0) = 1, s(+-1) = 0.6 (a Gaussian of about one pixel) and
+// d^2 the mean squared RGB difference to the centre pixel (neighbours clamped at the border).
+// Alpha passes through. r = 0 (or no finite positive r) leaves every pixel exactly as it was.
+//
+// Entry provides:
+//   vec4  load_color(ivec2 pixel)          the ingested colour
+//   void  store_color(uint pixel, vec4 c)  the filtered colour (stored with pack_color)
+//   void  add_to_bin(uint bin)             histogram bin += 1 (atomic on the GPU)
+//   uint  load_bin(uint bin)
+//   void  store_level(float sigma, float range)
+//   float load_range()
+
+FGSR_INLINE float denoise_luma(vec4 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
+
+FGSR_INLINE ivec2 denoise_clamp(ivec2 q, DenoiseParams p) {
+    return clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+}
+
+// The histogram bin of a noise magnitude (|L| / 6, linear colour units).
+FGSR_INLINE uint denoise_bin(float v) {
+    if (!(v >= 1.52587890625e-05f)) return 0u; // 2^-16
+    float b = floor((log2(v) + 16.0f) * 8.0f);
+    return b >= float(DENOISE_BINS - 2u) ? DENOISE_BINS - 1u : 1u + uint(b);
+}
+
+// The magnitude a bin stands for: its geometric centre (bin 0: 0).
+FGSR_INLINE float denoise_bin_value(uint bin) {
+    return bin == 0u ? 0.0f : exp2((float(bin) - 0.5f) * 0.125f - 16.0f);
+}
+
+// Stage DENOISE_HISTOGRAM: block (i, j) = invocation id.
+FGSR_INLINE void denoise_histogram(ivec2 block, DenoiseParams p) {
+    ivec2 c = block * 2 + ivec2(1);
+    if (c.x + 1 >= int(p.width) || c.y + 1 >= int(p.height)) return;
+    float l = 4.0f * denoise_luma(load_color(c));
+    l -= 2.0f * (denoise_luma(load_color(c + ivec2(-1, 0))) + denoise_luma(load_color(c + ivec2(1, 0))) +
+                 denoise_luma(load_color(c + ivec2(0, -1))) + denoise_luma(load_color(c + ivec2(0, 1))));
+    l += denoise_luma(load_color(c + ivec2(-1, -1))) + denoise_luma(load_color(c + ivec2(1, -1))) +
+         denoise_luma(load_color(c + ivec2(-1, 1))) + denoise_luma(load_color(c + ivec2(1, 1)));
+    add_to_bin(denoise_bin(abs(l) * (1.0f / 6.0f)));
+}
+
+// Stage DENOISE_LEVEL.
+FGSR_INLINE void denoise_level(DenoiseParams p) {
+    uint total = 0u;
+    for (uint b = 0u; b < DENOISE_BINS; ++b) total += load_bin(b);
+    float sigma = 0.0f;
+    if (total > 0u) {
+        uint half_count = (total + 1u) / 2u, seen = 0u, b = 0u;
+        for (; b < DENOISE_BINS - 1u; ++b) {
+            seen += load_bin(b);
+            if (seen >= half_count) break;
+        }
+        sigma = denoise_bin_value(b) / 0.6745f;
+    }
+    float above = sqrt(max(sigma * sigma - p.noise_floor * p.noise_floor, 0.0f));
+    store_level(sigma, p.strength * above);
+}
+
+// Stage DENOISE_FILTER.
+FGSR_INLINE vec4 denoise_pixel(ivec2 q, DenoiseParams p) {
+    vec4 c0 = load_color(q);
+    float r = load_range();
+    if (!(r > 0.0f) || isinf(r)) return c0;
+    float k = 1.0f / (2.0f * r * r);
+    vec3 sum = vec3(0.0f);
+    float wsum = 0.0f;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) {
+            vec3 c = vec3(load_color(denoise_clamp(q + ivec2(x, y), p)));
+            vec3 d = c - vec3(c0);
+            float w = (x == 0 ? 1.0f : 0.6f) * (y == 0 ? 1.0f : 0.6f) * exp(-dot(d, d) * (1.0f / 3.0f) * k);
+            sum += w * c;
+            wsum += w;
+        }
+    return vec4(sum / wsum, c0.w); // wsum >= 1: the centre's own weight
+}
