@@ -71,9 +71,9 @@
 #define GENSR_OUTPUT 10
 #define GENSR_COUNT 11
 
-#define DENOISE_COLOR_IN 0 // the ingested colour (pack_color)
-#define DENOISE_COLOR 1    // the filtered colour the SR passes read (pack_color)
-#define DENOISE_NOISE 2    // DENOISE_WORDS uints: histogram, sigma, range (zeroed by the host)
+#define DENOISE_COLOR_IN 0 // stages 0-2: the ingested frame colour; stage 3: the scratch (pack_color)
+#define DENOISE_COLOR 1    // stage 2: the scratch; stage 3: the frame colour (pack_color)
+#define DENOISE_NOISE 2    // DENOISE_WORDS uints: histogram, level, dispatch (zeroed by the host)
 #define DENOISE_COUNT 3
 
 // classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current

@@ -121,11 +121,13 @@ struct ClassifyParams {
 // denoise (denoise.h): adaptive pre-filter of the low-resolution colour of SR sessions.
 #define DENOISE_HISTOGRAM 0u // stage 0: noise histogram, one invocation per 2x2 block
 #define DENOISE_LEVEL 1u     // stage 1: noise level and filter range, one invocation
-#define DENOISE_FILTER 2u    // stage 2: the filter, one invocation per pixel
-#define DENOISE_BINS 128u    // histogram bins; the noise buffer holds them, then sigma and range
-#define DENOISE_SIGMA DENOISE_BINS        // uint index of the estimated noise sigma (float bits)
-#define DENOISE_RANGE (DENOISE_BINS + 1u) // uint index of the filter's range (float bits)
-#define DENOISE_WORDS (DENOISE_BINS + 4u)
+#define DENOISE_FILTER 2u    // stage 2: the filter into a scratch buffer, one invocation per pixel
+#define DENOISE_COPY 3u      // stage 3: the scratch buffer back into the frame, one invocation per pixel
+#define DENOISE_BINS 128u    // histogram bins; the noise buffer holds them, then:
+#define DENOISE_SIGMA DENOISE_BINS          // the estimated noise sigma (float bits)
+#define DENOISE_RANGE (DENOISE_BINS + 1u)   // the filter's range (float bits)
+#define DENOISE_DISPATCH (DENOISE_BINS + 4u) // 3 words: workgroups of stages 2 and 3 (0 when r = 0)
+#define DENOISE_WORDS (DENOISE_BINS + 8u)
 
 struct DenoiseParams {
     uint width;

@@ -18,14 +18,16 @@
 // Stage DENOISE_FILTER, one invocation per pixel: a 3x3 bilateral filter, weight
 // s(dx) s(dy) exp(-d^2 / (2 r^2)) with s(0) = 1, s(+-1) = 0.6 (a Gaussian of about one pixel) and
 // d^2 the mean squared RGB difference to the centre pixel (neighbours clamped at the border).
-// Alpha passes through. r = 0 (or no finite positive r) leaves every pixel exactly as it was.
+// Alpha passes through. r = 0 (or no finite positive r) leaves every pixel exactly as it was, and
+// the engine then skips stages 2 and 3 (indirect dispatches of 0 workgroups written by stage 1).
+// The filter writes a scratch buffer that stage DENOISE_COPY copies back into the frame.
 //
 // Entry provides:
 //   vec4  load_color(ivec2 pixel)          the ingested colour
 //   void  store_color(uint pixel, vec4 c)  the filtered colour (stored with pack_color)
 //   void  add_to_bin(uint bin)             histogram bin += 1 (atomic on the GPU)
 //   uint  load_bin(uint bin)
-//   void  store_level(float sigma, float range)
+//   void  store_level(float sigma, float range)   (GPU: also the dispatch of stages 2 and 3)
 //   float load_range()
 
 FGSR_INLINE float denoise_luma(vec4 c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
@@ -75,11 +77,14 @@ FGSR_INLINE void denoise_level(DenoiseParams p) {
     store_level(sigma, p.strength * above);
 }
 
+// Whether a range filters at all.
+FGSR_INLINE bool denoise_filters(float r) { return r > 0.0f && !isinf(r); }
+
 // Stage DENOISE_FILTER.
 FGSR_INLINE vec4 denoise_pixel(ivec2 q, DenoiseParams p) {
     vec4 c0 = load_color(q);
     float r = load_range();
-    if (!(r > 0.0f) || isinf(r)) return c0;
+    if (!denoise_filters(r)) return c0;
     float k = 1.0f / (2.0f * r * r);
     vec3 sum = vec3(0.0f);
     float wsum = 0.0f;

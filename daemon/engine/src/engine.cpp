@@ -226,9 +226,9 @@ struct Session::Impl {
     int hr_newest = 0;
     bool hr_valid = false;
     vk::Buffer lut;
-    // Params::denoise (shaders/denoise.h): ingest writes color_ingested, denoise writes the
-    // frame's colour; noise (host-visible) holds the histogram and the estimate.
-    vk::Buffer color_ingested, noise;
+    // Params::denoise (shaders/denoise.h): the filter's scratch (copied back into the frame's
+    // colour) and the noise buffer (host-visible: histogram, estimate, indirect dispatch).
+    vk::Buffer color_scratch, noise;
     PassTiming denoise_timing{"denoise"};
     NoiseEstimate noise_estimate;
 
@@ -327,7 +327,7 @@ struct Session::Impl {
             FGSR_TRY(make(lut, kLutSize * 4, true));
             FGSR_TRY(upload_lut());
             if (params.denoise) {
-                FGSR_TRY(make(color_ingested, px * 8, false));
+                FGSR_TRY(make(color_scratch, px * 8, false));
                 FGSR_TRY(make(noise, DENOISE_WORDS * 4, true));
             }
         }
@@ -337,20 +337,27 @@ struct Session::Impl {
     bool sr() const { return out_w != format.width || out_h != format.height; }
     bool denoise() const { return sr() && params.denoise; }
 
-    // Records the three denoise dispatches (shaders/denoise.comp) from color_ingested into `out`.
-    Result<void> record_denoise(const vk::Buffer& out) {
+    // Records the denoise dispatches (shaders/denoise.comp) on a frame's ingested colour, which
+    // they filter in place (through the scratch) when the frame's estimate asks for it.
+    Result<void> record_denoise(const vk::Buffer& color) {
         vkCmdFillBuffer(cmd, noise.handle(), 0, VK_WHOLE_SIZE, 0u);
         barrier();
         gpu::DenoiseParams d = ref::denoise_params(format, params);
         d.stage = DENOISE_HISTOGRAM;
-        FGSR_TRY(dispatch(kDenoise, {&color_ingested, &out, &noise}, &d, (format.width + 1) / 2,
+        FGSR_TRY(dispatch(kDenoise, {&color, &color_scratch, &noise}, &d, (format.width + 1) / 2,
                           (format.height + 1) / 2));
         barrier();
         d.stage = DENOISE_LEVEL;
-        FGSR_TRY(dispatch(kDenoise, {&color_ingested, &out, &noise}, &d, 1, 1));
+        FGSR_TRY(dispatch(kDenoise, {&color, &color_scratch, &noise}, &d, 1, 1));
         barrier();
         d.stage = DENOISE_FILTER;
-        return dispatch(kDenoise, {&color_ingested, &out, &noise}, &d);
+        FGSR_TRY(bind(kDenoise, {&color, &color_scratch, &noise}, &d));
+        vkCmdDispatchIndirect(cmd, noise.handle(), VkDeviceSize(DENOISE_DISPATCH) * 4);
+        barrier();
+        d.stage = DENOISE_COPY;
+        FGSR_TRY(bind(kDenoise, {&color_scratch, &color, &noise}, &d));
+        vkCmdDispatchIndirect(cmd, noise.handle(), VkDeviceSize(DENOISE_DISPATCH) * 4);
+        return {};
     }
 
     uint32_t tile_side() const { return params.tile_size ? params.tile_size : kDefaultTile; }
@@ -850,8 +857,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     uint32_t q = 0;
     s.timestamp(q++);
     const bool denoise = s.denoise();
-    FGSR_TRY(s.dispatch(
-        kIngest, {raw[0], raw[1], raw[2], denoise ? &s.color_ingested : &f.color, &f.depth, &f.mv}, &p));
+    FGSR_TRY(s.dispatch(kIngest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p));
     s.barrier();
     s.timestamp(q++);
     if (denoise) {
