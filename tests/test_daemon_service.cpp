@@ -1110,6 +1110,32 @@ TEST(DaemonProcess, ClientsBeyondMaxClientsGetBusy) {
     EXPECT_TRUE(served);
 }
 
+// Connections that never say HELLO cannot pile up: beyond --max-pending the oldest is closed,
+// and each is closed after --hello-timeout; clients that do say HELLO are served meanwhile.
+TEST(DaemonProcess, ConnectionsWithoutHelloAreBoundedAndTimedOut) {
+    auto d = FgsrdProcess::start({"--max-pending", "4", "--hello-timeout", "0.5"});
+    ASSERT_TRUE(d) << FgsrdProcess::last_error();
+    const int baseline = d->fd_count();
+    ASSERT_GT(baseline, 0);
+    std::vector<Raw> idle;
+    for (int i = 0; i < 12; ++i) {
+        auto r = Raw::connect(d->socket_path());
+        ASSERT_TRUE(r);
+        idle.push_back(std::move(*r));
+    }
+    // The first 8 were closed as newer ones arrived (oldest first), the last 4 wait.
+    for (int i = 0; i < 8; ++i) EXPECT_TRUE(idle[size_t(i)].closed_by_daemon(2000)) << i;
+    EXPECT_LE(d->fd_count(), baseline + 4);
+    auto good = Raw::connect(d->socket_path());
+    ASSERT_TRUE(good);
+    EXPECT_EQ(good->hello().status, FGSR_STATUS_OK);
+    // After the timeout the waiting ones are closed too; the client that said HELLO stays.
+    for (int i = 8; i < 12; ++i) EXPECT_TRUE(idle[size_t(i)].closed_by_daemon(5000)) << i;
+    EXPECT_FALSE(good->closed_by_daemon(300));
+    EXPECT_EQ(d->fd_count(), baseline + 1);
+    EXPECT_NE(d->stderr_text().find("no HELLO in time"), std::string::npos);
+}
+
 // Another uid: refused by SO_PEERCRED unless --allow-any-user (needs root to switch uid).
 TEST(DaemonProcess, OtherUsersArePermissionDeniedUnlessAllowed) {
     if (geteuid() != 0) GTEST_SKIP() << "needs root to connect as another user";

@@ -18,6 +18,14 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
     app.add_option("--max-clients", opt.max_clients, "Connections served at once (more get BUSY)")
         ->check(CLI::Range(1u, 4096u));
+    app.add_option("--hello-timeout", opt.hello_timeout_s,
+                   "Seconds a connection may take to say HELLO before it is closed")
+        ->check(CLI::Range(0.01, 3600.0))
+        ->capture_default_str();
+    app.add_option("--max-pending", opt.max_pending,
+                   "Connections waiting for their HELLO at once (a new one closes the oldest)")
+        ->check(CLI::Range(1u, 4096u))
+        ->capture_default_str();
     app.add_flag("--allow-any-user", opt.allow_any_user,
                  "Serve clients of any uid (default: only this user, checked with SO_PEERCRED)");
     app.add_flag("--no-zero-copy", no_zero_copy, "Always copy inputs through a staging buffer");

@@ -15,10 +15,12 @@
 #include <fgsr/engine/engine.hpp>
 #include <fgsr/protocol.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fcntl.h>
 #include <filesystem>
 #include <map>
@@ -37,6 +39,12 @@ namespace fgsrd {
 
 namespace {
 
+uint64_t now_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
+}
+
 // epoll tags: kind in the top byte, an id below.
 enum Kind : uint64_t { kListen = 1, kSignal = 2, kClient = 3, kSession = 4 };
 uint64_t tag(Kind k, uint64_t id) {
@@ -50,6 +58,7 @@ struct Client {
     pid_t pid = 0;
     std::string name; // "pid N" until HELLO names it
     bool hello_done = false;
+    uint64_t connected_ns = 0; // CLOCK_MONOTONIC at accept (the HELLO deadline counts from it)
     std::map<uint32_t, std::unique_ptr<ServiceSession>> sessions;
 };
 
@@ -62,6 +71,9 @@ class Server {
   private:
     bool setup_socket();
     void accept_clients();
+    // Closes the connections without HELLO past their deadline; returns the milliseconds until
+    // the next deadline (-1: none).
+    int expire_pending();
     void on_client(uint64_t id, uint32_t events);
     void drop_client(uint64_t id, const char* why);
     // Sends FGSR_MSG_ERROR with a reason, then drops the client.
@@ -283,9 +295,34 @@ void Server::accept_clients() {
             continue;
         }
         c->fd = std::move(fd);
+        c->connected_ns = now_ns();
         log::debug("client {} connected (pid {}, uid {})", c->id, cred.pid, cred.uid);
         clients_[c->id] = std::move(c);
+        // Ids grow with connection time, so the first pending client in the map is the oldest.
+        size_t pending = 0;
+        uint64_t oldest = 0;
+        for (const auto& [cid, cl] : clients_)
+            if (!cl->hello_done && pending++ == 0) oldest = cid;
+        if (pending > opt_.max_pending)
+            drop_client(oldest, "too many connections without HELLO (this was the oldest)");
     }
+}
+
+int Server::expire_pending() {
+    const uint64_t now = now_ns();
+    const uint64_t limit = uint64_t(opt_.hello_timeout_s * 1e9);
+    std::vector<uint64_t> late;
+    uint64_t next = UINT64_MAX;
+    for (const auto& [cid, c] : clients_) {
+        if (c->hello_done) continue;
+        const uint64_t deadline = c->connected_ns + limit;
+        if (deadline <= now)
+            late.push_back(cid);
+        else
+            next = std::min(next, deadline);
+    }
+    for (uint64_t cid : late) drop_client(cid, "no HELLO in time");
+    return next == UINT64_MAX ? -1 : int(std::min<uint64_t>((next - now) / 1000000 + 1, 60000));
 }
 
 void Server::on_client(uint64_t id, uint32_t events) {
@@ -565,7 +602,9 @@ int Server::run() {
                 ready |= s->ready();
                 ring_wait |= s->waiting_on_completion_ring();
             }
-        const int timeout = ready ? 0 : ring_wait ? 2 : -1;
+        int timeout = ready ? 0 : ring_wait ? 2 : -1;
+        const int hello_wait = expire_pending();
+        if (hello_wait >= 0 && (timeout < 0 || hello_wait < timeout)) timeout = hello_wait;
         const int n = epoll_wait(epoll_.get(), events.data(), int(events.size()), timeout);
         if (n < 0 && errno != EINTR) {
             log::error("epoll_wait: {}", std::strerror(errno));
