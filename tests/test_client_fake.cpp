@@ -699,7 +699,7 @@ void record_and_compare(bool through_env) {
             fgsr_submit_info info{};
             info.struct_size = sizeof(info);
             info.input_slot = in.index;
-            info.flags = f.mv.empty() ? 0 : FGSR_SUBMIT_HAS_MV;
+            info.flags = (f.mv.empty() ? 0 : FGSR_SUBMIT_HAS_MV) | (i == 2 ? FGSR_SUBMIT_RESET : 0);
             info.jitter_x = 0.25f * float(i);
             info.jitter_y = -0.125f;
             ASSERT_EQ(s.submit(info), FGSR_STATUS_OK);
@@ -724,6 +724,7 @@ void record_and_compare(bool through_env) {
         EXPECT_EQ(back->inputs[i].mv, cap->inputs[i].mv) << i;
         EXPECT_EQ(back->inputs[i].jitter_x, 0.25f * float(i));
         EXPECT_EQ(back->inputs[i].jitter_y, -0.125f);
+        EXPECT_EQ(back->inputs[i].reset, i == 2) << i;
     }
     std::error_code ec;
     fs::remove_all(dir.parent_path(), ec);

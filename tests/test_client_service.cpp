@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstring>
 #include <dirent.h>
@@ -266,6 +268,35 @@ TEST_F(ClientService, FifoAndMailboxSemantics) {
             EXPECT_EQ(st.frames_dropped, 0u);
         }
     }
+}
+
+// A recorded scene cut (capture format "reset") is honoured in process and through fgsrd: the
+// pair across the cut is not generated, the others are, with the same scores both ways.
+TEST_F(ClientService, SceneCutsOfACaptureAreHonouredByEvalAndReplay) {
+    char tmpl[] = "/tmp/fgsr-cut-XXXXXX";
+    const fs::path dir = mkdtemp(tmpl);
+    fgsr::capture::SceneOptions so;
+    so.width = 64;
+    so.height = 36;
+    auto cap = fgsr::capture::make_synthetic_capture(so, 5);
+    ASSERT_TRUE(cap);
+    cap->inputs[2].reset = true;
+    ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
+    const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
+    auto ev = fgsr::test::run_process(bin + " eval --quiet --json --methods fgsr --capture " +
+                                      (dir / "cap").string());
+    ASSERT_EQ(ev.status, 0) << ev.out;
+    auto rp = fgsr::test::run_process(bin + " eval --quiet --json --capture " + (dir / "cap").string() +
+                                      " --socket " + daemon_->socket_path());
+    ASSERT_EQ(rp.status, 0) << rp.out;
+    const auto a = nlohmann::json::parse(ev.out, nullptr, false),
+               b = nlohmann::json::parse(rp.out, nullptr, false);
+    ASSERT_FALSE(a.is_discarded() || b.is_discarded());
+    EXPECT_EQ(a["frames"].get<int>(), 3) << "4 pairs, one across the cut";
+    EXPECT_EQ(b["frames"].get<int>(), 3);
+    EXPECT_EQ(a["methods"]["fgsr"]["psnr"], b["methods"]["fgsr"]["psnr"]);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
 }
 
 // `fgsr replay` and `fgsr eval` on the same small capture print the same PSNR and SSIM.

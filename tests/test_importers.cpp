@@ -639,6 +639,7 @@ Capture generated_capture(ColorFormat cf, MvFormat mf, uint32_t seed) {
         f.jitter_x = float(k) * 0.1f - 0.25f;
         f.jitter_y = 1.f / 3.f - float(k) * 0.0625f;
         if (k == 3) f.jitter_x = 1e-40f, f.jitter_y = -3.4e38f; // denormal and huge floats in the manifest
+        f.reset = k == 2;                                       // a scene cut
         c.inputs.push_back(std::move(f));
     }
     for (int k = 0; k < 3; ++k) {
@@ -685,6 +686,7 @@ void expect_same_capture(const Capture& a, const Capture& b) {
         EXPECT_EQ(a.inputs[k].mv, b.inputs[k].mv) << "vectors of frame " << k;
         EXPECT_EQ(a.inputs[k].jitter_x, b.inputs[k].jitter_x);
         EXPECT_EQ(a.inputs[k].jitter_y, b.inputs[k].jitter_y);
+        EXPECT_EQ(a.inputs[k].reset, b.inputs[k].reset) << "scene cut of frame " << k;
     }
     ASSERT_EQ(a.ground_truth.size(), b.ground_truth.size());
     for (size_t k = 0; k < a.ground_truth.size(); ++k)

@@ -51,13 +51,14 @@ class CaptureRecorder final : public Recorder {
                        has_mv ? std::span<const std::byte>(mv_) : std::span<const std::byte>()};
         view.jitter_x = e.jitter_x;
         view.jitter_y = e.jitter_y;
+        view.reset = (e.flags & FGSR_SUBMIT_RESET) != 0;
         const std::string rel = "frames/" + capture::fgsr_file_name(manifest_.frames.size());
         auto w = capture::write_fgsr_frame(dir_ / rel, f, view);
         if (!w) {
             error_ = w.error().message;
             return FGSR_STATUS_UNSUPPORTED;
         }
-        manifest_.frames.push_back({rel, has_mv, e.jitter_x, e.jitter_y});
+        manifest_.frames.push_back({rel, has_mv, e.jitter_x, e.jitter_y, (e.flags & FGSR_SUBMIT_RESET) != 0});
         return FGSR_STATUS_OK;
     }
 

@@ -201,8 +201,7 @@ Result<std::vector<Samples>> time_configs(const BenchOptions& o, Engine& engine,
     }
     const bool extrap = mode == "extrap" || mode == "esr";
     const size_t refs = mode == "isr" || mode == "esr" ? cap.hr_ground_truth.size() : cap.ground_truth.size();
-    const std::vector<size_t> targets =
-        skip_first(halfway_targets(cap.inputs.size(), refs, extrap, 0), 1, o.frames);
+    const std::vector<size_t> targets = skip_first(halfway_targets(cap.inputs, refs, extrap, 0), 1, o.frames);
     const float alpha[] = {0.5f};
     size_t next_input = 0;
     for (size_t t : targets) {

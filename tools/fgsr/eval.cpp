@@ -43,9 +43,11 @@ Result<capture::Capture> load_eval_capture(const EvalOptions& o, size_t max_fram
     return capture::load(o.capture, o.prefer_lr, max_frames);
 }
 
-std::vector<size_t> halfway_targets(size_t inputs, size_t references, bool extrapolate, int max_frames) {
+std::vector<size_t> halfway_targets(const std::vector<capture::Frame>& inputs, size_t references,
+                                    bool extrapolate, int max_frames) {
     std::vector<size_t> targets;
-    for (size_t k = extrapolate ? 1 : 0; k + 1 < inputs && k < references; ++k) targets.push_back(k);
+    for (size_t k = extrapolate ? 1 : 0; k + 1 < inputs.size() && k < references; ++k)
+        if (!inputs[extrapolate ? k : k + 1].reset) targets.push_back(k);
     if (max_frames > 0 && targets.size() > size_t(max_frames)) targets.resize(size_t(max_frames));
     return targets;
 }
@@ -157,7 +159,7 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
                                       "use --alpha 0.5",
                                       cap.name));
     const std::vector<size_t> targets = skip_first(
-        halfway_targets(cap.inputs.size(), cap.ground_truth.size(), extrap, 0), o.skip_targets, o.max_frames);
+        halfway_targets(cap.inputs, cap.ground_truth.size(), extrap, 0), o.skip_targets, o.max_frames);
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
 

@@ -78,8 +78,10 @@ Result<capture::Capture> load_eval_capture(const EvalOptions& options,
                                            size_t max_frames = capture::kAllFrames);
 
 // Targets of halfway ground truth: interpolation pair (k, k+1) -> reference k; extrapolation
-// pair (k-1, k) -> reference k (instant k + 0.5). At most max_frames (0: all).
-std::vector<size_t> halfway_targets(size_t inputs, size_t references, bool extrapolate, int max_frames);
+// pair (k-1, k) -> reference k (instant k + 0.5). Pairs across a scene cut (the second frame has
+// reset set) have no target. At most max_frames (0: all).
+std::vector<size_t> halfway_targets(const std::vector<capture::Frame>& inputs, size_t references,
+                                    bool extrapolate, int max_frames);
 // targets without its first `skip` entries, then at most max_frames of them (0: all).
 std::vector<size_t> skip_first(std::vector<size_t> targets, int skip, int max_frames);
 

@@ -208,9 +208,8 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
                           "references exist only halfway between inputs; use --alpha 0.5");
     const uint32_t out_w = cap.hr_ground_truth[0].width, out_h = cap.hr_ground_truth[0].height;
     const float scale = float(out_w) / float(cap.format.width);
-    const std::vector<size_t> targets =
-        skip_first(halfway_targets(cap.inputs.size(), cap.hr_ground_truth.size(), extrap, 0), o.skip_targets,
-                   o.max_frames);
+    const std::vector<size_t> targets = skip_first(
+        halfway_targets(cap.inputs, cap.hr_ground_truth.size(), extrap, 0), o.skip_targets, o.max_frames);
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames");
 

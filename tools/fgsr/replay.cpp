@@ -172,7 +172,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
                               "references exist only halfway between inputs; use --alpha 0.5");
         // Without references (e.g. a recorded session) every pair gets its frame, unscored.
         std::vector<size_t> targets =
-            halfway_targets(n, refs.empty() ? n : refs.size(), extrap, o.max_frames);
+            halfway_targets(cap.inputs, refs.empty() ? n : refs.size(), extrap, o.max_frames);
         if (targets.empty())
             return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames");
         modes = extrap ? FGSR_MODE_EXTRAPOLATE : FGSR_MODE_INTERPOLATE;
@@ -310,7 +310,8 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         fgsr_submit_info si{};
         si.struct_size = sizeof(si);
         si.input_slot = in.index;
-        si.flags = (fr.mv.empty() ? 0u : FGSR_SUBMIT_HAS_MV) | (p.want_sr ? FGSR_SUBMIT_WANT_SR : 0u);
+        si.flags = (fr.mv.empty() ? 0u : FGSR_SUBMIT_HAS_MV) | (p.want_sr ? FGSR_SUBMIT_WANT_SR : 0u) |
+                   (fr.reset ? FGSR_SUBMIT_RESET : 0u);
         si.jitter_x = fr.jitter_x;
         si.jitter_y = fr.jitter_y;
         si.interp_count = uint32_t(p.interp.size());

@@ -282,11 +282,13 @@ Result<void> write_fgsr_manifest(const fs::path& dir, const FgsrManifest& mf) {
     m["ground_truth_kind"] = enum_name(kGtNames, mf.ground_truth_kind);
     m["composed_vectors"] = mf.composed_vectors;
     ojson frames = ojson::array();
-    for (const auto& f : mf.frames)
-        frames.push_back(
-            ojson{{"file", f.file},
-                  {"mv", f.mv},
-                  {"jitter", ojson::array({float_to_json(f.jitter_x), float_to_json(f.jitter_y)})}});
+    for (const auto& f : mf.frames) {
+        ojson e{{"file", f.file},
+                {"mv", f.mv},
+                {"jitter", ojson::array({float_to_json(f.jitter_x), float_to_json(f.jitter_y)})}};
+        if (f.reset) e["reset"] = true; // written only where set: readers of v1 without it see no cuts
+        frames.push_back(std::move(e));
+    }
     m["frames"] = std::move(frames);
     m["ground_truth"] = mf.ground_truth;
     if (mf.hr)
@@ -346,14 +348,13 @@ Result<void> save_fgsr(const Capture& c, const fs::path& dir) {
     FGSR_TRY(ensure_dir(dir / "frames"));
     for (size_t i = 0; i < c.inputs.size(); ++i) {
         const std::string rel = "frames/" + fgsr_file_name(i);
-        FrameView view = c.inputs[i].view();
-        view.jitter_x = c.inputs[i].jitter_x;
-        view.jitter_y = c.inputs[i].jitter_y;
+        const FrameView view = c.inputs[i].view();
         auto w = write_fgsr_frame(dir / rel, fmt, view);
         if (!w)
             return make_error(w.error().code,
                               "save_fgsr: frame " + std::to_string(i) + ": " + w.error().message);
-        mf.frames.push_back({rel, !c.inputs[i].mv.empty(), c.inputs[i].jitter_x, c.inputs[i].jitter_y});
+        mf.frames.push_back(
+            {rel, !c.inputs[i].mv.empty(), c.inputs[i].jitter_x, c.inputs[i].jitter_y, c.inputs[i].reset});
     }
     auto write_list = [&](const std::vector<ImageRGBA>& imgs,
                           const std::string& sub) -> Result<std::vector<std::string>> {
@@ -390,6 +391,7 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
         std::string file;
         bool mv = false;
         float jx = 0.f, jy = 0.f;
+        bool reset = false;
     };
     std::vector<FrameEntry> entries;
     std::vector<std::string> gt_files, hr_files, hr_gt_files;
@@ -428,6 +430,7 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
                 e.jx = json_to_float(fe.at("jitter").at(0));
                 e.jy = json_to_float(fe.at("jitter").at(1));
             }
+            e.reset = fe.value("reset", false);
             entries.push_back(std::move(e));
         }
         if (m.contains("ground_truth")) gt_files = m.at("ground_truth").get<std::vector<std::string>>();
@@ -456,6 +459,7 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
         if (!f) return f.error();
         f->jitter_x = entries[i].jx;
         f->jitter_y = entries[i].jy;
+        f->reset = entries[i].reset;
         c.inputs.push_back(std::move(*f));
     }
     auto read_list = [&](const std::vector<std::string>& files, size_t limit, uint32_t w, uint32_t h,

@@ -142,10 +142,12 @@ Result<Capture> make_half_rate(const Capture& c) {
             Frame f;
             f.jitter_x = c.inputs[k].jitter_x;
             f.jitter_y = c.inputs[k].jitter_y;
+            // A cut at the dropped frame before it is a cut here too.
+            f.reset = c.inputs[k].reset || (k >= 1 && c.inputs[k - 1].reset);
             f.color.resize(px * 16);
             std::memcpy(f.color.data(), color.rgba.data(), px * 16);
             f.depth = detail::floats_to_bytes(cur.depth);
-            if (k >= 2 && cur.has_mv && prev.has_mv) {
+            if (k >= 2 && cur.has_mv && prev.has_mv && !f.reset) {
                 const std::vector<glm::vec2> mv = detail::compose_vectors(cur, prev, detail::ComposeParams{});
                 f.mv.resize(px * 8);
                 std::memcpy(f.mv.data(), mv.data(), px * 8);

@@ -19,9 +19,10 @@ struct Frame {
     std::vector<std::byte> mv;    // format.mv_format; empty when the vectors are unknown
     float jitter_x = 0.f;         // camera jitter of this frame in pixels (x right, y down); 0 if none
     float jitter_y = 0.f;
+    bool reset = false; // scene cut: the engine forgets the earlier frames (FrameView::reset)
 
-    // The frame as the engine takes it, jitter included.
-    FrameView view() const { return FrameView{color, depth, mv, jitter_x, jitter_y}; }
+    // The frame as the engine takes it, jitter and scene cut included.
+    FrameView view() const { return FrameView{color, depth, mv, jitter_x, jitter_y, reset}; }
 };
 
 enum class GroundTruth {

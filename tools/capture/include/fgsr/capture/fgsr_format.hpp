@@ -33,6 +33,7 @@ struct FgsrManifest {
         std::string file;
         bool mv = false;
         float jitter_x = 0.f, jitter_y = 0.f;
+        bool reset = false; // scene cut: "reset": true in the manifest (absent: false)
     };
     std::vector<FrameEntry> frames;
     std::vector<std::string> ground_truth;
