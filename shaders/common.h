@@ -105,6 +105,9 @@ struct SrParams {
 #define CLASSIFY_GENERATE 0u
 #define CLASSIFY_SR 1u
 #define TILE_LIST_HEADER 8u
+// Pixels per invocation (a row segment inside one tile: at most the smallest tile side, a multiple
+// of 4) of classify's stage 0 in the CPU-device build (FGSR_GROUP 32); GPU builds take 1 pixel.
+#define FGSR_CLASSIFY_SPAN_CPU 8u
 
 struct ClassifyParams {
     GenParams g;           // generate mode: the generated frame's; sr mode: width, height (LR), t_depth
