@@ -18,4 +18,16 @@ void store_frame(uint i, uvec2 c, float d, vec2 m) { color[i] = c; depth[i] = d;
 
 #include "ingest.h"
 
-void main() { ingest_pixel(gl_GlobalInvocationID.xy, pc.p); }
+// Builds with FGSR_INGEST_COLOR and FGSR_INGEST_MV (fgsr::ColorFormat / MvFormat values) fix the
+// plane formats, so that the other formats' decoders are compiled out: CPU devices run both sides
+// of every branch with the inactive lanes masked off (classify.comp), so every format's loads and
+// conversions would be paid for by every session. The build without them serves any format.
+IngestParams fixed_formats(IngestParams p) {
+#ifdef FGSR_INGEST_COLOR
+    p.color_format = FGSR_INGEST_COLOR;
+    p.mv_format = FGSR_INGEST_MV;
+#endif
+    return p;
+}
+
+void main() { ingest_pixel(gl_GlobalInvocationID.xy, fixed_formats(pc.p)); }

@@ -47,8 +47,8 @@ constexpr std::array<uint32_t, kPassCount> kPassPush = {
     sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::GenParams),
     sizeof(gpu::GenParams),    sizeof(gpu::SrParams),  sizeof(GenSrPush)};
 
-// Passes of tile skipping (shaders/classify.h, tiles.h), numbered after the others; the tiled
-// variants are timed under their base pass's name.
+// Passes of tile skipping (shaders/classify.h, tiles.h) and ingest's per-format builds, numbered
+// after the others; the variants are timed under their base pass's name (classify's as "classify").
 enum TilePassId : uint32_t {
     kClassify = uint32_t(kPassCount),
     kSplatTiled,
@@ -60,7 +60,8 @@ enum TilePassId : uint32_t {
     kClassifyGen,     // classify's stage 0 (per pixel) in generate mode; kClassify is stage 1
     kClassifySr,      // ... in sr mode
     kClassifyGenQuad, // ... in generate mode, 4 pixels per access (CPU devices, width % 4 == 0)
-    kAllPassCount
+    kIngestFormats,   // ingest with fixed formats: + 2 * ColorFormat + MvFormat (6 builds)
+    kAllPassCount = kIngestFormats + 6
 };
 struct TilePassInfo {
     const char* shader; // embedded "<shader>_g<group>"
@@ -76,7 +77,13 @@ constexpr std::array<TilePassInfo, uint32_t(kAllPassCount) - uint32_t(kPassCount
      {"generate_sr_static", kGenerateSr},
      {"classify_gen", kIngest},
      {"classify_sr", kIngest},
-     {"classify_gen_quad", kIngest}}};
+     {"classify_gen_quad", kIngest},
+     {"ingest_c0_m0", kIngest},
+     {"ingest_c0_m1", kIngest},
+     {"ingest_c1_m0", kIngest},
+     {"ingest_c1_m1", kIngest},
+     {"ingest_c2_m0", kIngest},
+     {"ingest_c2_m1", kIngest}}};
 bool is_classify(uint32_t p) {
     return p == kClassify || p == kClassifyGen || p == kClassifySr || p == kClassifyGenQuad;
 }
@@ -829,7 +836,10 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     }
     FGSR_TRY(s.begin());
     s.timestamp(0);
-    FGSR_TRY(s.dispatch(kIngest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p));
+    // The build for the session's formats (shaders/ingest.comp); the generic kIngest serves the same.
+    const uint32_t ingest =
+        p.color_format <= 2 && p.mv_format <= 1 ? kIngestFormats + 2 * p.color_format + p.mv_format : kIngest;
+    FGSR_TRY(s.dispatch(ingest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p));
     s.barrier();
     s.timestamp(1);
     bool sr_tiled = false;
