@@ -108,6 +108,8 @@ struct SrParams {
 // Pixels per invocation (a row segment inside one tile: at most the smallest tile side, a multiple
 // of 4) of classify's stage 0 in the CPU-device build (FGSR_GROUP 32); GPU builds take 1 pixel.
 #define FGSR_CLASSIFY_SPAN_CPU 8u
+// Pixels per invocation (a row segment) of ingest's fixed-format builds for CPU devices (ingest.comp).
+#define FGSR_INGEST_SPAN_CPU 4u
 
 struct ClassifyParams {
     GenParams g;           // generate mode: the generated frame's; sr mode: width, height (LR), t_depth

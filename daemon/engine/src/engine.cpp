@@ -839,7 +839,9 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // The build for the session's formats (shaders/ingest.comp); the generic kIngest serves the same.
     const uint32_t ingest =
         p.color_format <= 2 && p.mv_format <= 1 ? kIngestFormats + 2 * p.color_format + p.mv_format : kIngest;
-    FGSR_TRY(s.dispatch(ingest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p));
+    const uint32_t span = ingest != kIngest && s.engine->group == 32 ? FGSR_INGEST_SPAN_CPU : 1u;
+    FGSR_TRY(s.dispatch(ingest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p,
+                        groups(s.format.width, span), s.format.height));
     s.barrier();
     s.timestamp(1);
     bool sr_tiled = false;
