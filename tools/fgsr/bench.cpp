@@ -793,7 +793,7 @@ int bench_main(BenchCli& c, CLI::App* cmd) {
     }
     std::fputs(bench_markdown(*r).c_str(), stdout);
     std::printf("\nwritten to %s (bench.csv, bench.md, scaling.csv, alphas.csv%s)\n", o.out.c_str(),
-                o.plots ? ", time_vs_error.png/svg, passes.png/svg" : "");
+                o.plots && !r->rows.empty() ? ", time_vs_error.png/svg, passes.png/svg" : "");
     return 0;
 }
 
