@@ -119,7 +119,7 @@ struct ClassifyParams {
     uint dilate;           // sr mode: vectors are dilated over 3x3
     uint work_invocations;   // invocations per tile of the pass over the work list (splat / sr)
     uint output_invocations; // invocations per tile of the passes over the generate / static lists
-    uint stage;              // 0: per pixel, mark moving tiles, copy-through; 1: per tile, list tiles
+    uint stage;              // 0: per pixel, 1: per tile; informational (each stage is its own build)
     uint pad2;
 };
 
