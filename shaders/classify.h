@@ -35,16 +35,30 @@
 
 // ClassifyParams, TILE_* and the list layout: common.h.
 
-FGSR_INLINE bool static_source(ivec2 p, GenParams g) {
-    if (load_mv1(p) != vec2(0.0f)) return false;
-    if (g.quadratic == 0u || g.frame0_has_mv == 0u) return true;
-    if (relative_depth_difference(load_depth0(p), load_depth1(p)) < 4.0f * g.t_depth)
-        return load_mv0(p) == vec2(0.0f);
+// static_source split in two for classify's wide form, which loads pixels 4 at a time: the part
+// that reads only p's own values (m1 = mv1(p), d0 / d1 = depth0 / depth1 at p, m0 = mv0(p)) gives
+// STATIC_NO / STATIC_YES, or STATIC_IF_NEIGHBOURS where the depths at p disagree and p is static
+// exactly when static_source_neighbours(p) holds.
+#define STATIC_NO 0u
+#define STATIC_YES 1u
+#define STATIC_IF_NEIGHBOURS 2u
+FGSR_INLINE uint static_source_own(vec2 m1, float d0, float d1, vec2 m0, GenParams g) {
+    if (m1 != vec2(0.0f)) return STATIC_NO;
+    if (g.quadratic == 0u || g.frame0_has_mv == 0u) return STATIC_YES;
+    if (relative_depth_difference(d0, d1) < 4.0f * g.t_depth) return m0 == vec2(0.0f) ? STATIC_YES : STATIC_NO;
+    return STATIC_IF_NEIGHBOURS;
+}
+FGSR_INLINE bool static_source_neighbours(ivec2 p, GenParams g) {
     for (int k = 0; k < 4; ++k) {
         ivec2 q = p + (k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5));
         if (inside(q, g) && load_mv0(q) != vec2(0.0f)) return false;
     }
     return true;
+}
+
+FGSR_INLINE bool static_source(ivec2 p, GenParams g) {
+    uint own = static_source_own(load_mv1(p), load_depth0(p), load_depth1(p), load_mv0(p), g);
+    return own == STATIC_IF_NEIGHBOURS ? static_source_neighbours(p, g) : own == STATIC_YES;
 }
 
 FGSR_INLINE bool static_sr_pixel(ivec2 p, ClassifyParams c) {
@@ -69,10 +83,14 @@ FGSR_INLINE uint64_t own_key(ivec2 p, GenParams g) {
 
 // The generated frame at a pixel of a static tile that is not dirty: generate.h with the field
 // sample (0, 0, 0, 0) splatted, whose warps read both frames exactly at the pixel.
+FGSR_INLINE vec4 copy_through_values(vec4 c0, float d0, vec4 c1, float d1, GenParams g) {
+    if (g.extrapolate != 0u) return c1;
+    return select_blend(c0, d0, c1, d1, FIELD_SPLATTED, g);
+}
 FGSR_INLINE vec4 copy_through(ivec2 p, GenParams g) {
     vec4 c1 = load_color1(p);
     if (g.extrapolate != 0u) return c1;
-    return select_blend(load_color0(p), load_depth0(p), c1, load_depth1(p), FIELD_SPLATTED, g);
+    return copy_through_values(load_color0(p), load_depth0(p), c1, load_depth1(p), g);
 }
 
 // Whether a whole tile is static (the CPU reference; the GPU entry reduces static_pixel itself).

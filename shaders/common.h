@@ -105,6 +105,11 @@ struct SrParams {
 #define CLASSIFY_GENERATE 0u
 #define CLASSIFY_SR 1u
 #define TILE_LIST_HEADER 8u
+// Pixels per invocation (a row segment inside one tile: at most the smallest tile side, a multiple
+// of 4) of classify's stage 0 in the CPU-device build (FGSR_GROUP 32); GPU builds take 1 pixel.
+#define FGSR_CLASSIFY_SPAN_CPU 8u
+// Pixels per invocation (a row segment) of ingest's fixed-format builds for CPU devices (ingest.comp).
+#define FGSR_INGEST_SPAN_CPU 4u
 
 struct ClassifyParams {
     GenParams g;           // generate mode: the generated frame's; sr mode: width, height (LR), t_depth
@@ -114,7 +119,7 @@ struct ClassifyParams {
     uint dilate;           // sr mode: vectors are dilated over 3x3
     uint work_invocations;   // invocations per tile of the pass over the work list (splat / sr)
     uint output_invocations; // invocations per tile of the passes over the generate / static lists
-    uint stage;              // 0: per pixel, mark moving tiles, copy-through; 1: per tile, list tiles
+    uint stage;              // 0: per pixel, 1: per tile; informational (each stage is its own build)
     uint pad2;
 };
 

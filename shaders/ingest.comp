@@ -18,4 +18,26 @@ void store_frame(uint i, uvec2 c, float d, vec2 m) { color[i] = c; depth[i] = d;
 
 #include "ingest.h"
 
-void main() { ingest_pixel(gl_GlobalInvocationID.xy, pc.p); }
+// Builds with FGSR_INGEST_COLOR and FGSR_INGEST_MV (fgsr::ColorFormat / MvFormat values) fix the
+// plane formats, so that the other formats' decoders are compiled out: CPU devices run both sides
+// of every branch with the inactive lanes masked off (classify.comp), so every format's loads and
+// conversions would be paid for by every session. The build without them serves any format, one
+// pixel per invocation; the fixed-format CPU builds (FGSR_GROUP 32) take a row segment of
+// FGSR_INGEST_SPAN_CPU pixels per invocation (a fixed cost per invocation, docs/TILES.md).
+IngestParams fixed_formats(IngestParams p) {
+#ifdef FGSR_INGEST_COLOR
+    p.color_format = FGSR_INGEST_COLOR;
+    p.mv_format = FGSR_INGEST_MV;
+#endif
+    return p;
+}
+
+#if defined(FGSR_INGEST_COLOR) && FGSR_GROUP == 32
+void main() {
+    for (uint k = 0u; k < FGSR_INGEST_SPAN_CPU; ++k)
+        ingest_pixel(uvec2(gl_GlobalInvocationID.x * FGSR_INGEST_SPAN_CPU + k, gl_GlobalInvocationID.y),
+                     fixed_formats(pc.p));
+}
+#else
+void main() { ingest_pixel(gl_GlobalInvocationID.xy, fixed_formats(pc.p)); }
+#endif

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -230,6 +231,44 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
     EXPECT_GT(std::stod(scaling[0].at("x_memcpy")), 0.0);
     EXPECT_EQ(read_csv(out / "alphas.csv").size(), 2u);
     EXPECT_TRUE(std::filesystem::exists(out / "bench.md"));
+    std::filesystem::remove_all(out);
+}
+
+// The numbers of a bench.md still-against-moving row "| <label>: A ms | B ms | R |" (A, B, R).
+std::vector<double> still_row(const std::string& md, const std::string& label) {
+    const size_t at = md.find("| " + label + ": ");
+    if (at == std::string::npos) return {};
+    std::stringstream ss(md.substr(at + label.size() + 4, md.find('\n', at) - at - label.size() - 4));
+    double a = 0, b = 0, r = 0;
+    std::string ms1, bar1, ms2, bar2;
+    ss >> a >> ms1 >> bar1 >> b >> ms2 >> bar2 >> r;
+    if (!ss || ms1 != "ms" || bar1 != "|" || ms2 != "ms" || bar2 != "|") return {};
+    return {a, b, r};
+}
+
+TEST(Bench, StillOnlyRunsJustStillAgainstMoving) {
+    const std::filesystem::path out = std::filesystem::path(testing::TempDir()) / "fgsr_bench_still";
+    std::filesystem::remove_all(out);
+    const fgsr::test::ProcessRun r = fgsr::test::run_process(
+        std::string(FGSR_BIN_DIR) + "/fgsr bench --quick --still-only --no-plots --out " + out.string());
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_TRUE(read_csv(out / "bench.csv").empty()) << "no capture rows";
+    EXPECT_TRUE(read_csv(out / "scaling.csv").empty()) << "no scaling rows";
+    EXPECT_TRUE(read_csv(out / "alphas.csv").empty()) << "no frames-per-pair rows";
+    std::ifstream in(out / "bench.md");
+    const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(md.find("## Still against moving (180p"), std::string::npos) << md;
+    const std::vector<double> call = still_row(md, "interpolate call");
+    const std::vector<double> frame = still_row(md, "per frame (ingest of the new input + call)");
+    ASSERT_EQ(call.size(), 3u) << md;
+    ASSERT_EQ(frame.size(), 3u) << md;
+    for (int k = 0; k < 2; ++k) {
+        EXPECT_GT(call[size_t(k)], 0.0);
+        // Every sample adds a positive ingest time to its call, so each median grows.
+        EXPECT_GT(frame[size_t(k)], call[size_t(k)]) << (k ? "moving" : "still");
+    }
+    EXPECT_NEAR(call[2], call[0] / call[1], 0.006); // printed with 2 decimals
+    EXPECT_NEAR(frame[2], frame[0] / frame[1], 0.006);
     std::filesystem::remove_all(out);
 }
 

@@ -213,6 +213,125 @@ TEST(Tiles, ClassifyMatchesCpuReference) {
     expect_no_validation_errors();
 }
 
+// A w x h pair for classify's stage 0: random frames; in the left half zero vectors in both
+// frames, with equal depths in its left quarter (own-value test) and differing depths in the next
+// quarter (static only when the 4 neighbours' frame-0 vectors are 0: the neighbour test); a moving
+// pixel on the first pixel of tile column 1 (side 8), and a frame-0 vector on a tile border whose
+// left neighbour, in the other tile, has differing depths.
+std::pair<RawFrame, RawFrame> classify_scene(uint32_t w, uint32_t h, uint32_t seed) {
+    RawFrame r0 = random_frame(w, h, seed, 4.f), r1 = random_frame(w, h, seed + 1, 4.f);
+    auto* mv0 = reinterpret_cast<glm::vec2*>(r0.mv.data());
+    auto* mv1 = reinterpret_cast<glm::vec2*>(r1.mv.data());
+    auto* d0 = reinterpret_cast<float*>(r0.depth.data());
+    auto* d1 = reinterpret_cast<float*>(r1.depth.data());
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w / 2; ++x) {
+            const size_t i = size_t(y) * w + x;
+            mv0[i] = mv1[i] = glm::vec2(0.f);
+            d1[i] = x < w / 4 ? d0[i] : d0[i] * 2.f;
+        }
+    if (w > 8 && h > 3) mv1[size_t(3) * w + 8] = glm::vec2(0.f, 0.25f);
+    if (w >= 80 && h > 5) mv0[size_t(5) * w + 32] = glm::vec2(-1.f, 0.f); // (31, 5) differs in depth
+    return {std::move(r0), std::move(r1)};
+}
+
+// Tile flags of the GPU classification against ref::classify (tiles 8 / 16 / 32, quadratic and
+// linear motion), every pixel of the clean static tiles against ref::copy_through, and the
+// generated frames with skipping on against off. Returns the number of static tiles seen.
+size_t expect_classify_matches(uint32_t w, uint32_t h, uint32_t seed) {
+    const auto [r0, r1] = classify_scene(w, h, seed);
+    const FrameFormat fmt = internal_format(w, h);
+    size_t statics = 0;
+    for (uint32_t tile : {8u, 16u, 32u})
+        for (MotionModel motion : {MotionModel::quadratic, MotionModel::linear}) {
+            Params p;
+            p.tile_size = tile;
+            p.motion = motion;
+            auto s = engine().create_session(fmt, p);
+            EXPECT_TRUE(s) << s.error().message;
+            if (!s) return statics;
+            EXPECT_TRUE((*s)->submit(r0.view()));
+            EXPECT_TRUE((*s)->submit(r1.view()));
+            const float alpha = 0.5f;
+            auto g = (*s)->interpolate(std::span(&alpha, 1));
+            EXPECT_TRUE(g) << g.error().message;
+            auto inter = (*s)->read_intermediates();
+            EXPECT_TRUE(inter);
+            if (!g || !inter) return statics;
+            const ref::InternalFrame f0 = to_internal(*(*s)->read_frame(0), w, h);
+            const ref::InternalFrame f1 = to_internal(*(*s)->read_frame(1), w, h);
+            ref::ClassifyParams c{};
+            c.g = ref::gen_params(fmt, p, alpha, false, true, true);
+            c.tile = tile;
+            c.mode = CLASSIFY_GENERATE;
+            const std::vector<uint32_t> want = ref::classify(f0, f1, c);
+            EXPECT_EQ(inter->tile_flags.size(), want.size());
+            if (inter->tile_flags.size() != want.size()) return statics;
+            const uint32_t tx = (w + tile - 1) / tile;
+            for (size_t i = 0; i < want.size(); ++i) {
+                EXPECT_EQ((inter->tile_flags[i] & TILE_STATIC) != 0u, want[i] == TILE_STATIC)
+                    << w << "x" << h << " tile " << i << " side " << tile;
+                statics += want[i] == TILE_STATIC ? 1 : 0;
+                if (inter->tile_flags[i] != TILE_STATIC) continue;
+                for (uint32_t y = uint32_t(i / tx) * tile; y < std::min(h, uint32_t(i / tx + 1) * tile); ++y)
+                    for (uint32_t x = uint32_t(i % tx) * tile; x < std::min(w, uint32_t(i % tx + 1) * tile);
+                         ++x) {
+                        const glm::vec4 e = ref::copy_through(f0, f1, glm::ivec2(int(x), int(y)), c.g);
+                        const float* got = &(*g)[0].color.rgba[(size_t(y) * w + x) * 4];
+                        for (int ch = 0; ch < 4; ++ch)
+                            if (got[ch] != e[ch]) {
+                                ADD_FAILURE() << w << "x" << h << " side " << tile << " pixel " << x << ","
+                                              << y << " channel " << ch << ": " << got[ch] << " != " << e[ch];
+                                return statics;
+                            }
+                    }
+            }
+        }
+    (void)expect_same_on_off(fmt, {r0.view(), r1.view()}, {}, Params{}, Mode::interp);
+    expect_no_validation_errors();
+    return statics;
+}
+
+// Widths divisible by 4 take classify's wide form on CPU devices (4 pixels per access), the
+// others the per-pixel form; both against the CPU reference, with the odd sizes.
+TEST(Tiles, ClassifyBothFormsMatchCpuReference) {
+    EXPECT_GT(expect_classify_matches(80, 45, 21), 0u) << "80x45 has static tiles";
+    EXPECT_GT(expect_classify_matches(79, 45, 23), 0u) << "79x45 has static tiles";
+    for (auto [w, h] : {std::pair{20u, 9u}, std::pair{17u, 9u}, std::pair{4u, 1u}, std::pair{1u, 1u}})
+        (void)expect_classify_matches(w, h, 25);
+}
+
+// A still pair (identical frames, zero vectors) at widths of both forms: every tile static and
+// the output equal to the copy-through of the CPU reference at every pixel.
+TEST(Tiles, StillPairIsStaticInBothForms) {
+    for (uint32_t w : {64u, 61u}) {
+        const uint32_t h = 19;
+        const RawFrame f = scene_frame(w, h, 0, 0.f, false);
+        const FrameFormat fmt = internal_format(w, h);
+        auto s = engine().create_session(fmt, Params{});
+        ASSERT_TRUE(s);
+        ASSERT_TRUE((*s)->submit(f.view()));
+        ASSERT_TRUE((*s)->submit(f.view()));
+        const float alpha = 0.3f;
+        auto g = (*s)->interpolate(std::span(&alpha, 1));
+        ASSERT_TRUE(g) << g.error().message;
+        auto inter = (*s)->read_intermediates();
+        ASSERT_TRUE(inter);
+        for (uint32_t flag : inter->tile_flags) EXPECT_EQ(flag, TILE_STATIC) << "width " << w;
+        const ref::InternalFrame f0 = to_internal(*(*s)->read_frame(0), w, h);
+        const ref::InternalFrame f1 = to_internal(*(*s)->read_frame(1), w, h);
+        const ref::GenParams gp = ref::gen_params(fmt, Params{}, alpha, false, true, true);
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                const glm::vec4 e = ref::copy_through(f0, f1, glm::ivec2(int(x), int(y)), gp);
+                for (int ch = 0; ch < 4; ++ch)
+                    ASSERT_EQ((*g)[0].color.rgba[(size_t(y) * w + x) * 4 + size_t(ch)], e[ch])
+                        << x << "," << y;
+            }
+    }
+    expect_no_validation_errors();
+}
+
 TEST(Tiles, ClassifySrMatchesCpuReference) {
     const uint32_t w = 50, h = 34;
     RawFrame r0 = random_frame(w, h, 8, 2.f), r1 = random_frame(w, h, 9, 2.f);

@@ -4,8 +4,10 @@
 // same size, for interpolation and super resolution, each with skipping on and off, and with
 // skipping on for tile sides 8, 16 and 32.
 //
-// Usage: fgsr_tiles_bench [width height [repeats]]   (default 1280 720 7; SR inputs are half size)
-// Prints, per configuration, the median over `repeats` rounds of the mean per frame, and the
+// Usage: fgsr_tiles_bench [width height [repeats [filter]]]   (default 1280 720 7; SR inputs are
+// half size; filter: run only the configurations whose label contains it, e.g. "interp", "t16")
+// Prints, per configuration, the median over `repeats` rounds of the mean per frame, without and
+// with the ingest of the frame's newest input (each generated frame needs one new input), and the
 // ratios still / moving and partial / moving within each round (median of the per-round ratios):
 // rounds interleave every configuration, so a noisy machine slows them alike. Progress: stderr.
 #include <fgsr/engine/engine.hpp>
@@ -90,6 +92,7 @@ int main(int argc, char** argv) {
     const uint32_t w = argc > 2 ? uint32_t(std::atoi(argv[1])) : 1280;
     const uint32_t h = argc > 2 ? uint32_t(std::atoi(argv[2])) : 720;
     const int repeats = argc > 3 ? std::max(1, std::atoi(argv[3])) : 7;
+    const std::string filter = argc > 4 ? argv[4] : "";
     auto engine = Engine::create();
     if (!engine) {
         std::fprintf(stderr, "engine: %s\n", engine.error().message.c_str());
@@ -105,6 +108,7 @@ int main(int argc, char** argv) {
                 configs.push_back(
                     {fmt::format("{} {} t{}", sr ? "sr" : "interp", name(s), tile), s, sr, true, tile});
         }
+    std::erase_if(configs, [&](const Config& c) { return c.label.find(filter) == std::string::npos; });
     // Frames per scene: 4 inputs; SR inputs are half size (output w x h).
     std::map<std::pair<Scene, bool>, std::vector<Planes>> frames;
     for (bool sr : {false, true})
@@ -112,7 +116,8 @@ int main(int argc, char** argv) {
             for (int k = 0; k < 4; ++k)
                 frames[{s, sr}].push_back(make_frame(s, sr ? w / 2 : w, sr ? h / 2 : h, k));
 
-    std::map<std::string, std::vector<double>> ms; // per config, per round
+    std::map<std::string, std::vector<double>> ms;        // per config, per round
+    std::map<std::string, std::vector<double>> ms_ingest; // the same with the newest input's ingest
     std::map<std::string, std::vector<double>> skipped;
     std::map<std::string, std::map<std::string, std::vector<double>>> pass_ms; // per config and pass
     for (int round = 0; round < repeats; ++round) {
@@ -132,7 +137,7 @@ int main(int argc, char** argv) {
                 std::fprintf(stderr, "%s: %s\n", c.label.c_str(), s.error().message.c_str());
                 return 1;
             }
-            double sum = 0, skip_sum = 0, tiles = 0;
+            double sum = 0, ingest_sum = 0, skip_sum = 0, tiles = 0;
             int count = 0;
             const auto& in = frames[{c.scene, c.sr}];
             for (size_t k = 0; k < in.size(); ++k) {
@@ -144,6 +149,7 @@ int main(int argc, char** argv) {
                     return 1;
                 }
                 if (k < 2) continue; // the first frames: no history / no pair yet
+                ingest_sum += (*s)->last_ingest_ms();
                 std::vector<GeneratedFrame> out;
                 if (c.sr) {
                     auto g = (*s)->super_resolved();
@@ -167,41 +173,50 @@ int main(int argc, char** argv) {
                 }
             }
             ms[c.label].push_back(sum / count);
+            ms_ingest[c.label].push_back((sum + ingest_sum) / count);
             skipped[c.label].push_back(tiles > 0 ? skip_sum / tiles : 0.0);
         }
     }
     fmt::print("{}x{} output, {}, median of {} rounds (ms per frame, classify included)\n", w, h,
                (*engine)->device_name(), repeats);
-    fmt::print("{:<22} {:>9} {:>9}\n", "config", "ms", "skipped");
+    fmt::print("{:<22} {:>9} {:>10} {:>9}\n", "config", "ms", "+ingest", "skipped");
     for (const Config& c : configs)
-        fmt::print("{:<22} {:>9.2f} {:>8.1f}%\n", c.label, median(ms[c.label]),
-                   100.0 * median(skipped[c.label]));
+        fmt::print("{:<22} {:>9.2f} {:>10.2f} {:>8.1f}%\n", c.label, median(ms[c.label]),
+                   median(ms_ingest[c.label]), 100.0 * median(skipped[c.label]));
     fmt::print("per pass (median over rounds and frames, ms):\n");
     for (const Config& c : configs) {
         std::string line;
         for (const auto& [pass, v] : pass_ms[c.label]) line += fmt::format("{} {:.2f}  ", pass, median(v));
         fmt::print("{:<22} {}\n", c.label, line);
     }
-    fmt::print("same-run ratios (median over rounds of the per-round ratio):\n");
+    // Median over rounds of a / b within each round; NaN when a configuration was filtered out.
+    auto ratio = [&](const std::map<std::string, std::vector<double>>& m, const std::string& a,
+                     const std::string& b) {
+        if (!m.count(a) || !m.count(b)) return std::nan("");
+        std::vector<double> r;
+        for (int k = 0; k < repeats; ++k) r.push_back(m.at(a)[size_t(k)] / m.at(b)[size_t(k)]);
+        return median(r);
+    };
+    fmt::print("same-run ratios (median over rounds of the per-round ratio; +ingest: per frame with "
+               "the ingest of its new input):\n");
     for (const char* mode : {"interp", "sr"})
         for (const char* cfg : {"off", "t8", "t16", "t32"}) {
-            std::vector<double> still, partial;
-            const auto& mv = ms[fmt::format("{} moving {}", mode, cfg)];
-            for (int r = 0; r < repeats; ++r) {
-                still.push_back(ms[fmt::format("{} still {}", mode, cfg)][size_t(r)] / mv[size_t(r)]);
-                partial.push_back(ms[fmt::format("{} partial {}", mode, cfg)][size_t(r)] / mv[size_t(r)]);
-            }
-            fmt::print("{:<6} {:<4} still/moving {:.3f}  partial/moving {:.3f}\n", mode, cfg, median(still),
-                       median(partial));
+            const std::string mv = fmt::format("{} moving {}", mode, cfg);
+            const std::string st = fmt::format("{} still {}", mode, cfg);
+            const std::string pa = fmt::format("{} partial {}", mode, cfg);
+            if (!ms.count(mv)) continue;
+            fmt::print("{:<6} {:<4} still/moving {:.3f} (+ingest {:.3f})  partial/moving {:.3f} (+ingest "
+                       "{:.3f})\n",
+                       mode, cfg, ratio(ms, st, mv), ratio(ms_ingest, st, mv), ratio(ms, pa, mv),
+                       ratio(ms_ingest, pa, mv));
         }
     for (const char* mode : {"interp", "sr"})
         for (const char* scene : {"still", "partial", "moving"})
             for (const char* cfg : {"t8", "t16", "t32"}) {
-                std::vector<double> r;
-                for (int k = 0; k < repeats; ++k)
-                    r.push_back(ms[fmt::format("{} {} {}", mode, scene, cfg)][size_t(k)] /
-                                ms[fmt::format("{} {} off", mode, scene)][size_t(k)]);
-                fmt::print("{:<6} {:<7} {:<4} on/off {:.3f}\n", mode, scene, cfg, median(r));
+                const std::string on = fmt::format("{} {} {}", mode, scene, cfg);
+                const std::string off = fmt::format("{} {} off", mode, scene);
+                if (!ms.count(on) || !ms.count(off)) continue;
+                fmt::print("{:<6} {:<7} {:<4} on/off {:.3f}\n", mode, scene, cfg, ratio(ms, on, off));
             }
     return 0;
 }

@@ -163,7 +163,9 @@ struct BenchOptions {
     int repeats = 5;                           // engine calls per generated frame (timing)
     int frames = 3;                            // generated frames per capture and mode
     std::filesystem::path out = "bench";
-    bool quick = false; // builtin only, 1 frame, 2 repeats, 180p, 1 and 2 alphas (for tests)
+    bool quick = false;      // builtin only, 1 frame, 2 repeats, 180p, 1 and 2 alphas (for tests)
+    bool still_only = false; // only still against moving at the headline resolution (no captures,
+                             // scaling, roofline or frames per pair)
     bool plots = true;
     DeviceOptions device;
     bool progress = true;
@@ -205,7 +207,11 @@ struct BenchReport {
     std::vector<ScaleRow> scaling;
     Resolution headline; // for frames per pair and still vs moving
     std::vector<AlphaRow> alphas;
-    double still_ms = 0, moving_ms = 0; // balanced interpolation, headline resolution
+    // Still against moving, balanced interpolation at the headline resolution, each sample on a
+    // fresh pair (a new input submitted before the call): the interpolate() call alone, and per
+    // frame = the new input's ingest + the call (GPU ms, medians).
+    double still_ms = 0, moving_ms = 0;
+    double still_frame_ms = 0, moving_frame_ms = 0;
     double seconds = 0;
     int repeats = 0, frames = 0;
     unsigned copy_threads = 0;

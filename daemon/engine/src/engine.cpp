@@ -48,8 +48,8 @@ constexpr std::array<uint32_t, kPassCount> kPassPush = {
     sizeof(gpu::GenParams),    sizeof(gpu::GenParams),    sizeof(gpu::GenParams), sizeof(gpu::SrParams),
     sizeof(GenSrPush),         sizeof(gpu::DenoiseParams)};
 
-// Passes of tile skipping (shaders/classify.h, tiles.h), numbered after the others; the tiled
-// variants are timed under their base pass's name.
+// Passes of tile skipping (shaders/classify.h, tiles.h) and ingest's per-format builds, numbered
+// after the others; the variants are timed under their base pass's name (classify's as "classify").
 enum TilePassId : uint32_t {
     kClassify = uint32_t(kPassCount),
     kSplatTiled,
@@ -58,7 +58,11 @@ enum TilePassId : uint32_t {
     kSrStatic,
     kGenerateSrTiled,
     kGenerateSrStatic,
-    kAllPassCount
+    kClassifyGen,     // classify's stage 0 (per pixel) in generate mode; kClassify is stage 1
+    kClassifySr,      // ... in sr mode
+    kClassifyGenQuad, // ... in generate mode, 4 pixels per access (CPU devices, width % 4 == 0)
+    kIngestFormats,   // ingest with fixed formats: + 2 * ColorFormat + MvFormat (6 builds)
+    kAllPassCount = kIngestFormats + 6
 };
 struct TilePassInfo {
     const char* shader; // embedded "<shader>_g<group>"
@@ -71,23 +75,35 @@ constexpr std::array<TilePassInfo, uint32_t(kAllPassCount) - uint32_t(kPassCount
      {"sr_tiled", kSr},
      {"sr_static", kSr},
      {"generate_sr_tiled", kGenerateSr},
-     {"generate_sr_static", kGenerateSr}}};
+     {"generate_sr_static", kGenerateSr},
+     {"classify_gen", kIngest},
+     {"classify_sr", kIngest},
+     {"classify_gen_quad", kIngest},
+     {"ingest_c0_m0", kIngest},
+     {"ingest_c0_m1", kIngest},
+     {"ingest_c1_m0", kIngest},
+     {"ingest_c1_m1", kIngest},
+     {"ingest_c2_m0", kIngest},
+     {"ingest_c2_m1", kIngest}}};
+bool is_classify(uint32_t p) {
+    return p == kClassify || p == kClassifyGen || p == kClassifySr || p == kClassifyGenQuad;
+}
 const char* shader_name(uint32_t p) {
     return p < kPassCount ? kPassNames[p] : kTilePasses[p - kPassCount].shader;
 }
 const char* timing_name(uint32_t p) {
     return p < kPassCount   ? kPassNames[p]
-           : p == kClassify ? "classify"
+           : is_classify(p) ? "classify"
                             : kPassNames[kTilePasses[p - kPassCount].base];
 }
 uint32_t pass_bindings(uint32_t p) {
     return p < kPassCount   ? kPassBindings[p]
-           : p == kClassify ? CLASSIFY_COUNT
+           : is_classify(p) ? CLASSIFY_COUNT
                             : kPassBindings[kTilePasses[p - kPassCount].base] + TILED_EXTRA;
 }
 uint32_t pass_push(uint32_t p) {
     return p < kPassCount   ? kPassPush[p]
-           : p == kClassify ? uint32_t(sizeof(gpu::ClassifyParams))
+           : is_classify(p) ? uint32_t(sizeof(gpu::ClassifyParams))
                             : kPassPush[kTilePasses[p - kPassCount].base];
 }
 
@@ -97,6 +113,8 @@ constexpr uint32_t kUnclassifiedRun = 7;
 // Tile side when Params::tile_size is 0 (measured on lavapipe, docs/TILES.md).
 constexpr uint32_t kDefaultTile = 16;
 constexpr uint32_t kMinTile = 8;
+static_assert(FGSR_CLASSIFY_SPAN_CPU % kMinTile == 0,
+              "classify segments are whole sub-segments (classify.comp)");
 
 // Invocations along one side of the square each listed LR tile of `tile` pixels gets in a pass at
 // `scale` x resolution (shaders/tiles.h, listed_output_pixel).
@@ -398,15 +416,20 @@ struct Session::Impl {
     }
 
     // The classify dispatches (both stages, shaders/classify.comp) after the lists' reset: per
-    // pixel, then per tile. The flags are buffers[CLASSIFY_FLAGS]; generate mode also empties the
-    // keys (buffers[GEN_KEYS]) for the tiled splat.
+    // row segment (1 pixel on GPUs, FGSR_CLASSIFY_SPAN_CPU on CPU devices), then per tile. The flags are
+    // buffers[CLASSIFY_FLAGS]; generate mode also empties the keys (buffers[GEN_KEYS]) for the tiled splat.
     Result<void> classify(gpu::ClassifyParams c, std::initializer_list<BufRef> buffers) {
         vkCmdFillBuffer(cmd, buffers.begin()[CLASSIFY_FLAGS].buffer, 0, VK_WHOLE_SIZE, 0u);
         if (c.mode == CLASSIFY_GENERATE)
             vkCmdFillBuffer(cmd, buffers.begin()[GEN_KEYS].buffer, 0, VK_WHOLE_SIZE, 0xffffffffu);
         barrier();
         c.stage = 0;
-        FGSR_TRY(dispatch(kClassify, buffers, &c, c.g.width, c.g.height));
+        const bool cpu = engine->group == 32;
+        const uint32_t pixels = c.mode == CLASSIFY_SR       ? kClassifySr
+                                : cpu && c.g.width % 4 == 0 ? kClassifyGenQuad
+                                                            : kClassifyGen;
+        FGSR_TRY(
+            dispatch(pixels, buffers, &c, groups(c.g.width, cpu ? FGSR_CLASSIFY_SPAN_CPU : 1u), c.g.height));
         barrier();
         c.stage = 1;
         FGSR_TRY(dispatch(kClassify, buffers, &c, groups(c.g.width, c.tile), groups(c.g.height, c.tile)));
@@ -857,7 +880,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     uint32_t q = 0;
     s.timestamp(q++);
     const bool denoise = s.denoise();
-    FGSR_TRY(s.dispatch(kIngest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p));
+    // The build for the session's formats (shaders/ingest.comp); the generic kIngest serves the same.
+    const uint32_t ingest =
+        p.color_format <= 2 && p.mv_format <= 1 ? kIngestFormats + 2 * p.color_format + p.mv_format : kIngest;
+    const uint32_t span = ingest != kIngest && s.engine->group == 32 ? FGSR_INGEST_SPAN_CPU : 1u;
+    FGSR_TRY(s.dispatch(ingest, {raw[0], raw[1], raw[2], &f.color, &f.depth, &f.mv}, &p,
+                        groups(s.format.width, span), s.format.height));
     s.barrier();
     s.timestamp(q++);
     if (denoise) {
