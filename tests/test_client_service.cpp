@@ -270,6 +270,19 @@ TEST_F(ClientService, FifoAndMailboxSemantics) {
     }
 }
 
+// `fgsr eval --json` of the fgsr method on a saved capture, in process and through fgsrd (replay's
+// code path); both must exit 0.
+std::pair<fgsr::test::ProcessRun, fgsr::test::ProcessRun> eval_both_ways(const fs::path& cap,
+                                                                         const std::string& socket) {
+    const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
+    auto ev = fgsr::test::run_process(bin + " eval --quiet --json --methods fgsr --capture " + cap.string());
+    EXPECT_EQ(ev.status, 0) << ev.out;
+    auto rp = fgsr::test::run_process(bin + " eval --quiet --json --capture " + cap.string() + " --socket " +
+                                      socket);
+    EXPECT_EQ(rp.status, 0) << rp.out;
+    return {std::move(ev), std::move(rp)};
+}
+
 // A recorded scene cut (capture format "reset") is honoured in process and through fgsrd: the
 // pair across the cut is not generated, the others are, with the same scores both ways.
 TEST_F(ClientService, SceneCutsOfACaptureAreHonouredByEvalAndReplay) {
@@ -282,13 +295,9 @@ TEST_F(ClientService, SceneCutsOfACaptureAreHonouredByEvalAndReplay) {
     ASSERT_TRUE(cap);
     cap->inputs[2].reset = true;
     ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
-    const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
-    auto ev = fgsr::test::run_process(bin + " eval --quiet --json --methods fgsr --capture " +
-                                      (dir / "cap").string());
-    ASSERT_EQ(ev.status, 0) << ev.out;
-    auto rp = fgsr::test::run_process(bin + " eval --quiet --json --capture " + (dir / "cap").string() +
-                                      " --socket " + daemon_->socket_path());
-    ASSERT_EQ(rp.status, 0) << rp.out;
+    const auto [ev, rp] = eval_both_ways(dir / "cap", daemon_->socket_path());
+    ASSERT_EQ(ev.status, 0);
+    ASSERT_EQ(rp.status, 0);
     const auto a = nlohmann::json::parse(ev.out, nullptr, false),
                b = nlohmann::json::parse(rp.out, nullptr, false);
     ASSERT_FALSE(a.is_discarded() || b.is_discarded());
@@ -311,12 +320,9 @@ TEST_F(ClientService, ReplayPrintsTheSameMetricsAsEval) {
     ASSERT_TRUE(cap);
     ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
     const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
-    auto ev = fgsr::test::run_process(bin + " eval --quiet --json --methods fgsr --capture " +
-                                      (dir / "cap").string());
-    ASSERT_EQ(ev.status, 0) << ev.out;
-    auto rp = fgsr::test::run_process(bin + " eval --quiet --json --capture " + (dir / "cap").string() +
-                                      " --socket " + daemon_->socket_path());
-    ASSERT_EQ(rp.status, 0) << rp.out;
+    const auto [ev, rp] = eval_both_ways(dir / "cap", daemon_->socket_path());
+    ASSERT_EQ(ev.status, 0);
+    ASSERT_EQ(rp.status, 0);
     auto field = [](const std::string& js, const std::string& key) {
         const size_t p = js.find("\"" + key + "\":");
         return p == std::string::npos ? std::string("missing")
