@@ -1132,7 +1132,9 @@ TEST(DaemonProcess, ConnectionsWithoutHelloAreBoundedAndTimedOut) {
     // After the timeout the waiting ones are closed too; the client that said HELLO stays.
     for (int i = 8; i < 12; ++i) EXPECT_TRUE(idle[size_t(i)].closed_by_daemon(5000)) << i;
     EXPECT_FALSE(good->closed_by_daemon(300));
-    EXPECT_EQ(d->fd_count(), baseline + 1);
+    // At most the served client's fd above the baseline (the baseline, taken right after start, may
+    // include a transient fd of the daemon's start-up).
+    EXPECT_LE(d->fd_count(), baseline + 1);
     EXPECT_NE(d->stderr_text().find("no HELLO in time"), std::string::npos);
 }
 
