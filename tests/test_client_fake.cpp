@@ -2,6 +2,8 @@
 // daemon, other major version, hang-ups, malformed replies and fds (PROTOCOL_ERROR, every fd closed),
 // ring semantics seen from the client (input slots, completions, output slots, releases, corrupted
 // completions), and recording a session as an fgsr capture that loads back bit-identically.
+#include "run_process.hpp"
+
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/fgsr_format.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -36,15 +38,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int count_fds() {
-    int n = 0;
-    DIR* d = opendir("/proc/self/fd");
-    if (!d) return -1;
-    while (dirent* e = readdir(d))
-        if (e->d_name[0] != '.') ++n;
-    closedir(d);
-    return n - 1; // the DIR's own fd
-}
+using fgsr::test::count_fds;
 
 size_t color_bpp(uint32_t f) {
     return f == FGSR_COLOR_RGBA8_SRGB ? 4 : f == FGSR_COLOR_RGBA16F_LINEAR ? 8 : 16;

@@ -28,15 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using fgsr::test::FgsrdProcess;
 
-int count_fds() {
-    int n = 0;
-    DIR* d = opendir("/proc/self/fd");
-    if (!d) return -1;
-    while (dirent* e = readdir(d))
-        if (e->d_name[0] != '.') ++n;
-    closedir(d);
-    return n - 1;
-}
+using fgsr::test::count_fds;
 
 // A small synthetic capture (engine's internal conventions) and the in-process engine's frames
 // halfway between each pair of inputs.
