@@ -8,6 +8,7 @@
 // component negated.
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/image_io.hpp>
+#include <fgsr/capture/synthetic.hpp>
 #include <fgsr/engine/reference.hpp>
 
 #include <gtest/gtest.h>
@@ -550,6 +551,27 @@ TEST(Importers, HalfRateBlenderTossAsConsecutive) {
     const HalfRateScores s = score_half_rate(c, *hr, [&](size_t k) { return color_of(c, k); });
     EXPECT_GT(s.composed, s.repeat + 4.0);
     EXPECT_GT(s.composed, s.doubled + 0.5);
+}
+
+// A scene cut at a frame that half rate drops moves to the next kept frame, which then has no
+// composed vectors (nothing to compose across a cut); the other kept frames keep theirs.
+TEST(Importers, HalfRateCarriesASceneCutAtADroppedFrame) {
+    capture::SceneOptions so;
+    so.width = 32;
+    so.height = 18;
+    auto r = capture::make_synthetic_capture(so, 7);
+    ASSERT_TRUE(r) << r.error().message;
+    Capture c = std::move(*r);
+    c.ground_truth_kind = GroundTruth::consecutive;
+    c.ground_truth.clear();
+    c.inputs[3].reset = true; // dropped: odd
+    auto hr = make_half_rate(c);
+    ASSERT_TRUE(hr) << hr.error().message;
+    ASSERT_EQ(hr->inputs.size(), 4u); // inputs 0, 2, 4, 6
+    for (size_t k = 0; k < 4; ++k) EXPECT_EQ(hr->inputs[k].reset, k == 2) << k;
+    EXPECT_TRUE(hr->inputs[2].mv.empty());
+    EXPECT_FALSE(hr->inputs[1].mv.empty());
+    EXPECT_FALSE(hr->inputs[3].mv.empty());
 }
 
 TEST(Importers, HalfRateBlenderOrbitSr) {
