@@ -16,7 +16,7 @@ layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; };
 layout(std430, binding = GENSR_COLOR0) readonly buffer Color0 { uvec2 color0[]; }; // pack_color
 layout(std430, binding = GENSR_COLOR1) readonly buffer Color1 { uvec2 color1[]; };
 layout(std430, binding = GENSR_SRC) readonly buffer Src { vec4 src[]; };
-layout(std430, binding = GENSR_LUT) readonly buffer Lut { float lut[]; };
+layout(std430, binding = GENSR_LUT) readonly buffer Lut { vec4 lut[]; };
 layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { vec4 outp[]; };
 
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
@@ -45,7 +45,7 @@ vec4 load_motion(uint i) { return motion[i]; }
 vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
 vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
 vec4 load_src(ivec2 q) { return src[q.y * int(pc.s.hr_width) + q.x]; }
-float load_lut(uint i) { return lut[i]; }
+vec4 load_lut4(uint row) { return lut[row]; }
 
 #include "field.h"
 #include "refine.h"

@@ -15,7 +15,8 @@
 //
 // Entry provides:
 //   vec4  load_src(ivec2 pixel)      the image being resampled (caller-chosen size, see src_size)
-//   float load_lut(uint index)       the LUT (only read for RESAMPLE_LUT)
+//   vec4  load_lut4(uint row)        the LUT's weights 4 * row .. 4 * row + 3 (only read for
+//                                    RESAMPLE_LUT; one access for 4 weights)
 #define RESAMPLE_BILINEAR 0u
 #define RESAMPLE_CATMULL_ROM 1u
 #define RESAMPLE_LUT 2u
@@ -42,17 +43,16 @@ FGSR_INLINE vec4 resample(vec2 pos, ivec2 src_size, uint kind) {
         return mix(top, bottom, f.y);
     }
     vec4 wx = catmull_rom_weights(f.x), wy = catmull_rom_weights(f.y);
-    uint lut_base = 0u;
+    uint lut_row = 0u; // the phase's first row of 4 weights
     if (kind == RESAMPLE_LUT) {
         ivec2 k = ivec2(floor(x * float(FGSR_LUT_LEVELS) + vec2(0.5f)));
         base = ivec2(floor(vec2(k) / float(FGSR_LUT_LEVELS)));
         ivec2 bin = k - base * FGSR_LUT_LEVELS;
-        lut_base = uint(bin.y * FGSR_LUT_LEVELS + bin.x) * 16u;
+        lut_row = uint(bin.y * FGSR_LUT_LEVELS + bin.x) * 4u;
     }
-    for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) {
-            float w = kind == RESAMPLE_LUT ? load_lut(lut_base + uint(j * 4 + i)) : wx[i] * wy[j];
-            sum += w * load_src(clamp(base + ivec2(i - 1, j - 1), ivec2(0), hi));
-        }
+    for (int j = 0; j < 4; ++j) {
+        vec4 w = kind == RESAMPLE_LUT ? load_lut4(lut_row + uint(j)) : wx * wy[j];
+        for (int i = 0; i < 4; ++i) sum += w[i] * load_src(clamp(base + ivec2(i - 1, j - 1), ivec2(0), hi));
+    }
     return sum;
 }

@@ -9,7 +9,7 @@ layout(std430, binding = SR_DEPTH) readonly buffer Depth { float depth[]; };
 layout(std430, binding = SR_MV) readonly buffer Mv { vec2 mv[]; };
 layout(std430, binding = SR_PREV_DEPTH) readonly buffer PrevDepth { float prev_depth[]; };
 layout(std430, binding = SR_HISTORY) readonly buffer History { vec4 history[]; };
-layout(std430, binding = SR_LUT) readonly buffer Lut { float lut[]; };
+layout(std430, binding = SR_LUT) readonly buffer Lut { vec4 lut[]; };
 layout(std430, binding = SR_OUTPUT) writeonly buffer Output { vec4 outp[]; };
 
 vec4 load_lr_color(ivec2 q) { return unpack_color(color[q.y * int(pc.p.lr_width) + q.x]); }
@@ -24,7 +24,7 @@ vec2 load_lr_mv(ivec2 q) { return mv[q.y * int(pc.p.lr_width) + q.x]; }
 float load_prev_depth(ivec2 q) { return prev_depth[q.y * int(pc.p.lr_width) + q.x]; }
 #endif
 vec4 load_src(ivec2 q) { return history[q.y * int(pc.p.hr_width) + q.x]; }
-float load_lut(uint i) { return lut[i]; }
+vec4 load_lut4(uint row) { return lut[row]; }
 
 #include "resample.h"
 #include "sr.h"

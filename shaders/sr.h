@@ -18,7 +18,7 @@
 //   vec4  load_lr_color(ivec2 lr_pixel), float load_lr_depth(ivec2), vec2 load_lr_mv(ivec2)
 //   float load_prev_depth(ivec2 lr_pixel)     previous frame's LR depth
 //   vec4  load_src(ivec2 hr_pixel)            the previous HR output (history), for resample.h
-//   float load_lut(uint index)
+//   vec4  load_lut4(uint row)
 //   void  store_sr(uint hr_index, vec4 color)
 
 FGSR_INLINE ivec2 clamp_lr(ivec2 q, SrParams p) { return clamp(q, ivec2(0), ivec2(int(p.lr_width) - 1, int(p.lr_height) - 1)); }

@@ -98,7 +98,7 @@ struct ResampleCpu {
     uint width;
     std::span<const float> lut;
     vec4 load_src(ivec2 q) const { return (*src)[size_t(q.y) * width + size_t(q.x)]; }
-    float load_lut(uint i) const { return lut[i]; }
+    vec4 load_lut4(uint r) const { return vec4(lut[4 * r], lut[4 * r + 1], lut[4 * r + 2], lut[4 * r + 3]); }
 #include "resample.h"
 };
 
@@ -113,7 +113,7 @@ struct SrCpu {
     vec2 load_lr_mv(ivec2 q) const { return cur->mv[size_t(q.y) * lr_w + size_t(q.x)]; }
     float load_prev_depth(ivec2 q) const { return (*prev_depth)[size_t(q.y) * lr_w + size_t(q.x)]; }
     vec4 load_src(ivec2 q) const { return (*history)[size_t(q.y) * hr_w + size_t(q.x)]; }
-    float load_lut(uint i) const { return lut[i]; }
+    vec4 load_lut4(uint r) const { return vec4(lut[4 * r], lut[4 * r + 1], lut[4 * r + 2], lut[4 * r + 3]); }
 #include "resample.h"
 #include "sr.h"
 };
@@ -139,7 +139,7 @@ struct GenerateSrCpu : KeysCpu {
     std::span<const float> lut;
     uint hr_w;
     vec4 load_src(ivec2 q) const { return (*src)[size_t(q.y) * hr_w + size_t(q.x)]; }
-    float load_lut(uint i) const { return lut[i]; }
+    vec4 load_lut4(uint r) const { return vec4(lut[4 * r], lut[4 * r + 1], lut[4 * r + 2], lut[4 * r + 3]); }
 #include "warp.h"
 #include "blend.h"
 #include "resample.h"
