@@ -86,6 +86,27 @@ TEST(Denoise, CleanInputPassesUnchanged) {
     expect_no_validation_errors();
 }
 
+// Params::denoise can be turned on and off on a live SR session (set_params).
+TEST(Denoise, CanBeToggledOnALiveSession) {
+    const uint32_t w = 64, h = 40;
+    auto s = engine().create_session(internal_format(w, h), sr_params(false));
+    ASSERT_TRUE(s);
+    const RawFrame f = edged_frame(w, h, 0.1f, 9);
+    ASSERT_TRUE((*s)->submit(f.view()));
+    EXPECT_EQ((*s)->last_noise_estimate().sigma, 0.f);
+    (*s)->set_params(sr_params(true));
+    ASSERT_TRUE((*s)->params().denoise);
+    ASSERT_TRUE((*s)->submit(f.view()));
+    EXPECT_NEAR((*s)->last_noise_estimate().sigma, 0.1f, 0.015f);
+    auto out = (*s)->super_resolved();
+    ASSERT_TRUE(out);
+    EXPECT_EQ(out->passes.front().name, "denoise");
+    (*s)->set_params(sr_params(false));
+    ASSERT_TRUE((*s)->submit(f.view()));
+    EXPECT_EQ((*s)->last_noise_estimate().sigma, 0.f);
+    expect_no_validation_errors();
+}
+
 TEST(Denoise, PassMatchesReference) {
     for (auto [w, h] : {std::pair{64u, 40u}, std::pair{17u, 9u}, std::pair{33u, 3u}}) {
         auto s = engine().create_session(internal_format(w, h), sr_params());

@@ -344,10 +344,9 @@ struct Session::Impl {
             for (vk::Buffer& b : hr) FGSR_TRY(make(b, hpx * 16, false));
             FGSR_TRY(make(lut, kLutSize * 4, true));
             FGSR_TRY(upload_lut());
-            if (params.denoise) {
-                FGSR_TRY(make(color_scratch, px * 8, false));
-                FGSR_TRY(make(noise, DENOISE_WORDS * 4, true));
-            }
+            // Whatever Params::denoise says now: set_params may turn it on later.
+            FGSR_TRY(make(color_scratch, px * 8, false));
+            FGSR_TRY(make(noise, DENOISE_WORDS * 4, true));
         }
         return {};
     }
@@ -917,6 +916,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     size_t ti = 0;
     s.ingest_timing = (*t)[ti++];
     s.ingest_timing.name = "ingest";
+    s.noise_estimate = NoiseEstimate{};
     if (denoise) {
         s.denoise_timing = (*t)[ti++];
         s.denoise_timing.name = "denoise";
