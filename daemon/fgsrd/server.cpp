@@ -20,7 +20,6 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
 #include <fcntl.h>
 #include <filesystem>
 #include <map>
@@ -38,12 +37,6 @@
 namespace fgsrd {
 
 namespace {
-
-uint64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
-}
 
 // epoll tags: kind in the top byte, an id below.
 enum Kind : uint64_t { kListen = 1, kSignal = 2, kClient = 3, kSession = 4 };
@@ -295,7 +288,7 @@ void Server::accept_clients() {
             continue;
         }
         c->fd = std::move(fd);
-        c->connected_ns = now_ns();
+        c->connected_ns = monotonic_ns();
         log::debug("client {} connected (pid {}, uid {})", c->id, cred.pid, cred.uid);
         clients_[c->id] = std::move(c);
         // Ids grow with connection time, so the first pending client in the map is the oldest.
@@ -309,7 +302,7 @@ void Server::accept_clients() {
 }
 
 int Server::expire_pending() {
-    const uint64_t now = now_ns();
+    const uint64_t now = monotonic_ns();
     const uint64_t limit = uint64_t(opt_.hello_timeout_s * 1e9);
     std::vector<uint64_t> late;
     uint64_t next = UINT64_MAX;

@@ -1,5 +1,7 @@
 // OpenEXR (Imf C++ API) readers and writers of fgsr_capture_format. OpenEXR throws: every call is
 // wrapped and turned into an Errc::io error naming the file.
+#include "../src/capture_internal.hpp"
+
 #include <fgsr/capture/image_io.hpp>
 
 #include <Imath/half.h>
@@ -22,13 +24,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Error io_error(const fs::path& p, const std::string& what) {
-    return make_error(Errc::io, p.string() + ": " + what);
-}
-
-bool consistent(const ImageRGBA& img) {
-    return img.width > 0 && img.height > 0 && img.rgba.size() == size_t(img.width) * img.height * 4;
-}
+using detail::consistent;
+using detail::io_error;
 
 // EXR
 

@@ -22,6 +22,11 @@ inline Error io_error(const fs::path& p, const std::string& what) {
     return make_error(Errc::io, p.string() + ": " + what);
 }
 
+// A non-empty image whose pixel vector holds exactly width * height RGBA values.
+inline bool consistent(const ImageRGBA& img) {
+    return img.width > 0 && img.height > 0 && img.rgba.size() == size_t(img.width) * img.height * 4;
+}
+
 // Files named <digits><ext> (e.g. "0010.png") directly in `dir`, sorted by number.
 // Error when `dir` is not a directory.
 struct NumberedFile {

@@ -1,6 +1,8 @@
 // PNG (libpng, low-level API) readers and writers (OpenEXR: ../format/exr_io.cpp). libpng reports errors
 // through longjmp; every setjmp lives in a function whose only automatic state is a reference to a
 // heap/caller-owned struct, so nothing indeterminate survives the jump.
+#include "capture_internal.hpp"
+
 #include <fgsr/capture/image_io.hpp>
 
 #include <png.h>
@@ -24,13 +26,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Error io_error(const fs::path& p, const std::string& what) {
-    return make_error(Errc::io, p.string() + ": " + what);
-}
-
-bool consistent(const ImageRGBA& img) {
-    return img.width > 0 && img.height > 0 && img.rgba.size() == size_t(img.width) * img.height * 4;
-}
+using detail::consistent;
+using detail::io_error;
 
 // ---------------------------------------------------------------------------------------------
 // PNG
