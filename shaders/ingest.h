@@ -1,5 +1,5 @@
 // Pass `ingest`: one client frame in its declared formats and conventions -> the internal
-// convention (fgsr/engine/types.hpp). One invocation per pixel.
+// convention (fgsr/core/types.hpp). One invocation per pixel.
 //
 // Entry provides:
 //   uint  load_color_word(uint word)      raw colour plane as 32-bit words

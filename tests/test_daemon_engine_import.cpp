@@ -3,17 +3,12 @@
 // timings carry CLOCK_MONOTONIC begin/end times.
 #include "engine_fixture.hpp"
 
+#include <fgsr/core/clock.hpp>
 #include <sys/mman.h>
 #include <time.h>
 
 namespace fgsr::test {
 namespace {
-
-uint64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
-}
 
 // Page-aligned host memory holding the planes of a frame at 4096-aligned offsets.
 struct Pool {
@@ -54,10 +49,10 @@ TEST(DaemonEngineImport, ZeroCopyIngestEqualsStagingCopy) {
         FrameView v{{pool.data + oc, f.color.size()},
                     {pool.data + od, f.depth.size()},
                     {pool.data + om, f.mv.size()}};
-        const uint64_t before = now_ns();
+        const uint64_t before = monotonic_ns();
         ASSERT_TRUE((*staged)->submit(f.view()));
         ASSERT_TRUE((*direct)->submit(v, **mem));
-        const uint64_t after = now_ns();
+        const uint64_t after = monotonic_ns();
         for (int which = k == 0 ? 1 : 0; which < 2; ++which) { // frame 0 exists from the second submit on
             auto a = (*staged)->read_frame(which), b = (*direct)->read_frame(which);
             ASSERT_TRUE(a && b);
@@ -91,9 +86,9 @@ TEST(DaemonEngineImport, GeneratedFramePassesHaveMonotonicTimes) {
     ASSERT_TRUE(s);
     ASSERT_TRUE((*s)->submit(random_frame(w, h, 1, 2.f).view()));
     ASSERT_TRUE((*s)->submit(random_frame(w, h, 2, 2.f).view()));
-    const uint64_t before = now_ns();
+    const uint64_t before = monotonic_ns();
     auto out = (*s)->interpolate(std::vector<float>{0.25f, 0.5f});
-    const uint64_t after = now_ns();
+    const uint64_t after = monotonic_ns();
     ASSERT_TRUE(out);
     for (const GeneratedFrame& g : *out) {
         ASSERT_FALSE(g.passes.empty());

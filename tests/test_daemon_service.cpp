@@ -3,6 +3,7 @@
 // corrupted ring entries, clients killed at each protocol state. Frames are 64x64 and few.
 #include "fgsrd_process.hpp"
 
+#include <fgsr/core/clock.hpp>
 #include <fgsr/protocol.h>
 
 #include <gtest/gtest.h>
@@ -28,12 +29,6 @@ namespace fgsr::test {
 namespace {
 
 constexpr uint32_t kW = 64, kH = 64;
-
-uint64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
-}
 
 // Owns an fd (test side).
 struct Fd {
@@ -216,7 +211,7 @@ struct RawSession {
         e.sequence = ++sequence;
         e.input_slot = slot_index;
         e.flags = flags;
-        e.submit_time_ns = now_ns();
+        e.submit_time_ns = monotonic_ns();
         e.user_data = e.sequence * 100;
         return e;
     }
@@ -249,7 +244,7 @@ struct RawSession {
     }
     // The next completion, waiting up to timeout_ms.
     std::optional<fgsr_completion_entry> wait(int timeout_ms = 20000) {
-        const uint64_t deadline = now_ns() + uint64_t(timeout_ms) * 1000000ull;
+        const uint64_t deadline = monotonic_ns() + uint64_t(timeout_ms) * 1000000ull;
         for (;;) {
             const uint64_t head = fgsr_ring_load_head(hdr(rl.completion_header));
             if (head != completion_tail) {
@@ -259,7 +254,7 @@ struct RawSession {
                 fgsr_ring_consume(hdr(rl.completion_header), ++completion_tail);
                 return c;
             }
-            const uint64_t now = now_ns();
+            const uint64_t now = monotonic_ns();
             if (now >= deadline) return std::nullopt;
             pollfd p{fds[FGSR_FD_COMPLETE_EVENT].fd, POLLIN, 0};
             poll(&p, 1, int(std::min<uint64_t>((deadline - now) / 1000000ull + 1, 50)));
@@ -467,10 +462,10 @@ TEST_F(Daemon, OutputsTelemetryAndNotReadyOnTheFirstFrame) {
         e.extrap_count = 1;
         std::memcpy(e.extrap_alphas, ea, sizeof(ea));
         e.present_time_ns = 1000000000ull * uint64_t(frame + 1);
-        const uint64_t before = now_ns();
+        const uint64_t before = monotonic_ns();
         s.push(e);
         auto v = s.wait_submit();
-        const uint64_t after = now_ns();
+        const uint64_t after = monotonic_ns();
         ASSERT_EQ(v.size(), 4u);
         const int32_t gen_status = frame == 0 ? FGSR_STATUS_NOT_READY : FGSR_STATUS_OK;
         // Presentation order: interpolated, upscaled, extrapolated.

@@ -3,7 +3,7 @@
 // The conventions of the real captures are checked numerically with a tiny backward warp written
 // here (independent of the engine's passes): for each pixel x of frame k, frame k-1's colour is
 // sampled bilinearly at x + mv(x), with mv converted to the internal convention from the
-// conventions the importer declares, following the definitions in fgsr/engine/types.hpp. Warping
+// conventions the importer declares, following the definitions in fgsr/core/types.hpp. Warping
 // with the imported vectors must beat repeating frame k-1 and beat the same warp with the y
 // component negated.
 #include <fgsr/capture/capture.hpp>

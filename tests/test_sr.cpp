@@ -3,6 +3,7 @@
 // high-resolution rendering, plus the `sr` pass against its CPU reference.
 #include "engine_fixture.hpp"
 
+#include <fgsr/core/halton.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/engine/lut.hpp>
@@ -18,15 +19,6 @@ namespace {
 using capture::SceneOptions;
 using capture::SyntheticScene;
 
-// Halton radical inverse.
-float halton(uint32_t i, uint32_t base) {
-    float f = 1.f, r = 0.f;
-    for (; i > 0; i /= base) {
-        f /= float(base);
-        r += f * float(i % base);
-    }
-    return r;
-}
 
 float v_jitter(uint32_t k) {
     return 0.1f * float(k);

@@ -6,6 +6,7 @@
 // becomes OUT_OF_MEMORY, anything else INTERNAL).
 #include "client_internal.hpp"
 
+#include <fgsr/core/clock.hpp>
 #include <fgsr/client.h>
 
 #include <algorithm>
@@ -75,15 +76,9 @@ namespace {
 constexpr uint32_t kDefaultTimeoutMs = 5000;
 constexpr uint32_t kMaxRingCapacity = 4096;
 
-uint64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
-}
-
 // Milliseconds left until `deadline_ns` (0 when passed), for poll().
 int ms_left(uint64_t deadline_ns) {
-    const uint64_t t = now_ns();
+    const uint64_t t = monotonic_ns();
     if (t >= deadline_ns) return 0;
     return int(std::min<uint64_t>((deadline_ns - t + 999999) / 1000000, 1u << 30));
 }
@@ -112,6 +107,7 @@ bool finite_in(float v, float lo, float hi) {
 } // namespace fgsr::client
 
 using namespace fgsr::client;
+using fgsr::monotonic_ns;
 
 struct fgsr_connection {
     Fd sock;
@@ -217,7 +213,7 @@ fgsr_status fgsr_connection::request(void* msg, uint32_t size, uint16_t type, vo
         dead = st == FGSR_STATUS_DISCONNECTED || dead;
         return st;
     }
-    const uint64_t deadline = now_ns() + uint64_t(timeout_ms) * 1000000ull;
+    const uint64_t deadline = monotonic_ns() + uint64_t(timeout_ms) * 1000000ull;
     alignas(8) unsigned char buf[FGSR_MAX_MESSAGE_SIZE];
     std::vector<Fd> received;
     st = wait_readable(sock.get(), deadline);
@@ -419,7 +415,7 @@ fgsr_status normalise_desc(const fgsr_session_desc& in, fgsr_session_desc& d) {
     if (d.input_slots == 0) d.input_slots = 3;
     if (d.output_slots == 0) d.output_slots = 4;
     if (d.ring_capacity == 0) d.ring_capacity = 64;
-    const bool ok = d.width >= 1 && d.width <= 16384 && d.height >= 1 && d.height <= 16384 &&
+    const bool ok = d.width >= 1 && d.width <= FGSR_MAX_FRAME_SIDE && d.height >= 1 && d.height <= FGSR_MAX_FRAME_SIDE &&
                     valid_color_format(d.color_format) && mv_bytes(d.mv_format) != 0 &&
                     d.depth_kind <= FGSR_DEPTH_DEVICE_REVERSED && d.mv_units <= FGSR_MV_UV &&
                     d.mv_direction <= FGSR_MV_FROM_PREVIOUS && finite_in(d.scale, 1.f, 4.f) && d.modes != 0 &&
@@ -543,7 +539,7 @@ fgsr_status fgsr_connect(const fgsr_connect_info* info, fgsr_connection** out) {
             fill_header(&hello, FGSR_MSG_HELLO, sizeof(hello), seq);
             st = send_packet(c->sock.get(), &hello, sizeof(hello));
             if (st != FGSR_STATUS_OK) return st;
-            st = wait_readable(c->sock.get(), now_ns() + uint64_t(timeout) * 1000000ull);
+            st = wait_readable(c->sock.get(), monotonic_ns() + uint64_t(timeout) * 1000000ull);
             if (st != FGSR_STATUS_OK) return st;
             alignas(8) unsigned char buf[FGSR_MAX_MESSAGE_SIZE];
             std::vector<Fd> fds;
@@ -708,7 +704,7 @@ int fgsr_session_event_fd(const fgsr_session* session) {
 fgsr_status fgsr_acquire_input(fgsr_session* session, uint32_t timeout_ms, fgsr_input_slot* out) {
     if (!session || !out) return FGSR_STATUS_INVALID_ARGUMENT;
     return guarded([&]() -> fgsr_status {
-        const uint64_t deadline = now_ns() + uint64_t(timeout_ms) * 1000000ull;
+        const uint64_t deadline = monotonic_ns() + uint64_t(timeout_ms) * 1000000ull;
         for (;;) {
             fgsr_status st = session->pump();
             if (st != FGSR_STATUS_OK) return st;
@@ -785,7 +781,7 @@ fgsr_status fgsr_submit(fgsr_session* session, const fgsr_submit_info* info, uin
                 session->recorder.reset();
             }
         }
-        e.submit_time_ns = now_ns();
+        e.submit_time_ns = monotonic_ns();
         std::memcpy(
             &session->submit_ring[fgsr_ring_index(session->submit_head, session->layout.ring_capacity)], &e,
             sizeof(e));
@@ -805,7 +801,7 @@ fgsr_status fgsr_submit(fgsr_session* session, const fgsr_submit_info* info, uin
 fgsr_status fgsr_wait(fgsr_session* session, uint32_t timeout_ms, fgsr_output* out) {
     if (!session || !out) return FGSR_STATUS_INVALID_ARGUMENT;
     return guarded([&]() -> fgsr_status {
-        const uint64_t deadline = now_ns() + uint64_t(timeout_ms) * 1000000ull;
+        const uint64_t deadline = monotonic_ns() + uint64_t(timeout_ms) * 1000000ull;
         for (;;) {
             if (session->ready.empty()) {
                 const fgsr_status st = session->pump();

@@ -2,6 +2,7 @@
 
 #include "log.hpp"
 
+#include <fgsr/core/clock.hpp>
 #include <fgsr/capture/image_io.hpp>
 
 #include <glm/gtc/packing.hpp>
@@ -17,12 +18,6 @@
 #include <unistd.h>
 
 namespace fgsrd {
-
-uint64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
-}
 
 uint64_t thread_cpu_ns() {
     timespec ts{};
@@ -88,8 +83,8 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uin
         reason = std::move(why);
         return nullptr;
     };
-    if (d.width < 1 || d.width > 16384 || d.height < 1 || d.height > 16384)
-        return bad("size " + std::to_string(d.width) + "x" + std::to_string(d.height) + " outside 1..16384");
+    if (d.width < 1 || d.width > FGSR_MAX_FRAME_SIDE || d.height < 1 || d.height > FGSR_MAX_FRAME_SIDE)
+        return bad("size " + std::to_string(d.width) + "x" + std::to_string(d.height) + " outside 1.." + std::to_string(FGSR_MAX_FRAME_SIDE));
     if (d.color_format > FGSR_COLOR_RGBA32F_LINEAR || d.output_format > FGSR_COLOR_RGBA32F_LINEAR)
         return bad("unknown colour format");
     if (d.mv_format > FGSR_MV_RG32F || d.mv_units > FGSR_MV_UV || d.mv_direction > FGSR_MV_FROM_PREVIOUS)

@@ -8,6 +8,7 @@
 
 #include "unique_fd.hpp"
 
+#include <fgsr/core/clock.hpp>
 #include <fgsr/engine/engine.hpp>
 #include <fgsr/protocol.h>
 
@@ -20,7 +21,7 @@
 
 namespace fgsrd {
 
-uint64_t monotonic_ns();
+using fgsr::monotonic_ns;
 uint64_t thread_cpu_ns();
 
 class ServiceSession {

@@ -73,12 +73,12 @@ struct Resolution {
 };
 
 // "<H>p" (16:9: width = H * 16 / 9 rounded to even, e.g. 540p = 960x540, 2160p = 3840x2160) or
-// "<W>x<H>"; sizes in [1, 16384]. nullopt for anything else.
+// "<W>x<H>"; sizes in [1, kMaxFrameSide]. nullopt for anything else.
 inline std::optional<Resolution> parse_resolution(const std::string& s) {
     auto number = [](const std::string& t, uint32_t& v) {
         if (t.empty() || t.size() > 5 || t.find_first_not_of("0123456789") != std::string::npos) return false;
         v = uint32_t(std::stoul(t));
-        return v >= 1 && v <= 16384;
+        return v >= 1 && v <= kMaxFrameSide;
     };
     Resolution r{s, 0, 0};
     const size_t x = s.find('x');
@@ -88,7 +88,7 @@ inline std::optional<Resolution> parse_resolution(const std::string& s) {
     }
     if (s.size() < 2 || s.back() != 'p' || !number(s.substr(0, s.size() - 1), r.height)) return std::nullopt;
     r.width = uint32_t(std::lround(double(r.height) * 16.0 / 9.0 / 2.0)) * 2;
-    if (r.width < 1 || r.width > 16384) return std::nullopt;
+    if (r.width < 1 || r.width > kMaxFrameSide) return std::nullopt;
     return r;
 }
 

@@ -2,6 +2,7 @@
 // high-resolution reference of the same instant, side by side with spatial upscaling.
 #include "eval.hpp"
 
+#include <fgsr/core/halton.hpp>
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -37,16 +38,6 @@ SessionParams sr_params_for(const EvalOptions& o, float scale) {
         p.resample = resample_of(m, o.params.resample);
         return p;
     };
-}
-
-// Halton radical inverse of i >= 1 in `base`.
-float halton(uint32_t i, uint32_t base) {
-    double f = 1, r = 0;
-    for (; i > 0; i /= base) {
-        f /= base;
-        r += f * double(i % base);
-    }
-    return float(r);
 }
 
 // Temporal stability of still content (QRISP section 4). Captures have no static stretch, so one

@@ -13,9 +13,10 @@
 //     the gradient of the outputs with respect to the LUT (sr_loop_forward / sr_loop_backward).
 #pragma once
 
+#include <fgsr/core/halton.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
-#include <fgsr/engine/types.hpp>
+#include <fgsr/core/types.hpp>
 
 #include <glm/glm.hpp>
 
@@ -414,16 +415,6 @@ inline glm::vec3 scene_at(const RgbImage& hi, double x, double y) {
     const glm::dvec3 v = (px(x0, y0) * (1 - tx) + px(x0 + 1, y0) * tx) * (1 - ty) +
                          (px(x0, y0 + 1) * (1 - tx) + px(x0 + 1, y0 + 1) * tx) * ty;
     return glm::vec3(v);
-}
-
-// Halton radical inverse of i >= 1 in `base`.
-inline float halton(uint32_t i, uint32_t base) {
-    double f = 1, r = 0;
-    for (; i > 0; i /= base) {
-        f /= base;
-        r += f * double(i % base);
-    }
-    return float(r);
 }
 
 // One SR loop over a crop of out_size x out_size output pixels of `hi` (k x output resolution)

@@ -6,7 +6,7 @@
 
 #include <fgsr/engine/defaults.hpp>
 #include <fgsr/engine/lut.hpp>
-#include <fgsr/engine/result.hpp>
+#include <fgsr/core/result.hpp>
 
 #include <filesystem>
 #include <map>

@@ -5,6 +5,7 @@
 // outputs the scores are computed on bit-identical images by the same score_image/finish_means.
 #include "replay.hpp"
 
+#include <fgsr/core/clock.hpp>
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/session_desc.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -27,12 +28,6 @@ namespace fgsr::cli {
 namespace {
 
 constexpr uint32_t kWaitMs = 60000; // generous: lavapipe at 1080p
-
-uint64_t now_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
-}
 
 Error client_error(fgsr_status s, const std::string& what) {
     const Errc c = s == FGSR_STATUS_INVALID_ARGUMENT ? Errc::invalid_argument
@@ -231,7 +226,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
     // Completions are matched to plans by sequence (sequence = input index + 1).
     size_t finished = 0; // submits whose LAST completion arrived
     auto handle = [&](const fgsr_output& out) -> Result<void> {
-        const uint64_t seen = now_ns();
+        const uint64_t seen = monotonic_ns();
         if (out.flags & FGSR_COMPLETION_LAST) ++finished;
         if (out.status == FGSR_STATUS_DROPPED)
             ++st.summary.dropped;
@@ -286,7 +281,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         return {};
     };
 
-    const uint64_t t0 = now_ns();
+    const uint64_t t0 = monotonic_ns();
     const FrameFormat& f = cap.format;
     const size_t cb = size_t(f.width) * (f.color_format == ColorFormat::rgba8_srgb       ? 4
                                          : f.color_format == ColorFormat::rgba16f_linear ? 8
@@ -295,7 +290,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
     for (size_t i = 0; i <= last_input; ++i) {
         if (o.fps > 0) {
             const uint64_t due = t0 + uint64_t(double(i) * 1e9 / o.fps);
-            const uint64_t t = now_ns();
+            const uint64_t t = monotonic_ns();
             if (due > t) std::this_thread::sleep_for(std::chrono::nanoseconds(due - t));
         }
         fgsr_input_slot in{};
@@ -343,7 +338,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         FGSR_TRY(handle(out));
     }
     if (o.progress) std::fprintf(stderr, "\n");
-    st.summary.wall_s = double(now_ns() - t0) * 1e-9;
+    st.summary.wall_s = double(monotonic_ns() - t0) * 1e-9;
     st.summary.latency_p50_ms = percentile_ms(st.latency_ms, 0.5);
     st.summary.latency_p99_ms = percentile_ms(st.latency_ms, 0.99);
     st.summary.overhead_p50_ms = percentile_ms(st.overhead_ms, 0.5);

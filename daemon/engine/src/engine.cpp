@@ -1,3 +1,4 @@
+#include <fgsr/core/clock.hpp>
 #include <fgsr/engine/engine.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
@@ -124,12 +125,6 @@ uint32_t output_span(uint32_t tile, float scale) {
 
 uint32_t groups(uint32_t n, uint32_t size) {
     return (n + size - 1) / size;
-}
-
-uint64_t monotonic_ns() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
 }
 
 // A storage-buffer binding: a whole engine buffer, or a range of one (imported host memory).
@@ -752,9 +747,9 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     FGSR_TRY(validate(params));
     impl->out_w = uint32_t(std::lround(double(format.width) * params.scale));
     impl->out_h = uint32_t(std::lround(double(format.height) * params.scale));
-    if (impl->out_w > 16384 || impl->out_h > 16384)
+    if (impl->out_w > kMaxFrameSide || impl->out_h > kMaxFrameSide)
         return make_error(Errc::invalid_argument, "output size " + std::to_string(impl->out_w) + "x" +
-                                                      std::to_string(impl->out_h) + " exceeds 16384x16384");
+                                                      std::to_string(impl->out_h) + " exceeds " + std::to_string(kMaxFrameSide) + "x" + std::to_string(kMaxFrameSide));
     if (params.tile_size != 0 && params.tile_size != 8 && params.tile_size != 16 && params.tile_size != 32)
         return make_error(Errc::invalid_argument,
                           "tile size " + std::to_string(params.tile_size) + " is not 0, 8, 16 or 32");

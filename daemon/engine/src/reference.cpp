@@ -168,9 +168,9 @@ Result<void> validate(const FrameFormat& f, const FrameView& frame) {
     if (f.width == 0 || f.height == 0)
         return make_error(Errc::empty_input,
                           "frame size is " + std::to_string(f.width) + "x" + std::to_string(f.height));
-    if (f.width > 16384 || f.height > 16384)
+    if (f.width > kMaxFrameSide || f.height > kMaxFrameSide)
         return make_error(Errc::invalid_argument, "frame size " + std::to_string(f.width) + "x" +
-                                                      std::to_string(f.height) + " exceeds 16384x16384");
+                                                      std::to_string(f.height) + " exceeds " + std::to_string(kMaxFrameSide) + "x" + std::to_string(kMaxFrameSide));
     if (bytes_per_pixel(f.color_format) == 0)
         return make_error(Errc::unsupported,
                           "unknown colour format " + std::to_string(uint32_t(f.color_format)));

@@ -2,7 +2,7 @@
 #pragma once
 
 #include <fgsr/engine/engine.hpp>
-#include <fgsr/engine/result.hpp>
+#include <fgsr/core/result.hpp>
 
 #include <vulkan/vulkan.h>
 

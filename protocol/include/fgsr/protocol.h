@@ -59,6 +59,7 @@ extern "C" {
 #define FGSR_MAX_ALPHAS 8u          /* interpolated or extrapolated frames per submit, each */
 #define FGSR_MAX_PASSES 12u         /* pass records per telemetry record */
 #define FGSR_MAX_SLOTS 64u          /* input or output slots per session */
+#define FGSR_MAX_FRAME_SIDE 16384u  /* largest width or height of an input or output frame */
 #define FGSR_MAX_MESSAGE_SIZE 1024u /* largest control message, header included */
 #define FGSR_NO_SLOT 0xffffffffu
 
@@ -96,7 +97,7 @@ typedef enum fgsr_status {
 const char* fgsr_status_string(int32_t status);
 
 /* ---------------------------------------------------------------------------------------------
- * Formats and conventions (values equal the engine's enums in fgsr/engine/types.hpp).
+ * Formats and conventions (values equal the engine's enums in fgsr/core/types.hpp).
  * ------------------------------------------------------------------------------------------- */
 typedef enum fgsr_color_format {
     FGSR_COLOR_RGBA8_SRGB = 0,     /* 4 bytes/pixel */
@@ -198,7 +199,7 @@ FGSR_STATIC_ASSERT(sizeof(fgsr_hello_reply) == 104, "fgsr_hello_reply size");
 /* What a session needs; the body of FGSR_MSG_CREATE_SESSION. Zero means "default" where stated. */
 typedef struct fgsr_session_desc {
     uint32_t struct_size; /* sizeof(fgsr_session_desc) of the sender */
-    uint32_t width;       /* rendered (input) size in pixels, 1..16384 */
+    uint32_t width;       /* rendered (input) size in pixels, 1..FGSR_MAX_FRAME_SIDE */
     uint32_t height;
     uint32_t color_format; /* fgsr_color_format of the input colour */
     uint32_t mv_format;    /* fgsr_mv_format */

@@ -1,4 +1,5 @@
 // The numerical stress cases and their in-process feeder (see fgsr/capture/stress.hpp).
+#include <fgsr/core/halton.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/stress.hpp>
 #include <fgsr/engine/lut.hpp>
@@ -792,14 +793,6 @@ Case long_sr_case(size_t frames) {
     constexpr uint32_t w = 32, h = 18;
     constexpr size_t kPeriod = 8;
     const FrameFormat f = format_of(w, h);
-    auto halton = [](uint32_t i, uint32_t base) {
-        float r = 0.f, fr = 1.f;
-        for (; i > 0; i /= base) {
-            fr /= float(base);
-            r += fr * float(i % base);
-        }
-        return r;
-    };
     auto loop = std::make_shared<std::vector<Frame>>();
     for (size_t k = 0; k < kPeriod; ++k) {
         const float jx = halton(uint32_t(k) + 1, 2) - 0.5f, jy = halton(uint32_t(k) + 1, 3) - 0.5f;

@@ -84,12 +84,12 @@ constexpr Design kDesign[] = {
 } // namespace
 
 Result<void> validate(const SceneOptions& o) {
-    if (o.width < 1 || o.width > 16384)
+    if (o.width < 1 || o.width > kMaxFrameSide)
         return make_error(Errc::invalid_argument,
-                          "SceneOptions.width " + std::to_string(o.width) + " outside [1, 16384]");
-    if (o.height < 1 || o.height > 16384)
+                          "SceneOptions.width " + std::to_string(o.width) + " outside [1, " + std::to_string(kMaxFrameSide) + "]");
+    if (o.height < 1 || o.height > kMaxFrameSide)
         return make_error(Errc::invalid_argument,
-                          "SceneOptions.height " + std::to_string(o.height) + " outside [1, 16384]");
+                          "SceneOptions.height " + std::to_string(o.height) + " outside [1, " + std::to_string(kMaxFrameSide) + "]");
     if (o.supersample < 1 || o.supersample > 16)
         return make_error(Errc::invalid_argument,
                           "SceneOptions.supersample " + std::to_string(o.supersample) + " outside [1, 16]");
@@ -100,8 +100,8 @@ Result<void> validate(const SceneOptions& o) {
 }
 
 SyntheticScene::SyntheticScene(SceneOptions o) : opt_(o) {
-    opt_.width = std::clamp<uint32_t>(opt_.width, 1, 16384);
-    opt_.height = std::clamp<uint32_t>(opt_.height, 1, 16384);
+    opt_.width = std::clamp<uint32_t>(opt_.width, 1, kMaxFrameSide);
+    opt_.height = std::clamp<uint32_t>(opt_.height, 1, kMaxFrameSide);
     opt_.supersample = std::clamp<uint32_t>(opt_.supersample, 1, 16);
     if (!std::isfinite(opt_.speed) || opt_.speed < 0.0f) opt_.speed = 0.0f;
 

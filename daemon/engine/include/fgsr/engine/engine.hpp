@@ -5,8 +5,8 @@
 #pragma once
 
 #include <fgsr/engine/defaults.hpp>
-#include <fgsr/engine/result.hpp>
-#include <fgsr/engine/types.hpp>
+#include <fgsr/core/result.hpp>
+#include <fgsr/core/types.hpp>
 
 #include <memory>
 #include <span>

@@ -6,7 +6,7 @@
 // float32 weights. Provenance lives in a JSON file beside it (see daemon/engine/luts/README.md).
 #pragma once
 
-#include <fgsr/engine/result.hpp>
+#include <fgsr/core/result.hpp>
 
 #include <filesystem>
 #include <span>

@@ -4,8 +4,8 @@
 #pragma once
 
 #include <fgsr/engine/engine.hpp>
-#include <fgsr/engine/result.hpp>
-#include <fgsr/engine/types.hpp>
+#include <fgsr/core/result.hpp>
+#include <fgsr/core/types.hpp>
 
 #include "common.h" // shaders/: GenParams, IngestParams
 

@@ -1,10 +1,10 @@
 // Captures: sequences of rendered frames plus ground truth, as every fgsr tool reads them.
 // Importers return frames in one of the engine's accepted input formats with the conventions the
-// source declares (the engine's ingest pass converts); see fgsr/engine/types.hpp.
+// source declares (the engine's ingest pass converts); see fgsr/core/types.hpp.
 #pragma once
 
-#include <fgsr/engine/result.hpp>
-#include <fgsr/engine/types.hpp>
+#include <fgsr/core/result.hpp>
+#include <fgsr/core/types.hpp>
 
 #include <filesystem>
 #include <optional>

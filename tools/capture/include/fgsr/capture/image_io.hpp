@@ -5,8 +5,8 @@
 // Writers do not create directories: the parent directory of `path` must exist.
 #pragma once
 
-#include <fgsr/engine/result.hpp>
-#include <fgsr/engine/types.hpp>
+#include <fgsr/core/result.hpp>
+#include <fgsr/core/types.hpp>
 
 #include <cstdint>
 #include <filesystem>

@@ -9,8 +9,8 @@
 // width*height*4 floats are reported through Result, never asserted.
 #pragma once
 
-#include <fgsr/engine/result.hpp>
-#include <fgsr/engine/types.hpp>
+#include <fgsr/core/result.hpp>
+#include <fgsr/core/types.hpp>
 
 #include <cstdint>
 #include <span>

@@ -12,12 +12,12 @@
 //
 // Time t is in input-frame units: t = 0, 1, 2, ... are the rendered frames.
 // Coordinates: pixels, x right, y down, pixel (i, j) covers [i, i+1) x [j, j+1), centre (i+.5, j+.5).
-// Output conventions are the engine's internal ones (see fgsr/engine/types.hpp).
+// Output conventions are the engine's internal ones (see fgsr/core/types.hpp).
 #pragma once
 
 #include <fgsr/capture/capture.hpp>
-#include <fgsr/engine/result.hpp>
-#include <fgsr/engine/types.hpp>
+#include <fgsr/core/result.hpp>
+#include <fgsr/core/types.hpp>
 
 #include <glm/glm.hpp>
 

@@ -11,6 +11,8 @@
 // Pixel (x, y) has its centre at (x + 0.5, y + 0.5); row 0 is the top row.
 #pragma once
 
+#include <fgsr/protocol.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -20,6 +22,9 @@
 namespace fgsr {
 
 inline constexpr float kFarDepth = 1.0e30f;
+
+// Largest width or height of any frame, input or output (protocol.h FGSR_MAX_FRAME_SIDE).
+inline constexpr uint32_t kMaxFrameSide = FGSR_MAX_FRAME_SIDE;
 
 enum class ColorFormat : uint32_t {
     rgba8_srgb = 0,     // 4 bytes/pixel, sRGB-encoded, alpha ignored

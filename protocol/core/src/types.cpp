@@ -1,5 +1,5 @@
-#include <fgsr/engine/result.hpp>
-#include <fgsr/engine/types.hpp>
+#include <fgsr/core/result.hpp>
+#include <fgsr/core/types.hpp>
 
 namespace fgsr {
 
