@@ -1,5 +1,6 @@
 // Image file I/O: sRGB transfer, PNG and EXR round trips, and errors on malformed files.
 #include <fgsr/capture/image_io.hpp>
+#include <fgsr/engine/color.hpp>
 
 #include <gtest/gtest.h>
 

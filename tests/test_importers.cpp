@@ -10,6 +10,7 @@
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/engine/reference.hpp>
+#include <fgsr/engine/color.hpp>
 
 #include <gtest/gtest.h>
 

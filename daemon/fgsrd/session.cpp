@@ -3,9 +3,7 @@
 #include "log.hpp"
 
 #include <fgsr/core/clock.hpp>
-#include <fgsr/capture/image_io.hpp>
-
-#include <glm/gtc/packing.hpp>
+#include <fgsr/engine/color.hpp>
 
 #include <algorithm>
 #include <cerrno>
@@ -392,29 +390,8 @@ std::optional<std::string> ServiceSession::process_one() {
 
 void ServiceSession::write_output(uint32_t slot, const fgsr::ImageRGBA& image) {
     std::byte* dst = output_map_.data() + uint64_t(slot) * layout_.output_slot_stride + layout_.output.offset;
-    const size_t n = size_t(image.width) * image.height;
-    const float* src = image.rgba.data();
-    switch (desc_.output_format) {
-    case FGSR_COLOR_RGBA32F_LINEAR:
-        std::memcpy(dst, src, n * 16);
-        break;
-    case FGSR_COLOR_RGBA16F_LINEAR:
-        for (size_t i = 0; i < n * 4; ++i) {
-            const uint16_t h = glm::packHalf1x16(std::clamp(src[i], -65504.f, 65504.f));
-            std::memcpy(dst + i * 2, &h, 2);
-        }
-        break;
-    default: { // sRGB-encoded 8-bit; alpha stays linear
-        auto* d = reinterpret_cast<uint8_t*>(dst);
-        for (size_t i = 0; i < n; ++i) {
-            for (int c = 0; c < 3; ++c)
-                d[4 * i + size_t(c)] =
-                    uint8_t(std::lround(fgsr::capture::srgb_encode(src[4 * i + size_t(c)]) * 255.f));
-            const float a = std::isfinite(src[4 * i + 3]) ? std::clamp(src[4 * i + 3], 0.f, 1.f) : 1.f;
-            d[4 * i + 3] = uint8_t(std::lround(a * 255.f));
-        }
-    }
-    }
+    // The session's output_format was checked at creation (a fgsr_color_format, same values).
+    fgsr::encode_output(image, fgsr::ColorFormat(desc_.output_format), dst);
 }
 
 std::optional<std::string> ServiceSession::run(const Pending& p) {

@@ -4,6 +4,7 @@
 #include "capture_internal.hpp"
 
 #include <fgsr/capture/image_io.hpp>
+#include <fgsr/engine/color.hpp>
 
 #include <png.h>
 
@@ -127,25 +128,6 @@ Result<void> write_png_pixels(const fs::path& path, PngState& s) {
 } // namespace
 
 // -------------------------------------------------------------------------------------------------
-
-float srgb_encode(float linear) {
-    float v = std::isnan(linear) ? 0.f : std::clamp(linear, 0.f, 1.f);
-    return v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1.f / 2.4f) - 0.055f;
-}
-
-float srgb_decode(float encoded) {
-    float v = std::isnan(encoded) ? 0.f : std::clamp(encoded, 0.f, 1.f);
-    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
-float srgb8_decode(uint8_t b) {
-    static const std::array<float, 256> table = [] {
-        std::array<float, 256> t{};
-        for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_decode(float(i) / 255.f);
-        return t;
-    }();
-    return table[b];
-}
 
 Result<void> write_png(const fs::path& path, const ImageRGBA& img) {
     if (!consistent(img))

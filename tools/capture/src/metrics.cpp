@@ -1,5 +1,6 @@
 // Display-referred PSNR / SSIM and diff images; see metrics.hpp for the contracts.
 #include <fgsr/capture/metrics.hpp>
+#include <fgsr/engine/color.hpp>
 
 #include <algorithm>
 #include <array>
@@ -10,16 +11,6 @@
 namespace fgsr::capture {
 
 namespace {
-
-// Standard piecewise sRGB OETF on [0,1].
-float srgb_oetf(float v) {
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
-
-// Inverse of srgb_oetf on [0,1].
-float srgb_eotf(float v) {
-    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
 
 std::string size_str(const ImageRGBA& i) {
     return std::to_string(i.width) + "x" + std::to_string(i.height);
@@ -86,8 +77,8 @@ std::array<Acc, kWin> gaussian_window() {
 } // namespace
 
 float metric_display_value(float linear) {
-    if (std::isnan(linear)) return linear;
-    return srgb_oetf(std::clamp(linear, 0.0f, 1.0f));
+    if (std::isnan(linear)) return linear; // kept: a NaN output scores as the worst error
+    return srgb_encode(linear);
 }
 
 Result<double> psnr(const ImageRGBA& a, const ImageRGBA& ref) {
@@ -234,7 +225,7 @@ Result<ImageRGBA> abs_diff_image(const ImageRGBA& a, const ImageRGBA& b, float g
             const float x = metric_display_value(a.rgba[i * 4 + c]);
             const float y = metric_display_value(b.rgba[i * 4 + c]);
             const float d = (std::isnan(x) || std::isnan(y)) ? 1.0f : std::min(1.0f, std::fabs(x - y) * gain);
-            out.rgba[i * 4 + c] = srgb_eotf(d);
+            out.rgba[i * 4 + c] = srgb_decode(d);
         }
         out.rgba[i * 4 + 3] = 1.0f;
     }

@@ -1,5 +1,6 @@
 // The numerical stress cases and their in-process feeder (see fgsr/capture/stress.hpp).
 #include <fgsr/core/halton.hpp>
+#include <fgsr/engine/color.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/stress.hpp>
 #include <fgsr/engine/lut.hpp>
@@ -40,11 +41,6 @@ void put_f32(std::vector<std::byte>& b, size_t word, float v) {
 }
 void put_u16(std::vector<std::byte>& b, size_t half, uint16_t v) {
     std::memcpy(b.data() + 2 * half, &v, 2);
-}
-
-float srgb_encode(float c) {
-    c = std::clamp(c, 0.f, 1.f);
-    return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.f / 2.4f) - 0.055f;
 }
 
 // A value written into a float plane; `half` overrides the half encoding (exact subnormals).

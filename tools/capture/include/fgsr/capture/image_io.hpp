@@ -16,14 +16,7 @@
 
 namespace fgsr::capture {
 
-// sRGB transfer function (IEC 61966-2-1), scalar. srgb_encode maps linear [0,1] to encoded [0,1];
-// inputs outside [0,1] (and NaN) are clamped first. srgb_decode maps encoded [0,1] to linear [0,1]
-// with the same clamping.
-float srgb_encode(float linear);
-float srgb_decode(float encoded);
-
-// Decodes an 8-bit sRGB value (0..255) to linear [0,1] through a table (exactly srgb_decode(b/255)).
-float srgb8_decode(uint8_t b);
+// The sRGB transfer function is the engine's: fgsr/engine/color.hpp.
 
 // 8-bit RGBA image as stored in a PNG (no transfer function applied).
 struct Image8 {
