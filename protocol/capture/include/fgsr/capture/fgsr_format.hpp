@@ -4,7 +4,7 @@
 // Library fgsr_capture_format: OpenEXR and nlohmann-json only (no engine, no Vulkan).
 #pragma once
 
-#include <fgsr/capture/capture.hpp>
+#include <fgsr/capture/capture_types.hpp>
 
 #include <cstddef>
 #include <filesystem>
@@ -13,6 +13,12 @@
 #include <vector>
 
 namespace fgsr::capture {
+
+// fgsr's own format (manifest.json + one EXR per frame); see docs/CAPTURE_FORMAT.md.
+// save_fgsr creates `dir` (and parents) and overwrites files of a previous capture there;
+// load_fgsr(save_fgsr(c)) reproduces c's planes bit-exactly.
+Result<Capture> load_fgsr(const std::filesystem::path& dir, size_t max_frames = kAllFrames);
+Result<void> save_fgsr(const Capture& c, const std::filesystem::path& dir);
 
 // "0000.exr", "0001.exr", ...: the name of the i-th file of a list (frames/, gt/, hr/, hr_gt/).
 std::string fgsr_file_name(size_t index);

@@ -1,8 +1,8 @@
 // OpenEXR (Imf C++ API) readers and writers of fgsr_capture_format. OpenEXR throws: every call is
 // wrapped and turned into an Errc::io error naming the file.
-#include "../src/capture_internal.hpp"
+#include <fgsr/capture/format_util.hpp>
 
-#include <fgsr/capture/image_io.hpp>
+#include <fgsr/capture/exr_io.hpp>
 
 #include <Imath/half.h>
 #include <ImfChannelList.h>

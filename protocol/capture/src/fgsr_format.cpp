@@ -1,8 +1,9 @@
 // fgsr's own capture format: manifest.json + one multichannel EXR per frame. The specification
 // is docs/CAPTURE_FORMAT.md; keep the two in step (kFormatVersion changes with any incompatible
 // change).
-#include "../src/capture_internal.hpp"
+#include <fgsr/capture/format_util.hpp>
 
+#include <fgsr/capture/exr_io.hpp>
 #include <fgsr/capture/fgsr_format.hpp>
 
 #include <algorithm>

@@ -1,6 +1,6 @@
-// Helpers of fgsr_capture_format shared with the importers (declared in capture_internal.hpp):
+// Helpers of fgsr_capture_format shared with the importers (declared in fgsr/capture/format_util.hpp):
 // text and JSON files, plane packing, half floats.
-#include "../src/capture_internal.hpp"
+#include <fgsr/capture/format_util.hpp>
 
 #include <Imath/half.h>
 
