@@ -1,11 +1,11 @@
 // build/bin/fgsr: command-line front end of the fgsr engine.
-#include "bench.hpp"
-#include "calibrate.hpp"
-#include "cli_util.hpp"
-#include "eval.hpp"
-#include "lut_train.hpp"
-#include "replay.hpp"
-#include "stress.hpp"
+#include <fgsr/cli/bench.hpp>
+#include <fgsr/cli/calibrate.hpp>
+#include <fgsr/cli/cli_util.hpp>
+#include <fgsr/cli/eval.hpp>
+#include <fgsr/cli/lut_train.hpp>
+#include <fgsr/cli/replay.hpp>
+#include <fgsr/cli/stress.hpp>
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/synthetic.hpp>

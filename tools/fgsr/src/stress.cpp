@@ -1,4 +1,4 @@
-#include "stress.hpp"
+#include <fgsr/cli/stress.hpp>
 
 #include <fgsr/capture/stress.hpp>
 #include <fgsr/engine/engine.hpp>

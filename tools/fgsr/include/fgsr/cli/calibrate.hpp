@@ -9,7 +9,7 @@
 // higher, so the result is never worse than the start.
 #pragma once
 
-#include "eval.hpp"
+#include <fgsr/cli/eval.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "lut_train.hpp"
+#include <fgsr/cli/lut_train.hpp>
 
-#include "lut_model.hpp"
+#include <fgsr/cli/lut_model.hpp>
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/metrics.hpp>

@@ -1,5 +1,5 @@
-#include "calibrate.hpp"
-#include "cli_util.hpp"
+#include <fgsr/cli/calibrate.hpp>
+#include <fgsr/cli/cli_util.hpp>
 
 #include <fgsr/capture/synthetic.hpp>
 

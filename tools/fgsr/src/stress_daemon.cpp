@@ -1,7 +1,7 @@
 // `fgsr stress --daemon`: the stress cases fed through fgsrd (fgsr/stress/daemon.hpp). Without
 // --socket it spawns the fgsrd next to this executable on a socket in a fresh temporary directory,
 // with its stderr in a file there (read for the rejection reasons), and stops it (SIGTERM) after.
-#include "stress.hpp"
+#include <fgsr/cli/stress.hpp>
 
 #include <fgsr/capture/stress.hpp>
 #include <fgsr/stress/daemon.hpp>

@@ -1,4 +1,4 @@
-#include "eval.hpp"
+#include <fgsr/cli/eval.hpp>
 
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/metrics.hpp>

@@ -10,7 +10,7 @@
 // here so that tests call them directly.
 #pragma once
 
-#include "eval.hpp"
+#include <fgsr/cli/eval.hpp>
 
 #include <fgsr/engine/presets.hpp>
 

@@ -3,7 +3,7 @@
 // finish_means) when the capture has references. `fgsr eval --socket` runs the same code.
 #pragma once
 
-#include "eval.hpp"
+#include <fgsr/cli/eval.hpp>
 
 #include <cstdint>
 #include <filesystem>

@@ -3,7 +3,7 @@
 // The frames submitted and the outputs requested are those of in-process `fgsr eval` for the
 // "fgsr" method (same capture preparation, same halfway_targets, same alphas), so with rgba32f
 // outputs the scores are computed on bit-identical images by the same score_image/finish_means.
-#include "replay.hpp"
+#include <fgsr/cli/replay.hpp>
 
 #include <fgsr/core/clock.hpp>
 #include <fgsr/capture/image_io.hpp>

@@ -1,8 +1,8 @@
 // `fgsr bench` (see bench.hpp): run time against error on captures, resolution scaling, frames per
 // pair, the memcpy roofline and still against moving; CSV, Markdown and gnuplot outputs.
-#include "bench.hpp"
+#include <fgsr/cli/bench.hpp>
 
-#include "cli_util.hpp"
+#include <fgsr/cli/cli_util.hpp>
 
 #include <fgsr/capture/synthetic.hpp>
 

@@ -1,6 +1,6 @@
 // `fgsr eval --mode sr`: super resolution of every input frame, scored against the capture's
 // high-resolution reference of the same instant, side by side with spatial upscaling.
-#include "eval.hpp"
+#include <fgsr/cli/eval.hpp>
 
 #include <fgsr/core/halton.hpp>
 #include <fgsr/capture/image_io.hpp>
