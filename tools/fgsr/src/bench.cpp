@@ -1,6 +1,9 @@
 // `fgsr bench` (see bench.hpp): run time against error on captures, resolution scaling, frames per
-// pair, the memcpy roofline and still against moving; CSV, Markdown and gnuplot outputs.
+// pair, the memcpy roofline and still against moving. Its outputs (CSV, Markdown, gnuplot) are
+// written by bench_report.cpp.
 #include <fgsr/cli/bench.hpp>
+
+#include "bench_internal.hpp"
 
 #include <fgsr/cli/cli_util.hpp>
 
@@ -22,15 +25,10 @@ namespace fgsr::cli {
 
 namespace {
 
-// Engine passes in pipeline order (the CSV columns and the bar plot's stack order).
-constexpr const char* kPasses[] = {"sr",     "splat",  "generate", "generate_sr",
-                                   "refine", "disocc", "warp",     "blend"};
+using namespace bench_detail;
 
 using Clock = std::chrono::steady_clock;
 
-void progress(const BenchOptions& o, const std::string& line) {
-    if (o.progress) std::fprintf(stderr, "[bench] %s\n", line.c_str());
-}
 
 // A capture to benchmark: spec as given, and the modes it is limited to (empty: all it supports).
 struct CaptureEntry {
@@ -411,156 +409,6 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
     return {};
 }
 
-std::string num(double v, int digits) {
-    if (!std::isfinite(v)) return "nan";
-    return fmt::format("{:.{}f}", v, digits);
-}
-
-std::string passes_text(const std::map<std::string, double>& pass_ms) {
-    std::string s;
-    for (const char* p : kPasses)
-        if (pass_ms.count(p)) s += fmt::format("{}{} {:.2f}", s.empty() ? "" : ", ", p, pass_ms.at(p));
-    return s;
-}
-
-Result<void> write_text(const std::filesystem::path& p, const std::string& text) {
-    std::ofstream f(p, std::ios::binary);
-    if (!f) return make_error(Errc::io, "cannot write " + p.string());
-    f << text;
-    if (!f) return make_error(Errc::io, "cannot write " + p.string());
-    return {};
-}
-
-std::string shell_quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-// gnuplot data (one block per capture / mode, separated by two blank lines) and the script.
-struct PlotFiles {
-    std::string points, front, passes, script;
-};
-
-PlotFiles plot_files(const BenchReport& r) {
-    PlotFiles f;
-    std::vector<std::pair<std::string, std::string>> groups; // capture, mode in row order
-    for (const BenchRow& row : r.rows)
-        if (groups.empty() || groups.back() != std::make_pair(row.capture, row.mode))
-            groups.emplace_back(row.capture, row.mode);
-    std::vector<std::string> titles;
-    for (const auto& [cap, mode] : groups) {
-        std::vector<const BenchRow*> rows, front;
-        for (const BenchRow& row : r.rows)
-            if (row.capture == cap && row.mode == mode) {
-                rows.push_back(&row);
-                if (row.pareto) front.push_back(&row);
-            }
-        std::sort(front.begin(), front.end(),
-                  [](const BenchRow* a, const BenchRow* b) { return a->ms < b->ms; });
-        f.points += "# " + cap + " " + mode + "\n# ms psnr pareto preset label\n";
-        for (const BenchRow* row : rows)
-            f.points +=
-                fmt::format("{} {} {} {} \"{}\"\n", num(row->ms, 4), num(row->psnr, 4), row->pareto ? 1 : 0,
-                            row->toggle.empty() ? 1 : 0, row->toggle.empty() ? row->config : row->toggle);
-        f.points += "\n\n";
-        f.front += "# " + cap + " " + mode + "\n";
-        for (const BenchRow* row : front)
-            f.front += fmt::format("{} {}\n", num(row->ms, 4), num(row->psnr, 4));
-        f.front += "\n\n";
-        titles.push_back(fmt::format("{} {} ({}x{}, {} frames)", cap, mode, rows[0]->width, rows[0]->height,
-                                     rows[0]->frames));
-    }
-    // Per-pass bars: presets and the separate-passes toggle, one block per capture.
-    std::vector<std::string> caps;
-    for (const auto& g : groups)
-        if (std::find(caps.begin(), caps.end(), g.first) == caps.end()) caps.push_back(g.first);
-    for (const std::string& cap : caps) {
-        f.passes += "# " + cap + "\n# label";
-        for (const char* p : kPasses) f.passes += std::string(" ") + p;
-        f.passes += "\n";
-        for (const BenchRow& row : r.rows) {
-            if (row.capture != cap || !(row.toggle.empty() || row.toggle == "passes=separate")) continue;
-            std::string label = row.mode + " " + (row.toggle.empty() ? row.config : "separate");
-            f.passes += "\"" + label + "\"";
-            for (const char* p : kPasses)
-                f.passes += " " + num(row.pass_ms.count(p) ? row.pass_ms.at(p) : 0.0, 4);
-            f.passes += "\n";
-        }
-        f.passes += "\n\n";
-    }
-
-    const size_t n = groups.size();
-    const size_t cols = n <= 1 ? 1 : n <= 4 ? 2 : 3;
-    const size_t rows_n = (n + cols - 1) / cols;
-    const size_t pcols = caps.size() <= 1 ? 1 : 2;
-    const size_t prows = (caps.size() + pcols - 1) / pcols;
-    std::string& s = f.script;
-    s += "# Generated by `fgsr bench`: gnuplot plots.gp (in this directory) redraws the plots.\n";
-    s += "set encoding utf8\nset grid lc rgb '#dddddd'\nset key below horizontal font ',9'\n";
-    for (const char* term : {"png", "svg"}) {
-        const std::string tsize = fmt::format("{},{}", 560 * cols, 420 * rows_n);
-        s += std::string(term) == "png"
-                 ? "set terminal pngcairo noenhanced size " + tsize + " font 'sans,10'\n"
-                 : "set terminal svg noenhanced size " + tsize + " dynamic font 'sans,10'\n";
-        s += std::string("set output 'time_vs_error.") + term + "'\n";
-        s += fmt::format(
-            "set multiplot layout {},{} title 'fgsr bench: run time against error ({}, median of {} "
-            "calls per frame; Pareto front in red)' font ',12'\n",
-            rows_n, cols, r.device, r.repeats);
-        s += "set xlabel 'GPU ms per frame (median)'\nset ylabel 'PSNR (dB)'\nset offsets graph 0.08, graph "
-             "0.3, "
-             "graph 0.1, graph 0.1\n";
-        for (size_t i = 0; i < n; ++i) {
-            s += "set title '" + titles[i] + "'\n";
-            s += fmt::format(
-                "plot 'front.dat' index {0} using 1:2 with lines lw 2 lc rgb '#cc3311' title 'Pareto front', "
-                "'points.dat' index {0} using 1:($4==1?$2:NaN) with points pt 7 ps 1.2 lc rgb '#0077bb' "
-                "title 'preset', "
-                "'points.dat' index {0} using 1:($4==0?$2:NaN) with points pt 5 ps 0.9 lc rgb '#999999' "
-                "title 'balanced + one switch', "
-                "'points.dat' index {0} using 1:($3==1?$2:NaN) with points pt 6 ps 2 lw 2 lc rgb '#cc3311' "
-                "notitle, "
-                "'points.dat' index {0} using 1:2:5 with labels font ',8' offset 0.6,0.6 left notitle\n",
-                i);
-        }
-        s += "unset multiplot\n";
-        // Per-pass bars.
-        const std::string psize = fmt::format("{},{}", 700 * pcols, 460 * prows);
-        s += std::string(term) == "png"
-                 ? "set terminal pngcairo noenhanced size " + psize + " font 'sans,10'\n"
-                 : "set terminal svg noenhanced size " + psize + " dynamic font 'sans,10'\n";
-        s += std::string("set output 'passes.") + term + "'\n";
-        s += fmt::format(
-            "set multiplot layout {},{} title 'fgsr bench: GPU ms per pass (median, {})' font ',12'\n", prows,
-            pcols, r.device);
-        s +=
-            "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.85 border -1\n"
-            "set boxwidth 0.75\nset xtics rotate by -35 font ',8'\nset key outside right top box font ',8'\n"
-            "set xlabel ''\nset ylabel 'GPU ms per frame'\nset offsets 0, 0, graph 0.25, 0\nset yrange "
-            "[0:*]\n";
-        for (size_t i = 0; i < caps.size(); ++i) {
-            s += "set title '" + caps[i] + "'\n";
-            // Only the passes this capture's rows have (the others would be empty key entries).
-            std::string plot = "plot ";
-            bool first = true;
-            for (size_t p = 0; p < std::size(kPasses); ++p) {
-                bool used = false;
-                for (const BenchRow& row : r.rows)
-                    used = used || (row.capture == caps[i] && row.pass_ms.count(kPasses[p]));
-                if (!used) continue;
-                plot += fmt::format("{}'passes.dat' index {} using {}{} title '{}'", first ? "" : ", ", i,
-                                    p + 2, first ? ":xtic(1)" : "", kPasses[p]);
-                first = false;
-            }
-            s += plot + "\n";
-        }
-        s += "unset multiplot\nunset style\nunset xtics\nset xtics\nunset offsets\nset autoscale\n"
-             "set key below horizontal font ',9'\n";
-    }
-    return f;
-}
-
 } // namespace
 
 double time_copy_ms(uint64_t bytes, int repeats, unsigned threads) {
@@ -607,115 +455,6 @@ Result<BenchReport> run_bench(const BenchOptions& o) {
     FGSR_TRY(run_timing(o, **engine, rep));
     rep.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     return rep;
-}
-
-std::string bench_csv(const BenchReport& r) {
-    std::string s = "capture,mode,config,preset,switch,width,height,frames,samples,ms_median,ms_mean";
-    for (const char* p : kPasses) s += std::string(",") + p + "_ms";
-    s += ",bytes_per_frame,psnr,ssim,pareto\n";
-    for (const BenchRow& row : r.rows) {
-        s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}", row.capture, row.mode, row.config, row.preset,
-                         row.toggle, row.width, row.height, row.frames, row.samples, num(row.ms, 4),
-                         num(row.ms_mean, 4));
-        for (const char* p : kPasses)
-            s += "," + (row.pass_ms.count(p) ? num(row.pass_ms.at(p), 4) : std::string());
-        s += fmt::format(",{},{},{},{}\n", row.bytes, num(row.psnr, 4), num(row.ssim, 5),
-                         row.pareto ? "yes" : "no");
-    }
-    return s;
-}
-
-std::string bench_markdown(const BenchReport& r) {
-    std::string s = "# fgsr bench\n\n";
-    s += fmt::format(
-        "Device: {}. Engine GPU time per generated frame from timestamp queries: median over {} frames x {} "
-        "calls, the calls of all configurations of a capture and mode interleaved (sr: the frames replayed "
-        "from a reset {} times); PSNR / SSIM: mean over the same frames. Run took {:.0f} s.\n\n",
-        r.device, r.frames, r.repeats, r.repeats, r.seconds);
-    s += "## Run time against error\n\n";
-    s += "| capture | mode | config | GPU ms (median) | per pass (ms) | PSNR dB | SSIM | Pareto |\n";
-    s += "|---|---|---|---:|---|---:|---:|:-:|\n";
-    for (const BenchRow& row : r.rows)
-        s += fmt::format("| {} ({}x{}) | {} | {} | {} | {} | {} | {} | {} |\n", row.capture, row.width,
-                         row.height, row.mode, row.config, num(row.ms, 2), passes_text(row.pass_ms),
-                         num(row.psnr, 2), num(row.ssim, 4), row.pareto ? "yes" : "");
-    for (const std::string& k : r.skipped) s += "\nSkipped: " + k + "\n";
-    if (!r.scaling.empty()) {
-        s += "\n## Resolution scaling and roofline (balanced interpolation, synthetic scene)\n\n";
-        s +=
-            fmt::format("memcpy: {} thread(s) copying bytes/2 (bytes/2 read + bytes/2 written = the engine's "
-                        "estimated traffic per frame, tools/fgsr/bench.hpp frame_bytes).\n\n",
-                        r.copy_threads);
-        s += "| resolution | pixels | GPU ms | pixel ratio | time ratio | traffic MB | memcpy ms | x memcpy "
-             "|\n";
-        s += "|---|---:|---:|---:|---:|---:|---:|---:|\n";
-        for (size_t i = 0; i < r.scaling.size(); ++i) {
-            const ScaleRow& row = r.scaling[i];
-            const double px = double(row.res.width) * row.res.height;
-            std::string pr = "", tr = "";
-            if (i > 0) {
-                const ScaleRow& prev = r.scaling[i - 1];
-                pr = num(px / (double(prev.res.width) * prev.res.height), 2);
-                tr = num(row.ms / prev.ms, 2);
-            }
-            s += fmt::format("| {} ({}x{}) | {} | {} | {} | {} | {} | {} | {} |\n", row.res.name,
-                             row.res.width, row.res.height, uint64_t(px), num(row.ms, 2), pr, tr,
-                             num(double(row.bytes) / 1e6, 1), num(row.copy_ms, 2),
-                             num(row.ms / row.copy_ms, 1));
-        }
-    }
-    if (!r.alphas.empty()) {
-        s += fmt::format("\n## Frames generated per pair ({}, one interpolate() call)\n\n", r.headline.name);
-        s += "| frames per call | GPU ms per call | ms per frame | call time / 1-frame call "
-             "|\n|---:|---:|---:|---:|\n";
-        for (const AlphaRow& a : r.alphas)
-            s += fmt::format("| {} | {} | {} | {} |\n", a.count, num(a.ms, 2), num(a.ms / a.count, 2),
-                             num(a.ms / r.alphas[0].ms, 2));
-    }
-    if (r.moving_ms > 0)
-        s += fmt::format(
-            "\n## Still against moving ({}, balanced interpolation)\n\nEach sample on a fresh pair (a new "
-            "input submitted before the call).\n\n| still (identical frames, zero vectors) | moving | still "
-            "/ "
-            "moving |\n|---|---:|---:|\n| interpolate call: {} ms | {} ms | {} |\n| per frame (ingest of the "
-            "new input + call): {} ms | {} ms | {} |\n",
-            r.headline.name, num(r.still_ms, 2), num(r.moving_ms, 2), num(r.still_ms / r.moving_ms, 2),
-            num(r.still_frame_ms, 2), num(r.moving_frame_ms, 2),
-            num(r.still_frame_ms / r.moving_frame_ms, 2));
-    return s;
-}
-
-Result<void> write_bench_outputs(const BenchOptions& o, const BenchReport& r) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.out, ec);
-    if (ec) return make_error(Errc::io, "cannot create " + o.out.string() + ": " + ec.message());
-    FGSR_TRY(write_text(o.out / "bench.csv", bench_csv(r)));
-    FGSR_TRY(write_text(o.out / "bench.md", bench_markdown(r)));
-    std::string sc = "resolution,width,height,pixels,ms_median,bytes_per_frame,memcpy_ms,x_memcpy\n";
-    for (const ScaleRow& row : r.scaling)
-        sc += fmt::format("{},{},{},{},{},{},{},{}\n", row.res.name, row.res.width, row.res.height,
-                          uint64_t(row.res.width) * row.res.height, num(row.ms, 4), row.bytes,
-                          num(row.copy_ms, 4), num(row.ms / row.copy_ms, 3));
-    FGSR_TRY(write_text(o.out / "scaling.csv", sc));
-    std::string al = "frames_per_call,ms_per_call,ms_per_frame\n";
-    for (const AlphaRow& a : r.alphas)
-        al += fmt::format("{},{},{}\n", a.count, num(a.ms, 4), num(a.ms / a.count, 4));
-    FGSR_TRY(write_text(o.out / "alphas.csv", al));
-    if (!o.plots || r.rows.empty()) return {};
-    const PlotFiles pf = plot_files(r);
-    FGSR_TRY(write_text(o.out / "points.dat", pf.points));
-    FGSR_TRY(write_text(o.out / "front.dat", pf.front));
-    FGSR_TRY(write_text(o.out / "passes.dat", pf.passes));
-    FGSR_TRY(write_text(o.out / "plots.gp", pf.script));
-    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
-        progress(o, "gnuplot not found (Debian: gnuplot-nox): plots.gp written, plots not drawn");
-        return {};
-    }
-    progress(o, "drawing plots (gnuplot)");
-    const std::string cmd = "cd " + shell_quote(o.out.string()) + " && gnuplot plots.gp";
-    if (std::system(cmd.c_str()) != 0)
-        return make_error(Errc::io, "gnuplot failed on " + (o.out / "plots.gp").string());
-    return {};
 }
 
 CLI::App* add_bench_command(CLI::App& app, BenchCli& c) {
