@@ -1,6 +1,7 @@
 // build/bin/fgsr: command-line front end of the fgsr engine.
 #include <fgsr/cli/bench.hpp>
 #include <fgsr/cli/calibrate.hpp>
+#include <fgsr/cli/capture_spec.hpp>
 #include <fgsr/cli/cli_util.hpp>
 #include <fgsr/cli/eval.hpp>
 #include <fgsr/cli/lut_train.hpp>
@@ -257,11 +258,7 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (*convert) {
-        fgsr::cli::EvalOptions lo;
-        lo.capture = conv_in;
-        lo.prefer_lr = conv_lr;
-        auto c = conv_in == "builtin" ? fgsr::capture::make_synthetic_capture({}, 11)
-                                      : fgsr::capture::load(conv_in, conv_lr);
+        auto c = fgsr::cli::load_capture_spec(conv_in, conv_lr);
         if (!c) return fail(c.error());
         auto w = fgsr::capture::save_fgsr(*c, conv_out);
         if (!w) return fail(w.error());

@@ -5,6 +5,7 @@
 
 #include "bench_internal.hpp"
 
+#include <fgsr/cli/capture_spec.hpp>
 #include <fgsr/cli/cli_util.hpp>
 
 #include <fgsr/capture/synthetic.hpp>
@@ -29,32 +30,20 @@ using namespace bench_detail;
 
 using Clock = std::chrono::steady_clock;
 
-
-// A capture to benchmark: spec as given, and the modes it is limited to (empty: all it supports).
+// A capture to benchmark: spec as given (fgsr/cli/capture_spec.hpp), and the modes it is limited to
+// (empty: all it supports).
 struct CaptureEntry {
     std::string spec;
-    std::string dir;
-    bool lr = false;
     std::vector<std::string> modes;
 };
 
 std::vector<CaptureEntry> capture_entries(const BenchOptions& o) {
     std::vector<CaptureEntry> out;
-    auto parse = [](const std::string& spec) {
-        CaptureEntry e{spec, spec, false, {}};
-        const std::string suffix = "@lr";
-        if (spec.size() > suffix.size() &&
-            spec.compare(spec.size() - suffix.size(), suffix.size(), suffix) == 0) {
-            e.dir = spec.substr(0, spec.size() - suffix.size());
-            e.lr = true;
-        }
-        return e;
-    };
     if (!o.captures.empty()) {
-        for (const std::string& s : o.captures) out.push_back(parse(s));
+        for (const std::string& s : o.captures) out.push_back({s, {}});
         return out;
     }
-    out.push_back({"builtin", "builtin", false, {"interp", "extrap"}});
+    out.push_back({"builtin", {"interp", "extrap"}});
     if (o.quick) return out;
     const std::filesystem::path root = o.shared_captures;
     auto add = [&](const std::string& rel, bool lr, std::vector<std::string> modes) {
@@ -63,7 +52,7 @@ std::vector<CaptureEntry> capture_entries(const BenchOptions& o) {
             progress(o, "default capture " + dir.string() + " is absent: skipped");
             return;
         }
-        out.push_back({dir.string() + (lr ? "@lr" : ""), dir.string(), lr, std::move(modes)});
+        out.push_back({dir.string() + (lr ? "@lr" : ""), std::move(modes)});
     };
     add("blender/toss-fg", false, {"interp", "extrap"});
     add("blender/orbit-sr", false, {"sr", "isr", "esr"});
@@ -220,8 +209,8 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
     const std::set<std::string> wanted(o.modes.begin(), o.modes.end());
     for (const CaptureEntry& e : capture_entries(o)) {
         EvalOptions eo;
-        eo.capture = e.dir;
-        eo.prefer_lr = e.lr;
+        eo.capture = e.spec;
+        const bool lr = parse_capture_spec(e.spec).lr;
         progress(o, "loading " + e.spec);
         // Half-rate captures use inputs 0, 2, 4, ...: 2 frames + 6 cover `frames` targets of any mode
         // after the skipped first one.
@@ -231,7 +220,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
         std::optional<capture::Capture> half; // frame generation on consecutive captures (made once)
         // The Mob-FGSR importer names LR captures "...-lr" itself.
         const bool named_lr = cap.name.size() > 3 && cap.name.compare(cap.name.size() - 3, 3, "-lr") == 0;
-        const std::string label = cap.name + (e.lr && !named_lr ? "-lr" : "");
+        const std::string label = cap.name + (lr && !named_lr ? "-lr" : "");
         for (const std::string mode : {"interp", "extrap", "sr", "isr", "esr"}) {
             if (!wanted.count(mode)) continue;
             if (!e.modes.empty() && std::find(e.modes.begin(), e.modes.end(), mode) == e.modes.end())

@@ -1,4 +1,5 @@
 #include <fgsr/cli/calibrate.hpp>
+#include <fgsr/cli/capture_spec.hpp>
 #include <fgsr/cli/cli_util.hpp>
 
 #include <fgsr/capture/synthetic.hpp>
@@ -62,13 +63,6 @@ const char* mode_name(EvalMode m) {
     }
 }
 
-std::string short_name(const std::string& spec) {
-    if (spec == "builtin") return spec;
-    std::filesystem::path p(spec);
-    if (p.filename().empty()) p = p.parent_path();
-    return p.filename().string();
-}
-
 // A capture prepared for one mode family. FG: a truncated (half-rate where needed) copy in fgsr's
 // format in a temporary directory, so each evaluation reads only the frames it scores. SR: the
 // loaded capture (run_eval_sr takes it directly).
@@ -100,12 +94,6 @@ class TempDir {
   private:
     std::filesystem::path path_;
 };
-
-Result<capture::Capture> load_spec(const std::string& spec, bool lr, size_t max_frames) {
-    if (spec == "builtin")
-        return capture::make_synthetic_capture(capture::SceneOptions{}, 11); // as `fgsr eval`
-    return capture::load(spec, lr, max_frames);
-}
 
 bool jittered(const capture::Capture& c) {
     for (const capture::Frame& f : c.inputs)
@@ -178,14 +166,14 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
     std::set<std::string> names;
     for (size_t ci = 0; ci < o.captures.size(); ++ci) {
         const std::string& spec = o.captures[ci];
-        std::string name = short_name(spec);
+        std::string name = capture_short_name(spec);
         while (names.count(name)) name += "'";
         names.insert(name);
         if (!fg_modes.empty()) {
             log("loading " + spec + " (frame generation)");
             // interp needs inputs 0..N and ground truth 0..N-1, extrap inputs 0..N+1 and ground truth 1..N;
             // half-rate captures need twice the frames.
-            auto c = load_spec(spec, false, n ? 2 * n + 4 : capture::kAllFrames);
+            auto c = load_capture_spec(spec, false, n ? 2 * n + 4 : capture::kAllFrames);
             if (!c) return c.error();
             std::string why;
             if (jittered(*c)) {
@@ -214,7 +202,7 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
         }
         if (want_sr) {
             log("loading " + spec + " (super resolution)");
-            auto c = load_spec(spec, true, n ? n : capture::kAllFrames);
+            auto c = load_capture_spec(spec, true, n ? n : capture::kAllFrames);
             if (!c) return c.error();
             if (c->hr_reference.empty())
                 skip(name, "sr", "no high-resolution reference");

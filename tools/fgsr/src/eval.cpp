@@ -1,5 +1,7 @@
 #include <fgsr/cli/eval.hpp>
 
+#include <fgsr/cli/capture_spec.hpp>
+
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -36,11 +38,7 @@ Result<capture::Capture> load_capture(const EvalOptions& o) {
 } // namespace
 
 Result<capture::Capture> load_eval_capture(const EvalOptions& o, size_t max_frames) {
-    if (o.capture == "builtin") {
-        capture::SceneOptions so;
-        return capture::make_synthetic_capture(so, uint32_t(std::clamp<size_t>(max_frames, 2, 11)));
-    }
-    return capture::load(o.capture, o.prefer_lr, max_frames);
+    return load_capture_spec(o.capture, o.prefer_lr, max_frames);
 }
 
 std::vector<size_t> halfway_targets(const std::vector<capture::Frame>& inputs, size_t references,

@@ -1,5 +1,7 @@
 #include <fgsr/cli/lut_train.hpp>
 
+#include <fgsr/cli/capture_spec.hpp>
+
 #include <fgsr/cli/lut_model.hpp>
 
 #include <fgsr/capture/capture.hpp>
@@ -224,7 +226,7 @@ Source synthetic_source(uint32_t seed, double t) {
 // Mob-FGSR captures: HR_Inputs). The last one is held back, up to 4 others spread over the rest
 // train.
 Result<std::pair<std::vector<Source>, std::vector<Source>>> capture_sources(const std::string& dir) {
-    auto c = capture::load(dir, false);
+    auto c = load_capture_spec(dir);
     if (!c) return c.error();
     std::vector<ImageRGBA> frames = c->hr_reference;
     if (frames.empty())
@@ -387,7 +389,7 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
     std::vector<Source> train, held;
     const std::vector<std::string> inputs = o.images.empty() ? std::vector<std::string>{"builtin"} : o.images;
     for (const std::string& in : inputs) {
-        if (in == "builtin" || in == "synthetic") {
+        if (parse_capture_spec(in).builtin || in == "synthetic") {
             say("rendering the synthetic scene (training seeds 1-3, held-back seed 101)");
             std::vector<std::pair<uint32_t, double>> specs;
             for (uint32_t seed = 1; seed <= 3; ++seed)

@@ -5,6 +5,8 @@
 // outputs the scores are computed on bit-identical images by the same score_image/finish_means.
 #include <fgsr/cli/replay.hpp>
 
+#include <fgsr/cli/capture_spec.hpp>
+
 #include <fgsr/core/clock.hpp>
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/session_desc.hpp>
@@ -65,11 +67,7 @@ struct Plan {
 };
 
 Result<capture::Capture> load_capture(const ReplayOptions& o) {
-    if (o.capture == "builtin") {
-        capture::SceneOptions so;
-        return capture::make_synthetic_capture(so, 11);
-    }
-    return capture::load(o.capture, o.prefer_lr);
+    return load_capture_spec(o.capture, o.prefer_lr);
 }
 
 // Converts an rgba32f output (rows row_pitch apart) to an image.
