@@ -41,6 +41,16 @@ Result<capture::Capture> load_eval_capture(const EvalOptions& o, size_t max_fram
     return load_capture_spec(o.capture, o.prefer_lr, max_frames);
 }
 
+Result<void> evaluate_at_half_rate(capture::Capture& cap, bool progress) {
+    if (cap.ground_truth_kind != capture::GroundTruth::consecutive) return {};
+    if (progress)
+        std::fprintf(stderr, "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
+    auto half = capture::make_half_rate(cap);
+    if (!half) return half.error();
+    cap = std::move(*half);
+    return {};
+}
+
 std::vector<size_t> halfway_targets(const std::vector<capture::Frame>& inputs, size_t references,
                                     bool extrapolate, int max_frames) {
     std::vector<size_t> targets;
@@ -142,14 +152,7 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
     auto loaded = load_capture(o);
     if (!loaded) return loaded.error();
     capture::Capture cap = std::move(*loaded);
-    if (cap.ground_truth_kind == capture::GroundTruth::consecutive) {
-        if (o.progress)
-            std::fprintf(stderr,
-                         "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
-        auto half = capture::make_half_rate(cap);
-        if (!half) return half.error();
-        cap = std::move(*half);
-    }
+    FGSR_TRY(evaluate_at_half_rate(cap, o.progress));
     // Ground truth exists halfway between inputs only.
     if (std::abs(o.alpha - 0.5f) > 1e-6f)
         return make_error(Errc::invalid_argument,

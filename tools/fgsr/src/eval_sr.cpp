@@ -182,14 +182,7 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
             return make_error(Errc::invalid_argument,
                               "unknown method '" + m + "' for " + (extrap ? "esr" : "isr") +
                                   " (methods: fgsr, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic)");
-    if (cap.ground_truth_kind == capture::GroundTruth::consecutive) {
-        if (o.progress)
-            std::fprintf(stderr,
-                         "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
-        auto half = capture::make_half_rate(cap);
-        if (!half) return half.error();
-        cap = std::move(*half);
-    }
+    FGSR_TRY(evaluate_at_half_rate(cap, o.progress));
     if (cap.hr_ground_truth.empty() || cap.hr_reference.size() != cap.inputs.size())
         return make_error(Errc::empty_input, "capture '" + cap.name +
                                                  "' has no high-resolution reference between inputs "

@@ -77,6 +77,11 @@ Result<EvalReport> run_eval(const EvalOptions& options);
 Result<capture::Capture> load_eval_capture(const EvalOptions& options,
                                            size_t max_frames = capture::kAllFrames);
 
+// Frame generation is scored against halfway ground truth: a capture of consecutive frames is
+// replaced by its half-rate form (capture::make_half_rate; a note on stderr when `progress`);
+// other captures are left as they are.
+Result<void> evaluate_at_half_rate(capture::Capture& cap, bool progress);
+
 // Targets of halfway ground truth: interpolation pair (k, k+1) -> reference k; extrapolation
 // pair (k-1, k) -> reference k (instant k + 0.5). Pairs across a scene cut (the second frame has
 // reset set) have no target. At most max_frames (0: all).
