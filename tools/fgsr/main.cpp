@@ -24,8 +24,7 @@ namespace {
 using fgsr::cli::split_list;
 
 int fail(const fgsr::Error& e) {
-    std::fprintf(stderr, "fgsr: %s: %s\n", fgsr::errc_name(e.code), e.message.c_str());
-    return 1;
+    return fgsr::cli::report_error(e);
 }
 
 } // namespace

@@ -510,15 +510,9 @@ int bench_main(BenchCli& c, CLI::App* cmd) {
         }
     }
     auto r = run_bench(o);
-    if (!r) {
-        std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(r.error().code), r.error().message.c_str());
-        return 1;
-    }
+    if (!r) return report_error(r.error());
     auto w = write_bench_outputs(o, *r);
-    if (!w) {
-        std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(w.error().code), w.error().message.c_str());
-        return 1;
-    }
+    if (!w) return report_error(w.error());
     std::fputs(bench_markdown(*r).c_str(), stdout);
     std::printf("\nwritten to %s (bench.csv, bench.md, scaling.csv, alphas.csv%s)\n", o.out.c_str(),
                 o.plots && !r->rows.empty() ? ", time_vs_error.png/svg, passes.png/svg" : "");

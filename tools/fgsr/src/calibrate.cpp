@@ -646,13 +646,9 @@ int calibrate_main(CalibrateCli& c, CLI::App* cmd, int argc, char** argv) {
                                ? std::filesystem::path("daemon/engine/include/fgsr/engine/defaults.hpp")
                                : std::filesystem::path(c.write_defaults);
     o.progress = !c.quiet;
-    o.command_line.clear();
-    for (int i = 0; i < argc; ++i) o.command_line += (i ? " " : "") + std::string(i ? argv[i] : "fgsr");
+    o.command_line = command_line_of(argc, argv);
     auto r = run_calibrate(o);
-    if (!r) {
-        std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(r.error().code), r.error().message.c_str());
-        return 1;
-    }
+    if (!r) return report_error(r.error());
     std::fputs((c.json ? calibrate_json(*r) : calibrate_table(*r)).c_str(), stdout);
     return 0;
 }

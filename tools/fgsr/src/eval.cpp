@@ -41,13 +41,19 @@ Result<capture::Capture> load_eval_capture(const EvalOptions& o, size_t max_fram
     return load_capture_spec(o.capture, o.prefer_lr, max_frames);
 }
 
-Result<void> evaluate_at_half_rate(capture::Capture& cap, bool progress) {
+Result<void> evaluate_at_half_rate(capture::Capture& cap, bool progress, const char* note) {
     if (cap.ground_truth_kind != capture::GroundTruth::consecutive) return {};
-    if (progress)
-        std::fprintf(stderr, "[eval] consecutive frames: evaluating at half rate with composed vectors\n");
+    if (progress) std::fprintf(stderr, "%s\n", note);
     auto half = capture::make_half_rate(cap);
     if (!half) return half.error();
     cap = std::move(*half);
+    return {};
+}
+
+Result<void> check_alpha(float alpha, bool extrapolate) {
+    if (!std::isfinite(alpha) || alpha <= 0.f || alpha > 1.f || (!extrapolate && alpha >= 1.f))
+        return make_error(Errc::invalid_argument,
+                          fmt::format("alpha {} is outside {}", alpha, extrapolate ? "(0, 1]" : "(0, 1)"));
     return {};
 }
 
@@ -144,9 +150,7 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
             return make_error(Errc::invalid_argument,
                               "unknown method '" + m + "' (methods: fgsr, linear, blend, repeat)");
     const bool extrap = o.mode == EvalMode::extrap;
-    if (!std::isfinite(o.alpha) || o.alpha <= 0.f || o.alpha > 1.f || (!extrap && o.alpha >= 1.f))
-        return make_error(Errc::invalid_argument,
-                          fmt::format("alpha {} is outside {}", o.alpha, extrap ? "(0, 1]" : "(0, 1)"));
+    FGSR_TRY(check_alpha(o.alpha, extrap));
 
     if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
     auto loaded = load_capture(o);

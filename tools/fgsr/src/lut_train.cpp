@@ -1,6 +1,7 @@
 #include <fgsr/cli/lut_train.hpp>
 
 #include <fgsr/cli/capture_spec.hpp>
+#include <fgsr/cli/cli_util.hpp>
 
 #include <fgsr/cli/lut_model.hpp>
 
@@ -672,13 +673,9 @@ CLI::App* add_lut_train_command(CLI::App& app, LutTrainOptions& o) {
 }
 
 int lut_train_main(LutTrainOptions& o, int argc, char** argv) {
-    o.command_line.clear();
-    for (int i = 0; i < argc; ++i) o.command_line += (i ? " " : "") + std::string(i ? argv[i] : "fgsr");
+    o.command_line = command_line_of(argc, argv);
     auto r = run_lut_train(o);
-    if (!r) {
-        std::fprintf(stderr, "fgsr: %s: %s\n", errc_name(r.error().code), r.error().message.c_str());
-        return 1;
-    }
+    if (!r) return report_error(r.error());
     std::printf(
         "scale %g: validation loss %.5f -> %.5f (six-fold 1-SSIM %.5f -> %.5f, SR loops 1-SSIM %.5f -> "
         "%.5f) in %.1f s\n",

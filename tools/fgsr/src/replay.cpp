@@ -110,22 +110,15 @@ fgsr_session_desc make_desc(const FrameFormat& f, const ReplayOptions& o, float 
 Result<ReplaySummary> run_replay(const ReplayOptions& o) {
     const bool extrap = o.mode == EvalMode::extrap || o.mode == EvalMode::esr;
     const bool joint = o.mode == EvalMode::isr || o.mode == EvalMode::esr;
-    if (!std::isfinite(o.alpha) || o.alpha <= 0.f || o.alpha > 1.f || (!extrap && o.alpha >= 1.f))
-        return make_error(Errc::invalid_argument,
-                          fmt::format("alpha {} is outside {}", o.alpha, extrap ? "(0, 1]" : "(0, 1)"));
+    FGSR_TRY(check_alpha(o.alpha, extrap));
     if (o.progress) std::fprintf(stderr, "[replay] loading %s\n", o.capture.c_str());
     auto loaded = load_capture(o);
     if (!loaded) return loaded.error();
     capture::Capture cap = std::move(*loaded);
     // The same preparation as eval: consecutive frames are evaluated at half rate.
-    if (o.mode != EvalMode::sr && cap.ground_truth_kind == capture::GroundTruth::consecutive) {
-        if (o.progress)
-            std::fprintf(stderr,
-                         "[replay] consecutive frames: replaying at half rate with composed vectors\n");
-        auto half = capture::make_half_rate(cap);
-        if (!half) return half.error();
-        cap = std::move(*half);
-    }
+    if (o.mode != EvalMode::sr)
+        FGSR_TRY(evaluate_at_half_rate(cap, o.progress,
+                                       "[replay] consecutive frames: replaying at half rate with composed vectors"));
 
     // Plans per input, as eval requests them.
     const size_t n = cap.inputs.size();

@@ -78,9 +78,15 @@ Result<capture::Capture> load_eval_capture(const EvalOptions& options,
                                            size_t max_frames = capture::kAllFrames);
 
 // Frame generation is scored against halfway ground truth: a capture of consecutive frames is
-// replaced by its half-rate form (capture::make_half_rate; a note on stderr when `progress`);
+// replaced by its half-rate form (capture::make_half_rate; `note` on stderr when `progress`);
 // other captures are left as they are.
-Result<void> evaluate_at_half_rate(capture::Capture& cap, bool progress);
+Result<void> evaluate_at_half_rate(
+    capture::Capture& cap, bool progress,
+    const char* note = "[eval] consecutive frames: evaluating at half rate with composed vectors");
+
+// Generated instants lie in (0, 1) between two inputs, in (0, 1] after the last (extrapolation):
+// Errc::invalid_argument otherwise.
+Result<void> check_alpha(float alpha, bool extrapolate);
 
 // Targets of halfway ground truth: interpolation pair (k, k+1) -> reference k; extrapolation
 // pair (k-1, k) -> reference k (instant k + 0.5). Pairs across a scene cut (the second frame has
