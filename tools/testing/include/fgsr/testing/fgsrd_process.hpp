@@ -1,6 +1,7 @@
-// A real fgsrd for multi-process tests: spawns FGSR_BIN_DIR/fgsrd on a socket in a fresh temporary
-// directory, waits until the socket accepts connections, and observes the process (/proc fd and
-// mapping counts, VmRSS, its stderr).
+// The one launcher of a real fgsrd (library fgsr_testing), for multi-process tests and for
+// `fgsr stress --daemon`: spawns an fgsrd on a socket in a fresh temporary directory, waits until
+// the socket accepts connections, and observes the process (/proc fd and mapping counts, VmRSS, its
+// stderr).
 //
 //   auto d = fgsr::test::FgsrdProcess::start({"--log-level", "debug"});
 //   ASSERT_TRUE(d) << fgsr::test::FgsrdProcess::last_error();
@@ -31,25 +32,30 @@
 
 extern char** environ;
 
-#ifndef FGSR_BIN_DIR
-#error "FGSR_BIN_DIR must name the directory holding fgsrd"
-#endif
-
-namespace fgsr::test {
+namespace fgsr::daemon_process {
 
 class FgsrdProcess {
   public:
-    // Starts fgsrd with `--socket <tmp>/fgsrd.sock` followed by `args`; waits up to timeout_ms for
-    // the socket to accept. Returns nullptr on failure (reason in last_error(), stderr included).
+#ifdef FGSR_BIN_DIR
+    // Starts FGSR_BIN_DIR/fgsrd (the tests' build) as start_at does.
     static std::unique_ptr<FgsrdProcess> start(const std::vector<std::string>& args = {},
                                                int timeout_ms = 60000) {
+        return start_at(std::string(FGSR_BIN_DIR) + "/fgsrd", args, timeout_ms);
+    }
+#endif
+
+    // Starts the executable `fgsrd` with `--socket <tmp>/fgsrd.sock` followed by `args`, in a fresh
+    // directory /tmp/<tmp_prefix>-XXXXXX; waits up to timeout_ms for the socket to accept. Returns
+    // nullptr on failure (reason in last_error(), stderr included).
+    static std::unique_ptr<FgsrdProcess> start_at(const std::string& fgsrd, const std::vector<std::string>& args = {},
+                                                  int timeout_ms = 60000, const std::string& tmp_prefix = "fgsrd-test") {
         std::unique_ptr<FgsrdProcess> p(new FgsrdProcess());
-        char tmpl[] = "/tmp/fgsrd-test-XXXXXX";
-        if (!mkdtemp(tmpl)) return fail("mkdtemp: " + std::string(std::strerror(errno)));
+        std::string tmpl = "/tmp/" + tmp_prefix + "-XXXXXX";
+        if (!mkdtemp(tmpl.data())) return fail("mkdtemp: " + std::string(std::strerror(errno)));
         p->dir_ = tmpl;
         p->socket_ = p->dir_ + "/fgsrd.sock";
         p->stderr_path_ = p->dir_ + "/stderr.log";
-        std::vector<std::string> argv_s = {std::string(FGSR_BIN_DIR) + "/fgsrd", "--socket", p->socket_};
+        std::vector<std::string> argv_s = {fgsrd, "--socket", p->socket_};
         argv_s.insert(argv_s.end(), args.begin(), args.end());
         p->pid_ = spawn(argv_s, p->stderr_path_);
         if (p->pid_ < 0) return fail("fork: " + std::string(std::strerror(errno)));
@@ -129,6 +135,7 @@ class FgsrdProcess {
     pid_t pid() const { return pid_; }
     const std::string& socket_path() const { return socket_; }
     const std::string& dir() const { return dir_; }
+    const std::string& stderr_path() const { return stderr_path_; }
 
     // True while the child has not exited (reaps it when it has).
     bool running() {
@@ -266,4 +273,8 @@ class FgsrdProcess {
     std::string dir_, socket_, stderr_path_;
 };
 
+} // namespace fgsr::daemon_process
+
+namespace fgsr::test {
+using daemon_process::FgsrdProcess;
 } // namespace fgsr::test
