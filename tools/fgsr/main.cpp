@@ -171,11 +171,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (*eval) {
-        eo.mode = mode == "extrap" ? fgsr::cli::EvalMode::extrap
-                  : mode == "sr"   ? fgsr::cli::EvalMode::sr
-                  : mode == "isr"  ? fgsr::cli::EvalMode::isr
-                  : mode == "esr"  ? fgsr::cli::EvalMode::esr
-                                   : fgsr::cli::EvalMode::interp;
+        eo.mode = fgsr::cli::parse_eval_mode(mode);
         eo.params.skip_tiles = !no_skip;
         eo.methods = split_list(methods);
         if (eo.mode != fgsr::cli::EvalMode::interp && eo.mode != fgsr::cli::EvalMode::extrap &&
@@ -239,11 +235,7 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (*replay) {
-        ro.mode = replay_mode == "extrap" ? fgsr::cli::EvalMode::extrap
-                  : replay_mode == "sr"   ? fgsr::cli::EvalMode::sr
-                  : replay_mode == "isr"  ? fgsr::cli::EvalMode::isr
-                  : replay_mode == "esr"  ? fgsr::cli::EvalMode::esr
-                                          : fgsr::cli::EvalMode::interp;
+        ro.mode = fgsr::cli::parse_eval_mode(replay_mode);
         ro.progress = !replay_quiet;
         if (!replay_out.empty()) ro.out = replay_out;
         if (!replay_csv.empty()) ro.telemetry = replay_csv;

@@ -52,13 +52,15 @@ bool CaseChecks::check_repeat_and_drift(const Step& st, const std::vector<ImageR
     if (st.same_as_previous) {
         bool same = previous_.size() == images.size();
         for (size_t k = 0; same && k < images.size(); ++k)
-            same = previous_[k].rgba.size() == images[k].rgba.size() &&
-                   std::memcmp(previous_[k].rgba.data(), images[k].rgba.data(), images[k].rgba.size() * 4) == 0;
+            same =
+                previous_[k].rgba.size() == images[k].rgba.size() &&
+                std::memcmp(previous_[k].rgba.data(), images[k].rgba.data(), images[k].rgba.size() * 4) == 0;
         if (!same) return fail(where + ": outputs differ from the identical previous request");
     }
     if (st.op == Op::interpolate || st.op == Op::extrapolate) previous_ = images;
     if (st.drift_reference >= 0 && !images.empty()) {
-        if (drift_refs_.size() <= size_t(st.drift_reference)) drift_refs_.resize(size_t(st.drift_reference) + 1);
+        if (drift_refs_.size() <= size_t(st.drift_reference))
+            drift_refs_.resize(size_t(st.drift_reference) + 1);
         drift_refs_[size_t(st.drift_reference)] = images[0];
     }
     if (st.drift_compare >= 0 && !images.empty()) {

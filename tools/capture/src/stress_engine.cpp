@@ -34,7 +34,9 @@ class Runner {
     Runner(Engine& e, const Case& c, CaseResult& r) : engine_(e), c_(c), r_(r), checks_(r) {}
 
     bool fail(std::string why) { return checks_.fail(std::move(why)); }
-    bool check_values(std::span<const float> v, const std::string& what) { return checks_.check_values(v, what); }
+    bool check_values(std::span<const float> v, const std::string& what) {
+        return checks_.check_values(v, what);
+    }
     bool check_image(const ImageRGBA& img, const std::string& what) { return checks_.check_image(img, what); }
     bool check_cpu(const std::vector<glm::vec4>& v, const std::string& what) {
         return check_values(std::span<const float>(&v[0][0], v.size() * 4), what + " (CPU reference)");

@@ -32,7 +32,6 @@ void put_u16(std::vector<std::byte>& b, size_t half, uint16_t v) {
     std::memcpy(b.data() + 2 * half, &v, 2);
 }
 
-
 void put_color(std::vector<std::byte>& b, ColorFormat f, size_t pixel, int channel, const Special& s) {
     if (f == ColorFormat::rgba32f_linear)
         put_f32(b, 4 * pixel + size_t(channel), s.value);
@@ -79,7 +78,6 @@ float far_value(DepthKind k) {
 // ---------------------------------------------------------------------------------------------
 // Content: a textured background (depth 40, still) and a textured rectangle (depth 8) that moves
 // by `motion` pixels per frame; frame k shows the rectangle at k * motion. Vectors are exact.
-
 
 Content content(uint32_t w, uint32_t h, int k, glm::vec2 motion) {
     Content c;

@@ -61,14 +61,6 @@ std::vector<CaptureEntry> capture_entries(const BenchOptions& o) {
     return out;
 }
 
-EvalMode mode_of(const std::string& m) {
-    return m == "extrap" ? EvalMode::extrap
-           : m == "sr"   ? EvalMode::sr
-           : m == "isr"  ? EvalMode::isr
-           : m == "esr"  ? EvalMode::esr
-                         : EvalMode::interp;
-}
-
 // Whether the capture holds the ground truth `mode` is scored against.
 bool supports(const capture::Capture& c, const std::string& mode) {
     const bool consecutive = c.ground_truth_kind == capture::GroundTruth::consecutive;
@@ -245,7 +237,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
             for (size_t ci = 0; ci < configs->size(); ++ci) {
                 const Config& c = (*configs)[ci];
                 EvalOptions run = eo;
-                run.mode = mode_of(mode);
+                run.mode = parse_eval_mode(mode);
                 run.methods = {"fgsr"};
                 run.params = c.params;
                 run.max_frames = o.frames;

@@ -443,7 +443,7 @@ Result<CalibrateReport> run_calibrate(const CalibrateOptions& o) {
 Result<std::string> defaults_header(const CalibrateOptions& o, const CalibrateReport& r,
                                     const std::string& existing_text) {
     std::string existing = existing_text;
-    if (existing.empty())
+    if (existing.empty()) {
         existing =
             "// Default algorithm parameters. `fgsr calibrate --write-defaults` rewrites this file with the\n"
             "// values it fits on captures (and records how in the comment below); otherwise they are the\n"
@@ -451,21 +451,13 @@ Result<std::string> defaults_header(const CalibrateOptions& o, const CalibrateRe
             "#pragma once\n"
             "\n"
             "namespace fgsr::defaults {\n"
-            "\n"
-            "inline constexpr float t_depth = " +
-            literal(r.params[0].start) +
-            ";\n"
-            "inline constexpr float t_bright = " +
-            literal(r.params[1].start) +
-            ";\n"
-            "inline constexpr float sr_a = " +
-            literal(r.params[2].start) +
-            ";\n"
-            "inline constexpr float sr_b = " +
-            literal(r.params[3].start) +
-            ";\n"
-            "\n"
-            "} // namespace fgsr::defaults\n";
+            "\n";
+        for (size_t i = 0; i < std::size(kParamNames); ++i)
+            existing += "inline constexpr float " + std::string(kParamNames[i]) + " = " +
+                        literal(r.params[i].start) + ";\n";
+        existing += "\n"
+                    "} // namespace fgsr::defaults\n";
+    }
 
     // The calibration record.
     std::vector<std::string> block;

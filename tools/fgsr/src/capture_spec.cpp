@@ -11,7 +11,8 @@ namespace fgsr::cli {
 CaptureSpec parse_capture_spec(const std::string& spec) {
     CaptureSpec s{spec, false, false};
     const std::string suffix = "@lr";
-    if (spec.size() > suffix.size() && spec.compare(spec.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    if (spec.size() > suffix.size() &&
+        spec.compare(spec.size() - suffix.size(), suffix.size(), suffix) == 0) {
         s.dir = spec.substr(0, spec.size() - suffix.size());
         s.lr = true;
     }

@@ -50,6 +50,14 @@ Result<void> evaluate_at_half_rate(capture::Capture& cap, bool progress, const c
     return {};
 }
 
+EvalMode parse_eval_mode(const std::string& m) {
+    return m == "extrap" ? EvalMode::extrap
+           : m == "sr"   ? EvalMode::sr
+           : m == "isr"  ? EvalMode::isr
+           : m == "esr"  ? EvalMode::esr
+                         : EvalMode::interp;
+}
+
 Result<void> check_alpha(float alpha, bool extrapolate) {
     if (!std::isfinite(alpha) || alpha <= 0.f || alpha > 1.f || (!extrapolate && alpha >= 1.f))
         return make_error(Errc::invalid_argument,

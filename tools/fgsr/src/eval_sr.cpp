@@ -2,10 +2,10 @@
 // high-resolution reference of the same instant, side by side with spatial upscaling.
 #include <fgsr/cli/eval.hpp>
 
-#include <fgsr/core/halton.hpp>
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
+#include <fgsr/core/halton.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
 

@@ -7,11 +7,11 @@
 
 #include <fgsr/cli/capture_spec.hpp>
 
-#include <fgsr/core/clock.hpp>
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/session_desc.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/client.hpp>
+#include <fgsr/core/clock.hpp>
 
 #include <fmt/format.h>
 
@@ -117,8 +117,8 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
     capture::Capture cap = std::move(*loaded);
     // The same preparation as eval: consecutive frames are evaluated at half rate.
     if (o.mode != EvalMode::sr)
-        FGSR_TRY(evaluate_at_half_rate(cap, o.progress,
-                                       "[replay] consecutive frames: replaying at half rate with composed vectors"));
+        FGSR_TRY(evaluate_at_half_rate(
+            cap, o.progress, "[replay] consecutive frames: replaying at half rate with composed vectors"));
 
     // Plans per input, as eval requests them.
     const size_t n = cap.inputs.size();

@@ -1,8 +1,8 @@
 // The daemon feeder of the numerical stress cases (see fgsr/stress/daemon.hpp).
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/session_desc.hpp>
-#include <fgsr/client.hpp>
 #include <fgsr/capture/stress_checks.hpp>
+#include <fgsr/client.hpp>
 #include <fgsr/stress/daemon.hpp>
 
 #include <algorithm>
@@ -436,7 +436,8 @@ class DaemonRunner {
                         fail(rw + " failed: " + status_name(out.status) + log_reason_line("session"));
                         return;
                     }
-                    if (!checks_.check_image(*img, rw + " output " + std::to_string(out.output_index))) return;
+                    if (!checks_.check_image(*img, rw + " output " + std::to_string(out.output_index)))
+                        return;
                     images[e.req].push_back(std::move(*img));
                 } else {
                     if (out.status == FGSR_STATUS_OK) {

@@ -41,7 +41,8 @@ class CaseChecks {
     // same_as_previous requires bit-identical outputs to the previous interpolate/extrapolate
     // request's; drift_reference keeps the first output, drift_compare scores the first output
     // against that reference (PSNR) and keeps the minimum in drift_db.
-    bool check_repeat_and_drift(const Step& st, const std::vector<ImageRGBA>& images, const std::string& where);
+    bool check_repeat_and_drift(const Step& st, const std::vector<ImageRGBA>& images,
+                                const std::string& where);
 
     // After the last step: the drift, when measured, must be at least min_drift_db.
     bool check_min_drift(double min_drift_db);

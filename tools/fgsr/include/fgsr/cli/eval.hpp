@@ -15,6 +15,9 @@ namespace fgsr::cli {
 
 enum class EvalMode { interp, extrap, sr, isr, esr };
 
+// "extrap", "sr", "isr", "esr" -> that mode; anything else -> interp (--mode is checked by CLI11).
+EvalMode parse_eval_mode(const std::string& name);
+
 struct EvalOptions {
     std::string capture = "builtin"; // a capture directory, or "builtin" (generated synthetic scene)
     EvalMode mode = EvalMode::interp;

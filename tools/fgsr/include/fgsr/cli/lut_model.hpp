@@ -14,9 +14,9 @@
 #pragma once
 
 #include <fgsr/core/halton.hpp>
+#include <fgsr/core/types.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
-#include <fgsr/core/types.hpp>
 
 #include <glm/glm.hpp>
 

@@ -1,12 +1,12 @@
 // `fgsr lut-train`: learns the resampling LUT (paper 3.5, 4; supplement 5) for one scale factor by
 // optimising the result of six-fold repeated resampling with sub-pixel shifts, and scores it
 // against bilinear and bicubic (Catmull-Rom) on held-back images. The model it trains is
-// tools/fgsr/lut_model.hpp (the engine's shaders/resample.h arithmetic).
+// fgsr/cli/lut_model.hpp (the engine's shaders/resample.h arithmetic).
 #pragma once
 
+#include <fgsr/core/result.hpp>
 #include <fgsr/engine/defaults.hpp>
 #include <fgsr/engine/lut.hpp>
-#include <fgsr/core/result.hpp>
 
 #include <filesystem>
 #include <map>

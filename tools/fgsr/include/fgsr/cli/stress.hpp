@@ -22,7 +22,7 @@ struct StressCli {
     bool reduced = false; // the test suite's case sizes (no 1920x1080 frame)
     std::string device;
     std::string filter;  // run only cases whose name contains this
-    bool daemon = false; // feed the cases through fgsrd (tools/fgsr/stress_daemon.cpp)
+    bool daemon = false; // feed the cases through fgsrd (tools/fgsr/src/stress_daemon.cpp)
     std::string socket;  // with daemon: an fgsrd already listening; empty: spawn one next to fgsr
 };
 

@@ -47,8 +47,10 @@ class FgsrdProcess {
     // Starts the executable `fgsrd` with `--socket <tmp>/fgsrd.sock` followed by `args`, in a fresh
     // directory /tmp/<tmp_prefix>-XXXXXX; waits up to timeout_ms for the socket to accept. Returns
     // nullptr on failure (reason in last_error(), stderr included).
-    static std::unique_ptr<FgsrdProcess> start_at(const std::string& fgsrd, const std::vector<std::string>& args = {},
-                                                  int timeout_ms = 60000, const std::string& tmp_prefix = "fgsrd-test") {
+    static std::unique_ptr<FgsrdProcess> start_at(const std::string& fgsrd,
+                                                  const std::vector<std::string>& args = {},
+                                                  int timeout_ms = 60000,
+                                                  const std::string& tmp_prefix = "fgsrd-test") {
         std::unique_ptr<FgsrdProcess> p(new FgsrdProcess());
         std::string tmpl = "/tmp/" + tmp_prefix + "-XXXXXX";
         if (!mkdtemp(tmpl.data())) return fail("mkdtemp: " + std::string(std::strerror(errno)));
