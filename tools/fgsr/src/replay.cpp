@@ -12,6 +12,7 @@
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/client.hpp>
 #include <fgsr/core/clock.hpp>
+#include <fgsr/stress/client_planes.hpp>
 
 #include <fmt/format.h>
 
@@ -70,21 +71,7 @@ Result<capture::Capture> load_capture(const ReplayOptions& o) {
     return load_capture_spec(o.capture, o.prefer_lr);
 }
 
-// Converts an rgba32f output (rows row_pitch apart) to an image.
-ImageRGBA to_image(const fgsr_output& out) {
-    ImageRGBA img{out.width, out.height, std::vector<float>(size_t(out.width) * out.height * 4)};
-    const size_t row = size_t(out.width) * 16;
-    for (uint32_t y = 0; y < out.height; ++y)
-        std::memcpy(img.rgba.data() + size_t(y) * out.width * 4,
-                    static_cast<const std::byte*>(out.pixels) + size_t(y) * out.row_pitch, row);
-    return img;
-}
-
-void copy_plane(void* dst, uint32_t pitch, std::span<const std::byte> src, size_t row_bytes, uint32_t rows) {
-    for (uint32_t y = 0; y < rows; ++y)
-        std::memcpy(static_cast<std::byte*>(dst) + size_t(y) * pitch, src.data() + size_t(y) * row_bytes,
-                    row_bytes);
-}
+using stress::copy_plane;
 
 struct Stream {
     fgsr::client::Connection conn;
@@ -245,7 +232,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
                          double(t.daemon_cpu_ns) * 1e-6, t.skipped_passes);
         }
         if (out.output_slot == FGSR_NO_SLOT) return {};
-        ImageRGBA img = to_image(out);
+        ImageRGBA img = stress::output_image(out);
         st.summary.client_bytes_copied += img.rgba.size() * sizeof(float);
         (void)st.session.release_output(out.output_slot);
         if (out.sequence == 0 || out.sequence > n)

@@ -3,6 +3,7 @@
 #include <fgsr/capture/session_desc.hpp>
 #include <fgsr/capture/stress_checks.hpp>
 #include <fgsr/client.hpp>
+#include <fgsr/stress/client_planes.hpp>
 #include <fgsr/stress/daemon.hpp>
 
 #include <algorithm>
@@ -61,20 +62,9 @@ bool refused_by_client(const Step& r, float scale) {
     return false;
 }
 
-ImageRGBA to_image(const fgsr_output& out) {
-    ImageRGBA img{out.width, out.height, std::vector<float>(size_t(out.width) * out.height * 4)};
-    for (uint32_t y = 0; y < out.height; ++y)
-        std::memcpy(img.rgba.data() + size_t(y) * out.width * 4,
-                    static_cast<const std::byte*>(out.pixels) + size_t(y) * out.row_pitch,
-                    size_t(out.width) * 16);
-    return img;
-}
-
+// A tightly packed plane of `rows` rows into a slot.
 void copy_plane(void* dst, uint32_t pitch, const std::vector<std::byte>& src, uint32_t rows) {
-    if (rows == 0 || src.empty()) return;
-    const size_t row = src.size() / rows;
-    for (uint32_t y = 0; y < rows; ++y)
-        std::memcpy(static_cast<std::byte*>(dst) + size_t(y) * pitch, src.data() + size_t(y) * row, row);
+    stress::copy_plane(dst, pitch, src, rows ? src.size() / rows : 0, rows);
 }
 
 std::string status_name(int32_t s) {
@@ -219,7 +209,7 @@ class DaemonRunner {
                 if (out.status != FGSR_STATUS_OK)
                     return fail("a good session: output status " + status_name(out.status));
                 if (out.output_slot != FGSR_NO_SLOT) {
-                    const ImageRGBA img = to_image(out);
+                    const ImageRGBA img = output_image(out);
                     (void)s.release_output(out.output_slot);
                     if (!checks_.check_image(img, "a good session")) return false;
                 }
@@ -405,7 +395,7 @@ class DaemonRunner {
             }
             std::optional<ImageRGBA> img;
             if (out.output_slot != FGSR_NO_SLOT) {
-                img = to_image(out);
+                img = output_image(out);
                 (void)session_.release_output(out.output_slot);
             }
             const bool last = (out.flags & FGSR_COMPLETION_LAST) != 0;
