@@ -1,8 +1,8 @@
 // `fgsr bench` and the quality presets: what can fail without timing. The Pareto front on
 // hand-made points, the memory-traffic formula on a known size, the presets' Params against what
 // presets.hpp claims, and a --quick run of the real binary (CSV rows and finite numbers).
-#include "../tools/fgsr/bench.hpp" // median, pareto_front, parse_resolution, frame_bytes are inline
 #include "run_process.hpp"
+#include <fgsr/cli/bench.hpp> // median, pareto_front, parse_resolution, frame_bytes are inline
 
 #include <fgsr/engine/presets.hpp>
 

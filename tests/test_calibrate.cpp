@@ -1,8 +1,8 @@
 // `fgsr calibrate`: the search on known functions (header-only, called directly), and the real
 // binary on the built-in capture (few frames, small searches) for the never-worse guarantee and
 // --write-defaults.
-#include "../tools/fgsr/calibrate.hpp" // maximise_coordinates is header-only
 #include "run_process.hpp"
+#include <fgsr/cli/calibrate.hpp> // maximise_coordinates is header-only
 
 #include <gtest/gtest.h>
 

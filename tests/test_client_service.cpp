@@ -2,8 +2,8 @@
 // (bit-identical rgba32f), two and eight concurrent client processes, the daemon killed under a
 // client and a reconnect to a new one, fifo and mailbox semantics, fds back to baseline, and
 // `fgsr replay` printing the same metrics as in-process `fgsr eval`.
-#include "fgsrd_process.hpp"
 #include "run_process.hpp"
+#include <fgsr/testing/fgsrd_process.hpp>
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/session_desc.hpp>

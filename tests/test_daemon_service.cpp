@@ -1,7 +1,7 @@
 // Multi-process tests of fgsrd: a real daemon (tests/fgsrd_process.hpp) and raw clients that speak
 // protocol.h directly (not the client library), so they can be hostile: malformed messages,
 // corrupted ring entries, clients killed at each protocol state. Frames are 64x64 and few.
-#include "fgsrd_process.hpp"
+#include <fgsr/testing/fgsrd_process.hpp>
 
 #include <fgsr/core/clock.hpp>
 #include <fgsr/protocol.h>

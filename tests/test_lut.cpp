@@ -1,6 +1,6 @@
 // Resampling LUTs: file format, the shipped tables, and the acceptance test of issue 3 (six-fold
 // repeated resampling on held-back images: learned LUT vs bilinear vs bicubic).
-#include "../tools/fgsr/lut_model.hpp" // the trainer's model (header-only)
+#include <fgsr/cli/lut_model.hpp> // the trainer's model (header-only)
 
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>

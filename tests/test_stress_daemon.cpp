@@ -1,8 +1,8 @@
 // The numerical stress cases (fgsr/capture/stress.hpp) in their reduced form fed through a real
-// fgsrd (tests/fgsrd_process.hpp) with libfgsr_client (fgsr/stress/daemon.hpp): no case fails, the
+// fgsrd (fgsr/testing/fgsrd_process.hpp) with libfgsr_client (fgsr/stress/daemon.hpp): no case fails, the
 // daemon survives every case, every rejection completes with a non-OK status and, when the daemon
 // refused it, its log states the reason; what the protocol cannot express is reported as n/a.
-#include "fgsrd_process.hpp"
+#include <fgsr/testing/fgsrd_process.hpp>
 
 #include <fgsr/capture/stress.hpp>
 #include <fgsr/stress/daemon.hpp>

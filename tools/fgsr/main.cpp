@@ -1,11 +1,12 @@
 // build/bin/fgsr: command-line front end of the fgsr engine.
-#include "bench.hpp"
-#include "calibrate.hpp"
-#include "cli_util.hpp"
-#include "eval.hpp"
-#include "lut_train.hpp"
-#include "replay.hpp"
-#include "stress.hpp"
+#include <fgsr/cli/bench.hpp>
+#include <fgsr/cli/calibrate.hpp>
+#include <fgsr/cli/capture_spec.hpp>
+#include <fgsr/cli/cli_util.hpp>
+#include <fgsr/cli/eval.hpp>
+#include <fgsr/cli/lut_train.hpp>
+#include <fgsr/cli/replay.hpp>
+#include <fgsr/cli/stress.hpp>
 
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -23,8 +24,7 @@ namespace {
 using fgsr::cli::split_list;
 
 int fail(const fgsr::Error& e) {
-    std::fprintf(stderr, "fgsr: %s: %s\n", fgsr::errc_name(e.code), e.message.c_str());
-    return 1;
+    return fgsr::cli::report_error(e);
 }
 
 } // namespace
@@ -171,11 +171,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (*eval) {
-        eo.mode = mode == "extrap" ? fgsr::cli::EvalMode::extrap
-                  : mode == "sr"   ? fgsr::cli::EvalMode::sr
-                  : mode == "isr"  ? fgsr::cli::EvalMode::isr
-                  : mode == "esr"  ? fgsr::cli::EvalMode::esr
-                                   : fgsr::cli::EvalMode::interp;
+        eo.mode = fgsr::cli::parse_eval_mode(mode);
         eo.params.skip_tiles = !no_skip;
         eo.methods = split_list(methods);
         if (eo.mode != fgsr::cli::EvalMode::interp && eo.mode != fgsr::cli::EvalMode::extrap &&
@@ -239,11 +235,7 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (*replay) {
-        ro.mode = replay_mode == "extrap" ? fgsr::cli::EvalMode::extrap
-                  : replay_mode == "sr"   ? fgsr::cli::EvalMode::sr
-                  : replay_mode == "isr"  ? fgsr::cli::EvalMode::isr
-                  : replay_mode == "esr"  ? fgsr::cli::EvalMode::esr
-                                          : fgsr::cli::EvalMode::interp;
+        ro.mode = fgsr::cli::parse_eval_mode(replay_mode);
         ro.progress = !replay_quiet;
         if (!replay_out.empty()) ro.out = replay_out;
         if (!replay_csv.empty()) ro.telemetry = replay_csv;
@@ -257,11 +249,7 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (*convert) {
-        fgsr::cli::EvalOptions lo;
-        lo.capture = conv_in;
-        lo.prefer_lr = conv_lr;
-        auto c = conv_in == "builtin" ? fgsr::capture::make_synthetic_capture({}, 11)
-                                      : fgsr::capture::load(conv_in, conv_lr);
+        auto c = fgsr::cli::load_capture_spec(conv_in, conv_lr);
         if (!c) return fail(c.error());
         auto w = fgsr::capture::save_fgsr(*c, conv_out);
         if (!w) return fail(w.error());

@@ -1,7 +1,9 @@
-// Helpers shared by the capture importers/exporters (private to fgsr_capture).
+// Helpers shared by the capture importers/exporters (private to fgsr_capture); the ones the capture
+// format library implements come from fgsr/capture/format_util.hpp.
 #pragma once
 
 #include <fgsr/capture/capture.hpp>
+#include <fgsr/capture/format_util.hpp>
 #include <fgsr/capture/image_io.hpp>
 
 #include <nlohmann/json.hpp>
@@ -18,15 +20,6 @@ namespace fgsr::capture::detail {
 
 namespace fs = std::filesystem;
 
-inline Error io_error(const fs::path& p, const std::string& what) {
-    return make_error(Errc::io, p.string() + ": " + what);
-}
-
-// A non-empty image whose pixel vector holds exactly width * height RGBA values.
-inline bool consistent(const ImageRGBA& img) {
-    return img.width > 0 && img.height > 0 && img.rgba.size() == size_t(img.width) * img.height * 4;
-}
-
 // Files named <digits><ext> (e.g. "0010.png") directly in `dir`, sorted by number.
 // Error when `dir` is not a directory.
 struct NumberedFile {
@@ -35,27 +28,5 @@ struct NumberedFile {
     fs::path path;
 };
 Result<std::vector<NumberedFile>> numbered_files(const fs::path& dir, const std::string& ext);
-
-// Whole file as text; Errc::io naming the file on failure.
-Result<std::string> read_text(const fs::path& path);
-
-// Parses JSON without exceptions; Errc::io naming the file on a syntax error.
-Result<nlohmann::json> read_json(const fs::path& path);
-
-// Plane packing. Sizes in pixels; all planes are tightly packed rows, top row first.
-std::vector<std::byte> floats_to_bytes(std::span<const float> v);
-std::vector<float> bytes_to_floats(std::span<const std::byte> b);
-
-// Interleaves up to 4 float planes (each n values) into rgba16f bytes (half, round to nearest).
-std::vector<std::byte> pack_rgba16f(const float* r, const float* g, const float* b, const float* a, size_t n);
-// Interleaves 2 float planes into rg32f bytes.
-std::vector<std::byte> pack_rg32f(const float* x, const float* y, size_t n);
-
-// Half <-> float (IEEE binary16 bits).
-float half_to_float(uint16_t bits);
-uint16_t float_to_half(float f);
-
-// Linear RGBA image from four float planes.
-ImageRGBA make_image(uint32_t w, uint32_t h, const float* r, const float* g, const float* b, const float* a);
 
 } // namespace fgsr::capture::detail

@@ -1,7 +1,9 @@
 // The daemon feeder of the numerical stress cases (see fgsr/stress/daemon.hpp).
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/session_desc.hpp>
+#include <fgsr/capture/stress_checks.hpp>
 #include <fgsr/client.hpp>
+#include <fgsr/stress/client_planes.hpp>
 #include <fgsr/stress/daemon.hpp>
 
 #include <algorithm>
@@ -18,25 +20,8 @@ namespace {
 constexpr uint32_t kWaitMs = 120000; // one submit's outputs; generous for lavapipe
 constexpr uint32_t kOutputSlots = 2 * FGSR_MAX_ALPHAS + 1;
 
-std::string lower(std::string s) {
-    for (char& ch : s)
-        if (ch >= 'A' && ch <= 'Z') ch = char(ch - 'A' + 'a');
-    return s;
-}
-
-bool contains_nocase(const std::string& hay, const std::string& needle) {
-    return lower(hay).find(lower(needle)) != std::string::npos;
-}
-
-const char* op_name(Op op) {
-    return op == Op::submit        ? "submit"
-           : op == Op::interpolate ? "interpolate"
-           : op == Op::extrapolate ? "extrapolate"
-                                   : "super_resolve";
-}
-
 std::string where(size_t i, const Step& s) {
-    return "step " + std::to_string(i) + " (" + op_name(s.op) + ")";
+    return step_where(i, s.op);
 }
 
 // Why the case's Params cannot be sent in a fgsr_session_desc (empty: they can).
@@ -77,26 +62,9 @@ bool refused_by_client(const Step& r, float scale) {
     return false;
 }
 
-ImageRGBA to_image(const fgsr_output& out) {
-    ImageRGBA img{out.width, out.height, std::vector<float>(size_t(out.width) * out.height * 4)};
-    for (uint32_t y = 0; y < out.height; ++y)
-        std::memcpy(img.rgba.data() + size_t(y) * out.width * 4,
-                    static_cast<const std::byte*>(out.pixels) + size_t(y) * out.row_pitch,
-                    size_t(out.width) * 16);
-    return img;
-}
-
+// A tightly packed plane of `rows` rows into a slot.
 void copy_plane(void* dst, uint32_t pitch, const std::vector<std::byte>& src, uint32_t rows) {
-    if (rows == 0 || src.empty()) return;
-    const size_t row = src.size() / rows;
-    for (uint32_t y = 0; y < rows; ++y)
-        std::memcpy(static_cast<std::byte*>(dst) + size_t(y) * pitch, src.data() + size_t(y) * row, row);
-}
-
-size_t non_finite(const std::vector<float>& v) {
-    size_t bad = 0;
-    for (float x : v) bad += std::isfinite(x) ? 0 : 1;
-    return bad;
+    stress::copy_plane(dst, pitch, src, rows ? src.size() / rows : 0, rows);
 }
 
 std::string status_name(int32_t s) {
@@ -105,14 +73,10 @@ std::string status_name(int32_t s) {
 
 class DaemonRunner {
   public:
-    DaemonRunner(const DaemonTarget& t, const Case& c, CaseResult& r) : t_(t), c_(c), r_(r) {}
+    DaemonRunner(const DaemonTarget& t, const Case& c, CaseResult& r) : t_(t), c_(c), r_(r), checks_(r) {}
 
-    bool fail(std::string why) {
-        r_.pass = false;
-        if (r_.failure.empty()) r_.failure = std::move(why);
-        return false;
-    }
-    bool failed() const { return !r_.failure.empty(); }
+    bool fail(std::string why) { return checks_.fail(std::move(why)); }
+    bool failed() const { return checks_.failed(); }
     void na(const std::string& what, const std::string& why) {
         r_.not_applicable.push_back(what + ": " + why);
     }
@@ -155,11 +119,7 @@ class DaemonRunner {
             }
         }
         if (sub && !failed()) flush(sub_index, *sub, reqs);
-        if (!failed() && r_.drift_db && *r_.drift_db < c_.min_drift_db) {
-            char b[128];
-            std::snprintf(b, sizeof b, "drift %.2f dB is below %.1f dB", *r_.drift_db, c_.min_drift_db);
-            fail(b);
-        }
+        if (!failed()) checks_.check_min_drift(c_.min_drift_db);
         return health() && !failed();
     }
 
@@ -249,12 +209,9 @@ class DaemonRunner {
                 if (out.status != FGSR_STATUS_OK)
                     return fail("a good session: output status " + status_name(out.status));
                 if (out.output_slot != FGSR_NO_SLOT) {
-                    const ImageRGBA img = to_image(out);
+                    const ImageRGBA img = output_image(out);
                     (void)s.release_output(out.output_slot);
-                    ++r_.outputs_checked;
-                    r_.values_checked += img.rgba.size();
-                    if (size_t bad = non_finite(img.rgba))
-                        return fail("a good session: " + std::to_string(bad) + " non-finite values");
+                    if (!checks_.check_image(img, "a good session")) return false;
                 }
                 if (out.flags & FGSR_COMPLETION_LAST) break;
             }
@@ -438,7 +395,7 @@ class DaemonRunner {
             }
             std::optional<ImageRGBA> img;
             if (out.output_slot != FGSR_NO_SLOT) {
-                img = to_image(out);
+                img = output_image(out);
                 (void)session_.release_output(out.output_slot);
             }
             const bool last = (out.flags & FGSR_COMPLETION_LAST) != 0;
@@ -469,13 +426,8 @@ class DaemonRunner {
                         fail(rw + " failed: " + status_name(out.status) + log_reason_line("session"));
                         return;
                     }
-                    ++r_.outputs_checked;
-                    r_.values_checked += img->rgba.size();
-                    if (size_t bad = non_finite(img->rgba)) {
-                        fail(rw + " output " + std::to_string(out.output_index) + ": " + std::to_string(bad) +
-                             " non-finite values");
+                    if (!checks_.check_image(*img, rw + " output " + std::to_string(out.output_index)))
                         return;
-                    }
                     images[e.req].push_back(std::move(*img));
                 } else {
                     if (out.status == FGSR_STATUS_OK) {
@@ -500,36 +452,7 @@ class DaemonRunner {
         for (size_t q = 0; q < reqs.size(); ++q) {
             const auto& [i, r] = reqs[q];
             if (handled[q] || !r.reject.empty()) continue;
-            const std::vector<ImageRGBA>& im = images[q];
-            if (r.same_as_previous) {
-                bool same = previous_.size() == im.size();
-                for (size_t k = 0; same && k < im.size(); ++k)
-                    same =
-                        previous_[k].rgba.size() == im[k].rgba.size() &&
-                        std::memcmp(previous_[k].rgba.data(), im[k].rgba.data(), im[k].rgba.size() * 4) == 0;
-                if (!same) {
-                    fail(where(i, r) + ": outputs differ from the identical previous request");
-                    return;
-                }
-            }
-            if (r.op == Op::interpolate || r.op == Op::extrapolate) previous_ = im;
-            if (r.drift_reference >= 0 && !im.empty()) {
-                if (drift_refs_.size() <= size_t(r.drift_reference))
-                    drift_refs_.resize(size_t(r.drift_reference) + 1);
-                drift_refs_[size_t(r.drift_reference)] = im[0];
-            }
-            if (r.drift_compare >= 0 && !im.empty()) {
-                if (size_t(r.drift_compare) >= drift_refs_.size() || !drift_refs_[size_t(r.drift_compare)]) {
-                    fail(where(i, r) + ": no drift reference " + std::to_string(r.drift_compare));
-                    return;
-                }
-                auto p = capture::psnr(im[0], *drift_refs_[size_t(r.drift_compare)]);
-                if (!p) {
-                    fail(where(i, r) + ": " + p.error().message);
-                    return;
-                }
-                r_.drift_db = r_.drift_db ? std::min(*r_.drift_db, *p) : *p;
-            }
+            if (!checks_.check_repeat_and_drift(r, images[q], where(i, r))) return;
         }
     }
 
@@ -542,8 +465,7 @@ class DaemonRunner {
     std::optional<fgsr_input_slot> held_; // acquired, not yet submitted
     size_t mark_ = 0;                     // log length before the current submit
     uint64_t daemon_rejected_frames_ = 0;
-    std::vector<ImageRGBA> previous_;
-    std::vector<std::optional<ImageRGBA>> drift_refs_;
+    CaseChecks checks_;
 };
 
 } // namespace

@@ -3,6 +3,8 @@
 // source declares (the engine's ingest pass converts); see fgsr/core/types.hpp.
 #pragma once
 
+#include <fgsr/capture/capture_types.hpp>
+#include <fgsr/capture/fgsr_format.hpp>
 #include <fgsr/core/result.hpp>
 #include <fgsr/core/types.hpp>
 
@@ -12,43 +14,6 @@
 #include <vector>
 
 namespace fgsr::capture {
-
-struct Frame {
-    std::vector<std::byte> color; // format.color_format
-    std::vector<std::byte> depth; // 32-bit float per pixel, format.conventions.depth_kind
-    std::vector<std::byte> mv;    // format.mv_format; empty when the vectors are unknown
-    float jitter_x = 0.f;         // camera jitter of this frame in pixels (x right, y down); 0 if none
-    float jitter_y = 0.f;
-    bool reset = false; // scene cut: the engine forgets the earlier frames (FrameView::reset)
-
-    // The frame as the engine takes it, jitter and scene cut included.
-    FrameView view() const { return FrameView{color, depth, mv, jitter_x, jitter_y, reset}; }
-};
-
-enum class GroundTruth {
-    halfway,     // ground_truth[k] is the instant halfway between inputs k and k+1 (Blender fg)
-    consecutive, // inputs are consecutive rendered frames; evaluation uses every other one as input
-};
-
-struct Capture {
-    std::string name;          // short name for reports ("toss-fg", "mobfgsr-bunker", ...)
-    std::string source;        // "blender", "mobfgsr", "fgsr", "synthetic"
-    FrameFormat format;        // of every input frame
-    std::vector<Frame> inputs; // rendered frames in time order
-    GroundTruth ground_truth_kind = GroundTruth::consecutive;
-    std::vector<ImageRGBA> ground_truth; // halfway only: linear RGBA
-    bool composed_vectors = false;       // set by make_half_rate()
-
-    // Optional high-resolution reference (super resolution captures), one per input.
-    FrameFormat hr_format{};
-    std::vector<ImageRGBA> hr_reference;
-    // High-resolution references of the halfway instants (make_half_rate of a capture with
-    // hr_reference): hr_ground_truth[k] lies between inputs k and k+1, like ground_truth[k].
-    std::vector<ImageRGBA> hr_ground_truth;
-};
-
-// Frame limit for loaders: load at most this many frames (the first ones, in time order).
-inline constexpr size_t kAllFrames = static_cast<size_t>(-1);
 
 // Loads any supported capture directory, detecting the layout:
 //   capture.json with "kind" fg/sr (Blender), HR_Inputs/ or LR_Inputs/ (Mob-FGSR PNG),
@@ -70,11 +35,7 @@ Result<Capture> load_blender(const std::filesystem::path& dir, size_t max_frames
 // HR_Inputs views (the authors' reference) become hr_reference when present.
 Result<Capture> load_mobfgsr(const std::filesystem::path& dir, bool lr, size_t max_frames = kAllFrames);
 
-// fgsr's own format (manifest.json + one EXR per frame); see docs/CAPTURE_FORMAT.md.
-// save_fgsr creates `dir` (and parents) and overwrites files of a previous capture there;
-// load_fgsr(save_fgsr(c)) reproduces c's planes bit-exactly.
-Result<Capture> load_fgsr(const std::filesystem::path& dir, size_t max_frames = kAllFrames);
-Result<void> save_fgsr(const Capture& c, const std::filesystem::path& dir);
+// fgsr's own format (load_fgsr, save_fgsr): fgsr/capture/fgsr_format.hpp.
 
 // Converts a capture of consecutive frames into a half-rate one: inputs are frames 0, 2, 4, ...,
 // ground truth (halfway) are frames 1, 3, 5, ... converted to linear RGBA (only those followed by

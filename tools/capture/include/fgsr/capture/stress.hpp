@@ -1,5 +1,5 @@
 // Numerical stress cases: one table shared by the test suite (tests/test_stress.cpp) and
-// `fgsr stress` (tools/fgsr/stress.cpp).
+// `fgsr stress` (tools/fgsr/src/stress.cpp). Implemented in tools/capture/src/stress_*.cpp.
 //
 // A case is a session format and parameters plus a list of steps in the shape a client hands them
 // over: frames as FrameView planes (fgsr::FrameView / the daemon's input slots), and requests

@@ -1,0 +1,264 @@
+// The in-process feeder of the numerical stress cases (run_on_engine, fgsr/capture/stress.hpp): each
+// step handed to an fgsr::Engine session, outputs checked (stress_checks.hpp) and, for small
+// frames, compared with the CPU reference (fgsr/engine/reference.hpp).
+#include "stress_internal.hpp"
+
+#include <fgsr/capture/metrics.hpp>
+#include <fgsr/capture/stress_checks.hpp>
+#include <fgsr/engine/lut.hpp>
+#include <fgsr/engine/reference.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <string>
+
+namespace fgsr::stress {
+
+namespace {
+
+using namespace detail;
+
+struct CpuState {
+    ref::InternalFrame f0, f1;
+    size_t frames = 0; // submitted since the last reset
+    std::vector<glm::vec4> hr_prev, hr_new;
+    bool hr_valid = false;
+    float jitter_x = 0, jitter_y = 0;
+};
+
+class Runner {
+  public:
+    Runner(Engine& e, const Case& c, CaseResult& r) : engine_(e), c_(c), r_(r), checks_(r) {}
+
+    bool fail(std::string why) { return checks_.fail(std::move(why)); }
+    bool check_values(std::span<const float> v, const std::string& what) {
+        return checks_.check_values(v, what);
+    }
+    bool check_image(const ImageRGBA& img, const std::string& what) { return checks_.check_image(img, what); }
+    bool check_cpu(const std::vector<glm::vec4>& v, const std::string& what) {
+        return check_values(std::span<const float>(&v[0][0], v.size() * 4), what + " (CPU reference)");
+    }
+
+    bool session_rejected() {
+        auto s = engine_.create_session(c_.format, c_.params);
+        if (s)
+            return fail("create_session accepted; expected a rejection mentioning '" + c_.reject_session +
+                        "'");
+        const Error& e = s.error();
+        r_.rejections.push_back(std::string(errc_name(e.code)) + ": " + e.message);
+        if (!contains_nocase(e.message, c_.reject_session))
+            return fail("rejection reason '" + e.message + "' does not mention '" + c_.reject_session + "'");
+        // The engine keeps serving: a good session, two frames, one interpolation.
+        auto good = engine_.create_session(format_of(16, 16));
+        if (!good) return fail("a good session after the rejection failed: " + good.error().message);
+        for (int k = 0; k < 2; ++k) {
+            Frame fr = encode((*good)->format(), content(16, 16, k, {1.f, 1.f}));
+            auto sub = (*good)->submit(fr.view());
+            if (!sub) return fail("a good frame after the rejection failed: " + sub.error().message);
+        }
+        const float a = 0.5f;
+        auto g = (*good)->interpolate(std::span<const float>(&a, 1));
+        if (!g) return fail("interpolation after the rejection failed: " + g.error().message);
+        return check_image((*g)[0].color, "interpolation after the rejection");
+    }
+
+    bool run(const RunOptions& options) {
+        if (!c_.reject_session.empty()) return session_rejected();
+        auto created = engine_.create_session(c_.format, c_.params);
+        if (!created) return fail("create_session failed: " + created.error().message);
+        Session& s = **created;
+        const FrameFormat& f = c_.format;
+        const bool sr = s.output_width() != f.width || s.output_height() != f.height;
+        const bool cpu = c_.cpu_reference && size_t(f.width) * f.height <= (1u << 14);
+        std::vector<float> lut;
+        if (cpu && sr) {
+            Lut l = c_.params.lut.size() == kLutSize ? Lut{c_.params.scale, c_.params.lut}
+                                                     : default_lut(c_.params.scale);
+            force_identity_phase(l);
+            lut = std::move(l.weights);
+        }
+
+        for (size_t i = 0; i < c_.step_count; ++i) {
+            if (options.progress && c_.step_count > options.progress_every && i % options.progress_every == 0)
+                options.progress(c_.name + ": step " + std::to_string(i) + "/" +
+                                 std::to_string(c_.step_count));
+            const Step st = c_.step(i);
+            const std::string where = step_where(i, st.op);
+            ++r_.steps_run;
+            std::optional<Error> err;
+            std::vector<ImageRGBA> images;
+            switch (st.op) {
+            case Op::submit: {
+                auto rs = s.submit(st.frame.view());
+                if (!rs) err = rs.error();
+                break;
+            }
+            case Op::interpolate:
+            case Op::extrapolate: {
+                auto rg = st.op == Op::interpolate ? s.interpolate(st.alphas) : s.extrapolate(st.alphas);
+                if (!rg)
+                    err = rg.error();
+                else
+                    for (GeneratedFrame& g : *rg) images.push_back(std::move(g.color));
+                break;
+            }
+            case Op::super_resolve: {
+                auto rs = s.super_resolved();
+                if (!rs)
+                    err = rs.error();
+                else
+                    images.push_back(std::move(rs->color));
+                break;
+            }
+            }
+            if (!st.reject.empty()) {
+                if (!err)
+                    return fail(where + " was accepted; expected a rejection mentioning '" + st.reject + "'");
+                r_.rejections.push_back(std::string(errc_name(err->code)) + ": " + err->message);
+                if (!contains_nocase(err->message, st.reject))
+                    return fail(where + ": rejection reason '" + err->message + "' does not mention '" +
+                                st.reject + "'");
+                continue;
+            }
+            if (err) return fail(where + " failed: " + errc_name(err->code) + ": " + err->message);
+            for (size_t k = 0; k < images.size(); ++k)
+                if (!check_image(images[k], where + " output " + std::to_string(k))) return false;
+
+            if (!checks_.check_repeat_and_drift(st, images, where)) return false;
+
+            if (st.op == Op::submit && cpu && !step_cpu_submit(s, st.frame, sr, lut, where)) return false;
+            if ((st.op == Op::interpolate || st.op == Op::extrapolate) && cpu &&
+                !step_cpu_generate(s, st, images, sr, lut, where))
+                return false;
+        }
+        return checks_.check_min_drift(c_.min_drift_db);
+    }
+
+    // The ingested frame (GPU) is finite with positive depth; the CPU reference runs ingest and
+    // SR on the same frame and its outputs must be finite too.
+    bool step_cpu_submit(Session& s, const Frame& fr, bool sr, const std::vector<float>& lut,
+                         const std::string& where) {
+        auto in = s.read_frame(1);
+        if (!in) return fail(where + ": read_frame: " + in.error().message);
+        if (!check_values(in->color, where + " ingested colour") ||
+            !check_values(in->depth, where + " ingested depth") ||
+            !check_values(in->mv, where + " ingested vectors"))
+            return false;
+        for (float d : in->depth)
+            if (!(d > 0.f)) return fail(where + ": ingested depth " + std::to_string(d) + " is not positive");
+        const FrameFormat& f = c_.format;
+        const bool restart = fr.reset || cs_.frames == 0;
+        // The engine removes the jitter from vectors that contain it (Session::submit).
+        const glm::vec2 offset = c_.params.mvs_contain_jitter && !restart
+                                     ? glm::vec2(cs_.jitter_x - fr.jitter_x, cs_.jitter_y - fr.jitter_y)
+                                     : glm::vec2(0.f);
+        ref::InternalFrame cur = ref::ingest(f, fr.view(), offset);
+        if (sr && c_.params.denoise) {
+            // The pre-filter with the GPU's range; its estimate must agree with the CPU's up to a
+            // histogram bin (log2 rounding at bin edges).
+            const ref::DenoiseParams dp = ref::denoise_params(f, c_.params);
+            const NoiseEstimate cpu = ref::noise_level(cur, dp), gpu = s.last_noise_estimate();
+            if (!(std::isfinite(gpu.sigma) && std::isfinite(gpu.range)))
+                return fail(where + ": noise estimate is not finite");
+            if (cpu.sigma > 0.f && !(std::abs(std::log2(gpu.sigma / cpu.sigma)) <= 0.126f))
+                return fail(where + ": noise estimate " + std::to_string(gpu.sigma) + " (GPU) against " +
+                            std::to_string(cpu.sigma) + " (CPU)");
+            cur.color = ref::denoise(cur, dp, gpu.range);
+        }
+        if (sr) {
+            const ref::SrParams p =
+                ref::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
+                               !restart && cs_.hr_valid && cur.has_mv);
+            if (cs_.hr_new.empty()) cs_.hr_new.assign(size_t(p.hr_width) * p.hr_height, glm::vec4(0.f));
+            const std::vector<float>& prev_depth = cs_.frames > 0 ? cs_.f1.depth : cur.depth;
+            std::vector<glm::vec4> out = ref::super_resolve(cur, prev_depth, cs_.hr_new, p, lut);
+            if (!check_cpu(out, where + " SR")) return false;
+            auto gpu = s.super_resolved();
+            if (!gpu) return fail(where + ": super_resolved: " + gpu.error().message);
+            compare(gpu->color, out);
+            cs_.hr_prev = std::move(cs_.hr_new);
+            cs_.hr_new = std::move(out);
+            cs_.hr_valid = true;
+        }
+        cs_.f0 = std::move(cs_.f1);
+        cs_.f1 = std::move(cur);
+        cs_.frames = restart ? 1 : cs_.frames + 1;
+        cs_.jitter_x = fr.jitter_x;
+        cs_.jitter_y = fr.jitter_y;
+        return true;
+    }
+
+    bool step_cpu_generate(Session& s, const Step& st, const std::vector<ImageRGBA>& images, bool sr,
+                           const std::vector<float>& lut, const std::string& where) {
+        if (cs_.frames < 2 || images.size() != st.alphas.size()) return true;
+        size_t k = 0;
+        const bool extrap = st.op == Op::extrapolate;
+        for (float a : st.alphas) {
+            const ref::GenParams g =
+                ref::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv, cs_.f1.has_mv);
+            std::vector<glm::vec4> out;
+            if (sr) {
+                const ref::Splat sp = ref::splat(cs_.f0, cs_.f1, g);
+                const ref::SrParams p = ref::sr_params(c_.format, c_.params, s.output_width(),
+                                                       s.output_height(), cs_.jitter_x, cs_.jitter_y, true);
+                out = ref::generate_sr(cs_.f0, cs_.f1, sp, extrap ? cs_.hr_new : cs_.hr_prev, g, p, lut);
+            } else {
+                out = ref::generate(cs_.f0, cs_.f1, g);
+            }
+            if (!check_cpu(out, where + " alpha " + std::to_string(a))) return false;
+            compare(images[k++], out);
+        }
+        return true;
+    }
+
+    // Largest difference between a GPU output and the CPU reference, relative to max(1, |ref|).
+    void compare(const ImageRGBA& gpu, const std::vector<glm::vec4>& cpu) {
+        if (gpu.rgba.size() != cpu.size() * 4) return;
+        double worst = r_.max_cpu_difference.value_or(0.0);
+        for (size_t i = 0; i < cpu.size(); ++i)
+            for (int ch = 0; ch < 4; ++ch) {
+                const double ref = cpu[i][ch], got = gpu.rgba[4 * i + size_t(ch)];
+                worst = std::max(worst, std::abs(got - ref) / std::max(1.0, std::abs(ref)));
+            }
+        r_.max_cpu_difference = worst;
+    }
+
+  private:
+    Engine& engine_;
+    const Case& c_;
+    CaseResult& r_;
+    CaseChecks checks_;
+    CpuState cs_;
+};
+
+} // namespace
+
+CaseResult run_on_engine(Engine& engine, const Case& c, const RunOptions& options) {
+    CaseResult r;
+    r.name = c.name;
+    r.checks = c.checks;
+    r.pass = true;
+    const uint64_t validation_before = engine.validation_errors();
+    const auto t0 = std::chrono::steady_clock::now();
+    Runner(engine, c, r).run(options);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // On CPU devices (lavapipe) the GPU passes and the reference run the same code on the same
+    // inputs: any difference beyond float rounding means the sanitisation diverged.
+    constexpr double kCpuTolerance = 1e-3;
+    if (engine.is_cpu_device() && r.pass && r.max_cpu_difference && *r.max_cpu_difference > kCpuTolerance) {
+        r.pass = false;
+        r.failure = "GPU output and CPU reference differ by " + std::to_string(*r.max_cpu_difference) +
+                    " (relative), above " + std::to_string(kCpuTolerance);
+    }
+    const uint64_t validation = engine.validation_errors() - validation_before;
+    if (validation && r.pass) {
+        r.pass = false;
+        r.failure = std::to_string(validation) + " Vulkan validation errors (see stderr)";
+    }
+    return r;
+}
+
+} // namespace fgsr::stress

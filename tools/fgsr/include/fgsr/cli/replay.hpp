@@ -1,0 +1,50 @@
+// `fgsr replay`: streams a capture through fgsrd with libfgsr_client, writes the outputs and the
+// per-frame telemetry, and scores the outputs with eval's code (halfway_targets, score_image,
+// finish_means) when the capture has references. `fgsr eval --socket` runs the same code.
+#pragma once
+
+#include <fgsr/cli/eval.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace fgsr::cli {
+
+struct ReplayOptions {
+    std::string capture = "builtin"; // capture directory, or "builtin" (eval's synthetic scene)
+    EvalMode mode = EvalMode::interp;
+    std::string socket;                             // empty: $FGSR_SOCKET, else the default path
+    double fps = 0;                                 // 0: as fast as possible; else submits paced at fps
+    std::optional<std::filesystem::path> out;       // outputs as eval --out writes them for "fgsr"
+    std::optional<std::filesystem::path> telemetry; // CSV, one row per output frame
+    float alpha = 0.5f;
+    int max_frames = 0; // 0: all
+    bool prefer_lr = false;
+    bool progress = true;
+    bool mailbox = false;     // queue policy mailbox instead of fifo
+    bool closed_loop = false; // wait for each submit's last completion before the next (benchmark)
+    Params params;            // t_depth, t_bright, sr_a, sr_b, dilate_mvs, mvs_contain_jitter are sent
+};
+
+struct ReplaySummary {
+    std::string capture, mode, device;
+    size_t submitted = 0, outputs = 0, dropped = 0, rejected = 0;
+    double wall_s = 0;
+    double latency_p50_ms = 0, latency_p99_ms = 0; // client-observed: submit to completion seen
+    double overhead_p50_ms = 0,
+           overhead_p99_ms = 0; // client-observed minus the daemon's work (start->complete)
+    double daemon_latency_p50_ms = 0, daemon_latency_p99_ms = 0; // from the daemon's stats
+    uint64_t daemon_bytes_copied = 0;
+    uint64_t client_bytes_copied = 0;  // planes written into input slots + outputs read back
+    std::optional<EvalReport> metrics; // when the capture has references for the mode
+};
+
+Result<ReplaySummary> run_replay(const ReplayOptions& options);
+std::string replay_summary_text(const ReplaySummary& s);
+
+// `fgsr replay --bench`: overhead of the service at 1280x720 and 1920x1080 (prints, asserts nothing).
+Result<void> run_replay_bench(const std::string& socket, int frames, bool progress);
+
+} // namespace fgsr::cli

@@ -1,0 +1,355 @@
+#include <fgsr/cli/eval.hpp>
+
+#include <fgsr/cli/capture_spec.hpp>
+
+#include <fgsr/capture/image_io.hpp>
+#include <fgsr/capture/metrics.hpp>
+#include <fgsr/capture/synthetic.hpp>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace fgsr::cli {
+
+namespace {
+
+// Engine passes in pipeline order: fused ("generate") or separate.
+constexpr const char* kPassOrder[] = {"denoise",     "classify", "sr",     "splat", "generate",
+                                      "generate_sr", "refine",   "disocc", "warp",  "blend"};
+
+ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
+    ImageRGBA out = a;
+    for (size_t i = 0; i < out.rgba.size(); ++i) out.rgba[i] = a.rgba[i] + (b.rgba[i] - a.rgba[i]) * t;
+    return out;
+}
+
+bool is_engine_method(const std::string& m) {
+    return m == "fgsr" || m == "linear";
+}
+
+Result<capture::Capture> load_capture(const EvalOptions& o) {
+    if (o.preloaded) return *o.preloaded;
+    return load_eval_capture(o);
+}
+
+} // namespace
+
+Result<capture::Capture> load_eval_capture(const EvalOptions& o, size_t max_frames) {
+    return load_capture_spec(o.capture, o.prefer_lr, max_frames);
+}
+
+Result<void> evaluate_at_half_rate(capture::Capture& cap, bool progress, const char* note) {
+    if (cap.ground_truth_kind != capture::GroundTruth::consecutive) return {};
+    if (progress) std::fprintf(stderr, "%s\n", note);
+    auto half = capture::make_half_rate(cap);
+    if (!half) return half.error();
+    cap = std::move(*half);
+    return {};
+}
+
+EvalMode parse_eval_mode(const std::string& m) {
+    return m == "extrap" ? EvalMode::extrap
+           : m == "sr"   ? EvalMode::sr
+           : m == "isr"  ? EvalMode::isr
+           : m == "esr"  ? EvalMode::esr
+                         : EvalMode::interp;
+}
+
+Result<void> check_alpha(float alpha, bool extrapolate) {
+    if (!std::isfinite(alpha) || alpha <= 0.f || alpha > 1.f || (!extrapolate && alpha >= 1.f))
+        return make_error(Errc::invalid_argument,
+                          fmt::format("alpha {} is outside {}", alpha, extrapolate ? "(0, 1]" : "(0, 1)"));
+    return {};
+}
+
+std::vector<size_t> halfway_targets(const std::vector<capture::Frame>& inputs, size_t references,
+                                    bool extrapolate, int max_frames) {
+    std::vector<size_t> targets;
+    for (size_t k = extrapolate ? 1 : 0; k + 1 < inputs.size() && k < references; ++k)
+        if (!inputs[extrapolate ? k : k + 1].reset) targets.push_back(k);
+    if (max_frames > 0 && targets.size() > size_t(max_frames)) targets.resize(size_t(max_frames));
+    return targets;
+}
+
+std::vector<size_t> skip_first(std::vector<size_t> targets, int skip, int max_frames) {
+    targets.erase(targets.begin(),
+                  targets.begin() + std::min<ptrdiff_t>(std::max(skip, 0), ptrdiff_t(targets.size())));
+    if (max_frames > 0 && targets.size() > size_t(max_frames)) targets.resize(size_t(max_frames));
+    return targets;
+}
+
+Result<void> score_image(MethodScore& score, const ImageRGBA& image, const ImageRGBA& reference) {
+    auto p = capture::psnr(image, reference);
+    if (!p) return p.error();
+    auto s = capture::ssim(image, reference);
+    if (!s) return s.error();
+    score.psnr.push_back(*p);
+    score.ssim.push_back(*s);
+    return {};
+}
+
+void add_timing(MethodScore& score, const GeneratedFrame& frame) {
+    score.mean_ms += frame.gpu_ms;
+    score.ms_samples.push_back(frame.gpu_ms);
+    for (const PassTiming& p : frame.passes) {
+        score.pass_ms[p.name] += p.ms;
+        score.pass_samples[p.name].push_back(p.ms);
+        if (p.tiles_total == 0) continue;
+        score.pass_tiles[p.name].first += p.tiles_skipped;
+        score.pass_tiles[p.name].second += p.tiles_total;
+    }
+}
+
+void finish_means(EvalReport& report) {
+    for (auto& [name, s] : report.methods) {
+        const double n = double(s.psnr.size());
+        for (double v : s.psnr) s.mean_psnr += v / n;
+        for (double v : s.ssim) s.mean_ssim += v / n;
+        if (!s.ms_samples.empty()) s.mean_ms /= double(s.ms_samples.size());
+        for (auto& [pass, ms] : s.pass_ms) ms /= double(std::max<size_t>(s.pass_samples[pass].size(), 1));
+    }
+}
+
+Result<Engine*> eval_engine(const EvalOptions& o, std::unique_ptr<Engine>& owned, EvalReport& report) {
+    if (!o.engine && !owned) {
+        auto e = Engine::create(o.device);
+        if (!e) return e.error();
+        owned = std::move(*e);
+    }
+    Engine* e = o.engine ? o.engine : owned.get();
+    report.device = e->device_name();
+    return e;
+}
+
+Result<std::map<std::string, std::unique_ptr<Session>>>
+make_sessions(const EvalOptions& o, const FrameFormat& format, const SessionParams& params_for,
+              std::unique_ptr<Engine>& engine, EvalReport& report) {
+    std::map<std::string, std::unique_ptr<Session>> sessions;
+    for (const std::string& m : o.methods) {
+        std::optional<Params> p = params_for(m);
+        if (!p) continue;
+        auto e = eval_engine(o, engine, report);
+        if (!e) return e.error();
+        auto s = (*e)->create_session(format, *p);
+        if (!s) return s.error();
+        sessions[m] = std::move(*s);
+    }
+    return sessions;
+}
+
+Result<EvalReport> run_eval(const EvalOptions& o) {
+    if (o.mode == EvalMode::sr) {
+        if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
+        auto loaded = load_capture(o);
+        if (!loaded) return loaded.error();
+        return run_eval_sr(o, std::move(*loaded));
+    }
+    if (o.mode == EvalMode::isr || o.mode == EvalMode::esr) {
+        if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
+        auto loaded = load_capture(o);
+        if (!loaded) return loaded.error();
+        return run_eval_joint(o, std::move(*loaded));
+    }
+    for (const std::string& m : o.methods)
+        if (m != "fgsr" && m != "linear" && m != "blend" && m != "repeat")
+            return make_error(Errc::invalid_argument,
+                              "unknown method '" + m + "' (methods: fgsr, linear, blend, repeat)");
+    const bool extrap = o.mode == EvalMode::extrap;
+    FGSR_TRY(check_alpha(o.alpha, extrap));
+
+    if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
+    auto loaded = load_capture(o);
+    if (!loaded) return loaded.error();
+    capture::Capture cap = std::move(*loaded);
+    FGSR_TRY(evaluate_at_half_rate(cap, o.progress));
+    // Ground truth exists halfway between inputs only.
+    if (std::abs(o.alpha - 0.5f) > 1e-6f)
+        return make_error(Errc::invalid_argument,
+                          fmt::format("capture '{}' has ground truth only halfway between inputs; "
+                                      "use --alpha 0.5",
+                                      cap.name));
+    const std::vector<size_t> targets = skip_first(
+        halfway_targets(cap.inputs, cap.ground_truth.size(), extrap, 0), o.skip_targets, o.max_frames);
+    if (targets.empty())
+        return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
+
+    EvalReport rep = new_report(cap, extrap ? "extrap" : "interp", o.alpha, targets.size(), cap.format.width,
+                                cap.format.height, o.methods);
+
+    std::unique_ptr<Engine> engine;
+    auto made = make_sessions(
+        o, cap.format,
+        [&](const std::string& m) -> std::optional<Params> {
+            if (!is_engine_method(m)) return std::nullopt;
+            Params p = o.params;
+            if (m == "linear") p.motion = MotionModel::linear;
+            return p;
+        },
+        engine, rep);
+    if (!made) return made.error();
+    auto& sessions = *made;
+
+    if (o.out) {
+        std::error_code ec;
+        for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
+        std::filesystem::create_directories(*o.out / "reference", ec);
+        if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
+    }
+
+    // Submit inputs in order; after input k+1 (interp) or k (extrap) generate the target's frame.
+    const size_t last_input = targets.back() + (extrap ? 0 : 1);
+    size_t next_target = 0;
+    double ingest_sum = 0;
+    size_t ingest_count = 0;
+    for (size_t i = 0; i <= last_input; ++i) {
+        for (auto& [name, s] : sessions) {
+            FGSR_TRY(s->submit(cap.inputs[i].view()));
+            ingest_sum += s->last_ingest_ms();
+            ++ingest_count;
+        }
+        if (next_target >= targets.size()) break;
+        const size_t k = targets[next_target];
+        const size_t newest = extrap ? k : k + 1;
+        if (i != newest) continue;
+        ++next_target;
+        if (o.progress)
+            std::fprintf(stderr, "[eval] %s %s: frame %zu/%zu\n", cap.name.c_str(), rep.mode.c_str(),
+                         next_target, targets.size());
+        const ImageRGBA& gt = cap.ground_truth[k];
+        const ImageRGBA i1 = capture::decode_color(cap.format, cap.inputs[newest]);
+        const ImageRGBA i0 = capture::decode_color(cap.format, cap.inputs[newest - 1]);
+        for (const std::string& m : o.methods) {
+            ImageRGBA img;
+            MethodScore& score = rep.methods[m];
+            if (is_engine_method(m)) {
+                const float a[] = {o.alpha};
+                auto out = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
+                if (!out) return out.error();
+                add_timing(score, (*out)[0]);
+                img = std::move((*out)[0].color);
+            } else if (m == "blend") {
+                img = extrap ? i1 : lerp(i0, i1, o.alpha);
+            } else { // repeat: the nearest input in time
+                img = extrap || o.alpha > 0.5f ? i1 : i0;
+            }
+            FGSR_TRY(score_image(score, img, gt));
+            if (o.out) {
+                const std::string stem = fmt::format("{:04d}", k + 1);
+                FGSR_TRY(capture::write_png(*o.out / m / (stem + ".png"), img));
+                FGSR_TRY(capture::write_exr(*o.out / m / (stem + ".exr"), img));
+            }
+        }
+        if (o.out) FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1), gt));
+    }
+    rep.ingest_ms = ingest_count ? ingest_sum / double(ingest_count) : 0;
+    finish_means(rep);
+    if (o.out) FGSR_TRY(write_metrics_json(rep, *o.out));
+    return rep;
+}
+
+Result<void> write_metrics_json(const EvalReport& r, const std::filesystem::path& dir) {
+    const std::filesystem::path path = dir / "metrics.json";
+    FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) return make_error(Errc::io, "cannot write " + path.string());
+    const std::string js = report_json(r, true);
+    const bool ok = std::fwrite(js.data(), 1, js.size(), f) == js.size();
+    if (std::fclose(f) != 0 || !ok) return make_error(Errc::io, "cannot write " + path.string());
+    return {};
+}
+
+EvalReport new_report(const capture::Capture& cap, std::string mode, float alpha, size_t frames,
+                      uint32_t width, uint32_t height, std::vector<std::string> methods) {
+    EvalReport rep;
+    rep.capture = cap.name;
+    rep.mode = std::move(mode);
+    rep.alpha = alpha;
+    rep.frames = frames;
+    rep.composed_vectors = cap.composed_vectors;
+    rep.width = width;
+    rep.height = height;
+    rep.method_order = std::move(methods);
+    return rep;
+}
+
+std::string report_json(const EvalReport& r, bool per_frame) {
+    nlohmann::ordered_json j;
+    j["capture"] = r.capture;
+    j["mode"] = r.mode;
+    j["alpha"] = r.alpha;
+    j["frames"] = r.frames;
+    j["composed_vectors"] = r.composed_vectors;
+    j["width"] = r.width;
+    j["height"] = r.height;
+    j["device"] = r.device;
+    j["ingest_ms"] = r.ingest_ms;
+    if (r.static_frames > 0) j["static_frames"] = r.static_frames;
+    nlohmann::ordered_json methods = nlohmann::ordered_json::object();
+    for (const std::string& m : r.method_order) {
+        const MethodScore& s = r.methods.at(m);
+        nlohmann::ordered_json jm;
+        jm["psnr"] = s.mean_psnr;
+        jm["ssim"] = s.mean_ssim;
+        jm["ms"] = s.mean_ms;
+        if (s.stability_std >= 0) jm["stability_std"] = s.stability_std;
+        if (!s.pass_ms.empty()) {
+            nlohmann::ordered_json passes = nlohmann::ordered_json::object();
+            for (const char* p : kPassOrder)
+                if (s.pass_ms.count(p)) passes[p] = s.pass_ms.at(p);
+            jm["pass_ms"] = passes;
+        }
+        if (!s.pass_tiles.empty()) { // share of the tiles each pass skipped, over every frame
+            nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
+            for (const char* p : kPassOrder)
+                if (s.pass_tiles.count(p) && p != std::string("classify"))
+                    skipped[p] = double(s.pass_tiles.at(p).first) / double(s.pass_tiles.at(p).second);
+            jm["skipped_tiles"] = skipped;
+        }
+        if (per_frame) {
+            jm["psnr_per_frame"] = s.psnr;
+            jm["ssim_per_frame"] = s.ssim;
+        }
+        methods[m] = jm;
+    }
+    j["methods"] = methods;
+    return j.dump(2) + "\n";
+}
+
+std::string report_table(const EvalReport& r) {
+    std::string s =
+        fmt::format("capture {} ({}x{}), mode {}, alpha {}, {} frames{}{}\n", r.capture, r.width, r.height,
+                    r.mode, r.alpha, r.frames, r.composed_vectors ? ", composed two-frame vectors" : "",
+                    r.device.empty() ? "" : ", device " + r.device);
+    s += fmt::format("{:<8} {:>9} {:>7} {:>9}   per pass (ms)\n", "method", "PSNR dB", "SSIM", "GPU ms");
+    for (const std::string& m : r.method_order) {
+        const MethodScore& ms = r.methods.at(m);
+        std::string passes;
+        for (const char* p : kPassOrder)
+            if (ms.pass_ms.count(p)) passes += fmt::format("{} {:.2f}  ", p, ms.pass_ms.at(p));
+        s += fmt::format("{:<8} {:>9.2f} {:>7.4f} {:>9.2f}   {}\n", m, ms.mean_psnr, ms.mean_ssim, ms.mean_ms,
+                         passes);
+        std::string skipped;
+        for (const char* p : kPassOrder)
+            if (ms.pass_tiles.count(p) && p != std::string("classify"))
+                skipped += fmt::format("{} {:.1f}%  ", p,
+                                       100.0 * double(ms.pass_tiles.at(p).first) /
+                                           double(ms.pass_tiles.at(p).second));
+        if (!skipped.empty()) s += fmt::format("{:<8} skipped tiles: {}\n", "", skipped);
+    }
+    if (r.ingest_ms > 0) s += fmt::format("ingest: {:.2f} ms per input frame\n", r.ingest_ms);
+    if (r.static_frames > 0) {
+        s += fmt::format(
+            "temporal stability (mean per-pixel std of display values, {} static frames, last input "
+            "repeated, jitter moving):\n ",
+            r.static_frames);
+        for (const std::string& m : r.method_order)
+            if (r.methods.at(m).stability_std >= 0)
+                s += fmt::format(" {} {:.5f}", m, r.methods.at(m).stability_std);
+        s += "\n";
+    }
+    return s;
+}
+
+} // namespace fgsr::cli
