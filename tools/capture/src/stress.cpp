@@ -1033,7 +1033,7 @@ class Runner {
         if (sr && c_.params.denoise) {
             // The pre-filter with the GPU's range; its estimate must agree with the CPU's up to a
             // histogram bin (log2 rounding at bin edges).
-            const ref::DenoiseParams dp = ref::denoise_params(f, c_.params);
+            const ref::DenoiseParams dp = params::denoise_params(f, c_.params);
             const NoiseEstimate cpu = ref::noise_level(cur, dp), gpu = s.last_noise_estimate();
             if (!(std::isfinite(gpu.sigma) && std::isfinite(gpu.range)))
                 return fail(where + ": noise estimate is not finite");
@@ -1044,7 +1044,7 @@ class Runner {
         }
         if (sr) {
             const ref::SrParams p =
-                ref::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
+                params::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
                                !restart && cs_.hr_valid && cur.has_mv);
             if (cs_.hr_new.empty()) cs_.hr_new.assign(size_t(p.hr_width) * p.hr_height, glm::vec4(0.f));
             const std::vector<float>& prev_depth = cs_.frames > 0 ? cs_.f1.depth : cur.depth;
@@ -1072,11 +1072,11 @@ class Runner {
         const bool extrap = st.op == Op::extrapolate;
         for (float a : st.alphas) {
             const ref::GenParams g =
-                ref::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv, cs_.f1.has_mv);
+                params::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv, cs_.f1.has_mv);
             std::vector<glm::vec4> out;
             if (sr) {
                 const ref::Splat sp = ref::splat(cs_.f0, cs_.f1, g);
-                const ref::SrParams p = ref::sr_params(c_.format, c_.params, s.output_width(),
+                const ref::SrParams p = params::sr_params(c_.format, c_.params, s.output_width(),
                                                        s.output_height(), cs_.jitter_x, cs_.jitter_y, true);
                 out = ref::generate_sr(cs_.f0, cs_.f1, sp, extrap ? cs_.hr_new : cs_.hr_prev, g, p, lut);
             } else {
