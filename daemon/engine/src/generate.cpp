@@ -19,22 +19,6 @@ Result<void> Session::Impl::ensure_outputs(size_t count) {
     return {};
 }
 
-namespace {
-
-// The bindings of the frames and keys that splat, refine, disocc and generate share (GEN_*).
-template <class S>
-void bind_gen_frames(S& s, const Session::Impl::GpuFrame& f0, const Session::Impl::GpuFrame& f1,
-                     const vk::Buffer& keys, const vk::Buffer& motion) {
-    s[GEN_MV1] = f1.mv;
-    s[GEN_MV0] = f0.mv;
-    s[GEN_DEPTH1] = f1.depth;
-    s[GEN_DEPTH0] = f0.depth;
-    s[GEN_KEYS] = keys;
-    s[GEN_MOTION] = motion;
-}
-
-} // namespace
-
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     if (submitted < 2)
         return make_error(Errc::empty_input, std::string(extrapolate ? "extrapolation" : "interpolation") +
@@ -75,14 +59,14 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         vkCmdFillBuffer(rec.cmd(), keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
         rec.barrier();
         Slots<PassId::splat> sb;
-        bind_gen_frames(sb, f0, f1, keys, motion);
+        bind_generated_frames(sb);
         FGSR_TRY(rec.dispatch_pixels(Variant::splat, sb, &g, format.width, format.height));
         rec.barrier();
         rec.timestamp(q++);
         if (sr()) { // joint ISR / ESR at output resolution (always fused)
             const GenSrPush push = gen_sr_push(g);
             Slots<PassId::generate_sr> b;
-            bind_gen_frames(b, f0, f1, keys, motion);
+            bind_generated_frames(b);
             b[GENSR_COLOR0] = f0.color;
             b[GENSR_COLOR1] = f1.color;
             b[GENSR_SRC] = gen_sr_source(extrapolate);
@@ -96,7 +80,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         }
         if (!params.separate_passes) {
             Slots<PassId::generate> b;
-            bind_gen_frames(b, f0, f1, keys, motion);
+            bind_generated_frames(b);
             b[GENERATE_COLOR0] = f0.color;
             b[GENERATE_COLOR1] = f1.color;
             b[GENERATE_OUTPUT] = out;
@@ -107,7 +91,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             continue;
         }
         Slots<PassId::refine> rb;
-        bind_gen_frames(rb, f0, f1, keys, motion);
+        bind_generated_frames(rb);
         rb[REFINE_FIELD] = field;
         rb[REFINE_FIELD_DEPTH] = field_depth;
         rb[REFINE_FIELD_STATE] = field_state;
@@ -117,7 +101,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         timings[k] = {PassId::splat, PassId::refine};
         if (params.fill_holes) {
             Slots<PassId::disocc> db;
-            bind_gen_frames(db, f0, f1, keys, motion);
+            bind_generated_frames(db);
             db[DISOCC_FIELD] = field;
             db[DISOCC_FIELD_DEPTH] = field_depth;
             db[DISOCC_FIELD_STATE] = field_state;

@@ -103,6 +103,18 @@ struct Session::Impl {
     bool denoise() const { return sr() && params.denoise; }
 
     // generate.cpp
+    // The bindings (GEN_*) of frame 1, frame 0 and the splat keys and motion that splat, refine,
+    // disocc, generate, generate_sr and classify (generate mode) share.
+    template <class S> void bind_generated_frames(S& s) const {
+        const GpuFrame& f1 = frames[size_t(newest)];
+        const GpuFrame& f0 = frames[size_t(1 - newest)];
+        s[GEN_MV1] = f1.mv;
+        s[GEN_MV0] = f0.mv;
+        s[GEN_DEPTH1] = f1.depth;
+        s[GEN_DEPTH0] = f0.depth;
+        s[GEN_KEYS] = keys;
+        s[GEN_MOTION] = motion;
+    }
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
     Result<void> ensure_outputs(size_t count);
 

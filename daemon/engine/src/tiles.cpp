@@ -24,19 +24,8 @@ uint32_t output_span(uint32_t tile, float scale) {
     return scale == 1.f ? tile : uint32_t(std::ceil(double(tile) * double(scale))) + 3;
 }
 
-// The bindings classify and the tiled passes share: the frames and keys (GEN_*) and, for the
-// tiled passes, the list iterated, the flags and the list splat appends dirtied tiles to (the
-// others bind a list there they do not write: unused).
-template <class S>
-void bind_frames(S& s, const Session::Impl::GpuFrame& f0, const Session::Impl::GpuFrame& f1,
-                 const vk::Buffer& keys, const vk::Buffer& motion) {
-    s[GEN_MV1] = f1.mv;
-    s[GEN_MV0] = f0.mv;
-    s[GEN_DEPTH1] = f1.depth;
-    s[GEN_DEPTH0] = f0.depth;
-    s[GEN_KEYS] = keys;
-    s[GEN_MOTION] = motion;
-}
+// The TILED_EXTRA bindings of a tiled pass: the list it iterates, the flags, and the list splat
+// appends the static tiles it dirties to (the other passes do not write it: unused).
 template <PassId P>
 void bind_list(Slots<P, Layout::TILED>& s, const vk::Buffer& list, const Session::Impl::TileSet& ts,
                bool appends) {
@@ -193,7 +182,7 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
     c.work_invocations = side * side;
     c.output_invocations = span * span;
     Slots<PassId::classify> cb;
-    bind_frames(cb, f0, f1, keys, motion);
+    bind_generated_frames(cb);
     cb[CLASSIFY_COLOR0] = f0.color;
     cb[CLASSIFY_COLOR1] = f1.color;
     cb[CLASSIFY_OUTPUT] = out; // written only without super resolution (write_output)
@@ -205,14 +194,14 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
     rec.barrier();
     rec.timestamp(q++);
     Slots<PassId::splat, Layout::TILED> sb;
-    bind_frames(sb, f0, f1, keys, motion);
+    bind_generated_frames(sb);
     bind_list(sb, ts.work, ts, true);
     FGSR_TRY(rec.dispatch_indirect(Variant::splat_tiled, sb, &g, ts.work));
     rec.barrier();
     rec.timestamp(q++);
     if (!sr()) {
         Slots<PassId::generate, Layout::TILED> b;
-        bind_frames(b, f0, f1, keys, motion);
+        bind_generated_frames(b);
         b[GENERATE_COLOR0] = f0.color;
         b[GENERATE_COLOR1] = f1.color;
         b[GENERATE_OUTPUT] = out;
@@ -221,7 +210,7 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
     } else {
         GenSrPush push = gen_sr_push(g);
         Slots<PassId::generate_sr, Layout::TILED> b;
-        bind_frames(b, f0, f1, keys, motion);
+        bind_generated_frames(b);
         b[GENSR_COLOR0] = f0.color;
         b[GENSR_COLOR1] = f1.color;
         b[GENSR_SRC] = gen_sr_source(extrapolate);
