@@ -1045,7 +1045,7 @@ class Runner {
         if (sr) {
             const ref::SrParams p =
                 params::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
-                               !restart && cs_.hr_valid && cur.has_mv);
+                                  !restart && cs_.hr_valid && cur.has_mv);
             if (cs_.hr_new.empty()) cs_.hr_new.assign(size_t(p.hr_width) * p.hr_height, glm::vec4(0.f));
             const std::vector<float>& prev_depth = cs_.frames > 0 ? cs_.f1.depth : cur.depth;
             std::vector<glm::vec4> out = ref::super_resolve(cur, prev_depth, cs_.hr_new, p, lut);
@@ -1076,8 +1076,9 @@ class Runner {
             std::vector<glm::vec4> out;
             if (sr) {
                 const ref::Splat sp = ref::splat(cs_.f0, cs_.f1, g);
-                const ref::SrParams p = params::sr_params(c_.format, c_.params, s.output_width(),
-                                                       s.output_height(), cs_.jitter_x, cs_.jitter_y, true);
+                const ref::SrParams p =
+                    params::sr_params(c_.format, c_.params, s.output_width(), s.output_height(), cs_.jitter_x,
+                                      cs_.jitter_y, true);
                 out = ref::generate_sr(cs_.f0, cs_.f1, sp, extrap ? cs_.hr_new : cs_.hr_prev, g, p, lut);
             } else {
                 out = ref::generate(cs_.f0, cs_.f1, g);
