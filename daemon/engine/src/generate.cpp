@@ -70,7 +70,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             b[GENSR_COLOR0] = f0.color;
             b[GENSR_COLOR1] = f1.color;
             b[GENSR_SRC] = gen_sr_source(extrapolate);
-            b[GENSR_LUT] = lut;
+            b[GENSR_LUT] = sr_history.lut;
             b[GENSR_OUTPUT] = out;
             FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr, b, &push, out_w, out_h));
             rec.barrier();
@@ -160,8 +160,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     }
     last_extrapolate = extrapolate;
     last_separate = params.separate_passes && !sr();
-    last_tiled = tiled;
-    last_tile_side = tile_side();
+    tiles.last_tiled = tiled;
+    tiles.last_side = tile_side();
     last_output = alphas.size() - 1;
     return result;
 }
@@ -183,10 +183,10 @@ Result<Session::Intermediates> Session::read_intermediates() const {
     auto motion = s.rec.download<float>(s.motion, s.n * 4);
     if (!motion) return motion.error();
     out.motion = std::move(*motion);
-    if (s.last_tiled && s.last_output < s.tile_sets.size()) {
-        const uint32_t* flags = static_cast<const uint32_t*>(s.tile_sets[s.last_output].flags.mapped());
+    if (s.tiles.last_tiled && s.last_output < s.tiles.sets.size()) {
+        const uint32_t* flags = static_cast<const uint32_t*>(s.tiles.sets[s.last_output].flags.mapped());
         out.tile_flags.assign(flags, flags + s.tiles_total());
-        out.tile_side = s.last_tile_side;
+        out.tile_side = s.tiles.last_side;
     }
     if (!s.last_separate) return out; // the fused pass keeps no other intermediates
     auto get_f = [&](const vk::Buffer& b, size_t count, std::vector<float>& dst) -> Result<void> {

@@ -45,12 +45,12 @@ Result<void> Session::Impl::init() {
     FGSR_TRY(make(warped_depth1, px * 4, false));
     if (sr()) {
         const VkDeviceSize hpx = VkDeviceSize(out_w) * out_h;
-        for (vk::Buffer& b : hr) FGSR_TRY(make(b, hpx * 16, false));
-        FGSR_TRY(make(lut, kLutSize * 4, true));
+        for (vk::Buffer& b : sr_history.hr) FGSR_TRY(make(b, hpx * 16, false));
+        FGSR_TRY(make(sr_history.lut, kLutSize * 4, true));
         FGSR_TRY(upload_lut());
         // Whatever Params::denoise says now: set_params may turn it on later.
-        FGSR_TRY(make(color_scratch, px * 8, false));
-        FGSR_TRY(make(noise, DENOISE_WORDS * 4, true));
+        FGSR_TRY(make(denoiser.scratch, px * 8, false));
+        FGSR_TRY(make(denoiser.noise, DENOISE_WORDS * 4, true));
     }
     return {};
 }
@@ -121,7 +121,7 @@ uint64_t Session::frames_submitted() const {
     return impl_->submitted;
 }
 NoiseEstimate Session::last_noise_estimate() const {
-    return impl_->noise_estimate;
+    return impl_->denoiser.estimate;
 }
 double Session::last_ingest_ms() const {
     return impl_->ingest_timing.ms;
@@ -135,7 +135,7 @@ uint32_t Session::tile_side() const {
 
 void Session::reset() {
     impl_->submitted = 0;
-    impl_->hr_valid = false;
+    impl_->sr_history.valid = false;
     for (auto& f : impl_->frames) f.has_mv = false;
 }
 
@@ -226,7 +226,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     bool sr_tiled = false;
     if (s.sr()) {
         const gpu::SrParams sp = params::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x,
-                                                   frame.jitter_y, !restart && s.hr_valid && has_mv);
+                                                   frame.jitter_y, !restart && s.sr_history.valid && has_mv);
         auto tiled = s.record_sr(sp, f, prev, q);
         if (!tiled) return tiled.error();
         sr_tiled = *tiled;
@@ -236,13 +236,13 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (!t) return t.error();
     size_t ti = 0;
     s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
-    s.noise_estimate = NoiseEstimate{};
+    s.denoiser.estimate = NoiseEstimate{};
     if (denoise) {
-        s.denoise_timing = timing_of(PassId::denoise, (*t)[ti++]);
+        s.denoiser.timing = timing_of(PassId::denoise, (*t)[ti++]);
         s.read_noise_estimate();
     }
-    s.last_sr_tiled = sr_tiled;
-    s.classify_sr_timing = timing_of(PassId::classify, sr_tiled ? (*t)[ti++] : PassTiming{});
+    s.tiles.last_sr_tiled = sr_tiled;
+    s.tiles.classify_sr_timing = timing_of(PassId::classify, sr_tiled ? (*t)[ti++] : PassTiming{});
     if (sr_tiled) s.count_sr_tiles();
     f.has_mv = has_mv;
     s.newest = slot;

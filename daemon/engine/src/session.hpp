@@ -56,20 +56,24 @@ struct Session::Impl {
     PassTiming ingest_timing = timing_of(PassId::ingest);
     float jitter_x = 0, jitter_y = 0; // of the newest frame
 
-    // Super resolution (sr.cpp): output size, ping-pong history (the newest output is
-    // hr[hr_newest]), LUT.
+    // Super resolution (sr.cpp): the output size (the frame size without super resolution) and
+    // the history.
     uint32_t out_w = 0, out_h = 0;
-    std::array<vk::Buffer, 2> hr;
-    int hr_newest = 0;
-    bool hr_valid = false;
-    vk::Buffer lut;
-    PassTiming sr_timing = timing_of(PassId::sr);
+    struct SrHistory {
+        std::array<vk::Buffer, 2> hr; // ping-pong outputs: the newest is hr[newest]
+        int newest = 0;
+        bool valid = false;                        // an output exists (no reset since)
+        vk::Buffer lut;                            // kLutSize weights (Resample::lut)
+        PassTiming timing = timing_of(PassId::sr); // of the last submit
+    } sr_history;
 
-    // Params::denoise (denoise.cpp, shaders/denoise.h): the filter's scratch (copied back into the
-    // frame's colour) and the noise buffer (host-visible: histogram, estimate, indirect dispatch).
-    vk::Buffer color_scratch, noise;
-    PassTiming denoise_timing = timing_of(PassId::denoise);
-    NoiseEstimate noise_estimate;
+    // Params::denoise (denoise.cpp, shaders/denoise.h).
+    struct Denoiser {
+        vk::Buffer scratch; // the filter's output, copied back into the frame's colour
+        vk::Buffer noise;   // host-visible: histogram, estimate, indirect dispatch (DENOISE_WORDS)
+        PassTiming timing = timing_of(PassId::denoise);
+        NoiseEstimate estimate; // of the last submit
+    } denoiser;
 
     // Intermediates of one generated frame (generate.cpp), reused by each alpha in turn.
     vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1,
@@ -79,20 +83,23 @@ struct Session::Impl {
     bool last_separate = false;
     size_t last_output = 0;
 
-    // Tile skipping (tiles.cpp, shaders/classify.h): per generated frame of a call (and index 0
-    // for the sr pass of a submit), the TILE_* flags and the tile lists, host-visible (the host
-    // writes their headers in the command buffer and reads the counts after the fence).
+    // Tile skipping (tiles.cpp, shaders/classify.h).
     struct TileSet {
         vk::Buffer flags, work, generate, statics;
     };
-    std::vector<TileSet> tile_sets;
-    bool last_tiled = false;     // the last generated frame was classified
-    bool last_sr_tiled = false;  // the last submit's sr pass was classified
-    uint32_t last_tile_side = 0; // of the last classification
-    uint32_t sr_tiles_total = 0, sr_tiles_skipped = 0;
-    PassTiming classify_sr_timing = timing_of(PassId::classify);
-    // Calls (generate) or submits (sr) left to run unclassified (kUnclassifiedRun).
-    uint32_t gen_unclassified_left = 0, sr_unclassified_left = 0;
+    struct Tiles {
+        // Per generated frame of a call (and index 0 for the sr pass of a submit), the TILE_* flags
+        // and the tile lists, host-visible (the host writes their headers in the command buffer
+        // and reads the counts after the fence).
+        std::vector<TileSet> sets;
+        bool last_tiled = false;    // the last generated frame was classified
+        bool last_sr_tiled = false; // the last submit's sr pass was classified
+        uint32_t last_side = 0;     // tile side of the last classification
+        uint32_t sr_total = 0, sr_skipped = 0;
+        PassTiming classify_sr_timing = timing_of(PassId::classify);
+        // Calls (generate) or submits (sr) left to run unclassified (kUnclassifiedRun).
+        uint32_t gen_unclassified_left = 0, sr_unclassified_left = 0;
+    } tiles;
 
     ~Impl();
 

@@ -13,14 +13,14 @@ Result<void> Session::Impl::upload_lut() {
     Lut l = params.lut.size() == kLutSize ? Lut{params.scale, params.lut} : default_lut(params.scale);
     force_identity_phase(l);
     const std::vector<float>& weights = l.weights;
-    std::memcpy(lut.mapped(), weights.data(), kLutSize * 4);
+    std::memcpy(sr_history.lut.mapped(), weights.data(), kLutSize * 4);
     return {};
 }
 
 Result<bool> Session::Impl::record_sr(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,
                                       uint32_t& query) {
-    const vk::Buffer& history = hr[size_t(hr_newest)];
-    const vk::Buffer& out = hr[size_t(1 - hr_newest)];
+    const vk::Buffer& history = sr_history.hr[size_t(sr_history.newest)];
+    const vk::Buffer& out = sr_history.hr[size_t(1 - sr_history.newest)];
     // Without history every pixel is a spatial upsample: nothing to classify.
     const bool tiled = classify_sr(sp.has_history != 0u);
     if (tiled) {
@@ -32,7 +32,7 @@ Result<bool> Session::Impl::record_sr(const gpu::SrParams& sp, const GpuFrame& f
         b[SR_MV] = f.mv;
         b[SR_PREV_DEPTH] = prev.depth;
         b[SR_HISTORY] = history;
-        b[SR_LUT] = lut;
+        b[SR_LUT] = sr_history.lut;
         b[SR_OUTPUT] = out;
         FGSR_TRY(rec.dispatch_pixels(Variant::sr, b, &sp, out_w, out_h));
     }
@@ -42,9 +42,9 @@ Result<bool> Session::Impl::record_sr(const gpu::SrParams& sp, const GpuFrame& f
 }
 
 void Session::Impl::finish_sr(const PassTiming& t) {
-    sr_timing = timing_of(PassId::sr, t);
-    hr_newest = 1 - hr_newest;
-    hr_valid = true;
+    sr_history.timing = timing_of(PassId::sr, t);
+    sr_history.newest = 1 - sr_history.newest;
+    sr_history.valid = true;
 }
 
 GenSrPush Session::Impl::gen_sr_push(const gpu::GenParams& g) const {
@@ -52,32 +52,32 @@ GenSrPush Session::Impl::gen_sr_push(const gpu::GenParams& g) const {
 }
 
 const vk::Buffer& Session::Impl::gen_sr_source(bool extrapolate) const {
-    return hr[size_t(extrapolate ? hr_newest : 1 - hr_newest)];
+    return sr_history.hr[size_t(extrapolate ? sr_history.newest : 1 - sr_history.newest)];
 }
 
 Result<GeneratedFrame> Session::super_resolved() {
     Impl& s = *impl_;
     if (!s.sr())
         return make_error(Errc::invalid_argument, "the session does not upscale (Params::scale is 1)");
-    if (!s.hr_valid) return make_error(Errc::empty_input, "no frame submitted yet");
+    if (!s.sr_history.valid) return make_error(Errc::empty_input, "no frame submitted yet");
     const size_t hpx = size_t(s.out_w) * s.out_h;
-    auto px = s.rec.download<float>(s.hr[size_t(s.hr_newest)], hpx * 4);
+    auto px = s.rec.download<float>(s.sr_history.hr[size_t(s.sr_history.newest)], hpx * 4);
     if (!px) return px.error();
     GeneratedFrame gf;
     gf.time = 1.f;
     gf.color = ImageRGBA{s.out_w, s.out_h, std::move(*px)};
-    PassTiming sr = s.sr_timing;
+    PassTiming sr = s.sr_history.timing;
     if (s.denoise()) {
-        gf.passes.push_back(s.denoise_timing);
-        gf.gpu_ms += s.denoise_timing.ms;
+        gf.passes.push_back(s.denoiser.timing);
+        gf.gpu_ms += s.denoiser.timing.ms;
     }
-    if (s.last_sr_tiled) {
-        PassTiming cl = s.classify_sr_timing;
-        cl.tiles_total = s.sr_tiles_total;
+    if (s.tiles.last_sr_tiled) {
+        PassTiming cl = s.tiles.classify_sr_timing;
+        cl.tiles_total = s.tiles.sr_total;
         gf.passes.push_back(cl);
         gf.gpu_ms += cl.ms;
-        sr.tiles_total = s.sr_tiles_total;
-        sr.tiles_skipped = s.sr_tiles_skipped;
+        sr.tiles_total = s.tiles.sr_total;
+        sr.tiles_skipped = s.tiles.sr_skipped;
     }
     gf.passes.push_back(sr);
     gf.gpu_ms += sr.ms;

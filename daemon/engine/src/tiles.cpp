@@ -52,7 +52,7 @@ Result<void> Session::Impl::ensure_tile_sets(size_t count) {
     const VkDeviceSize max_tiles =
         VkDeviceSize((format.width + kMinTile - 1) / kMinTile) * ((format.height + kMinTile - 1) / kMinTile);
     const VkDeviceSize list_bytes = (TILE_LIST_HEADER + max_tiles) * 4;
-    while (tile_sets.size() < count) {
+    while (tiles.sets.size() < count) {
         TileSet t;
         for (auto [b, bytes] : {std::pair{&t.flags, max_tiles * 4}, std::pair{&t.work, list_bytes},
                                 std::pair{&t.generate, list_bytes}, std::pair{&t.statics, list_bytes}}) {
@@ -60,7 +60,7 @@ Result<void> Session::Impl::ensure_tile_sets(size_t count) {
             if (!r) return r.error();
             *b = std::move(*r);
         }
-        tile_sets.push_back(std::move(t));
+        tiles.sets.push_back(std::move(t));
     }
     return {};
 }
@@ -109,7 +109,7 @@ Result<void> Session::Impl::record_sr_tiled(const gpu::SrParams& sp, const GpuFr
                                             const vk::Buffer& history, const vk::Buffer& out,
                                             uint32_t query) {
     FGSR_TRY(ensure_tile_sets(1));
-    const TileSet& ts = tile_sets[0];
+    const TileSet& ts = tiles.sets[0];
     const uint32_t side = tile_side();
     const uint32_t span = output_span(side, sp.scale);
     reset_lists(ts, span, span);
@@ -148,7 +148,7 @@ Result<void> Session::Impl::record_sr_tiled(const gpu::SrParams& sp, const GpuFr
     b[SR_MV] = f.mv;
     b[SR_PREV_DEPTH] = prev.depth;
     b[SR_HISTORY] = history;
-    b[SR_LUT] = lut;
+    b[SR_LUT] = sr_history.lut;
     b[SR_OUTPUT] = out;
     bind_list(b, ts.work, ts, false);
     FGSR_TRY(rec.dispatch_indirect(Variant::sr_tiled, b, &sp, ts.work));
@@ -165,7 +165,7 @@ Result<void> Session::Impl::record_sr_tiled(const gpu::SrParams& sp, const GpuFr
 // the moving and dirtied tiles; with super resolution the static tiles that stayed clean take
 // generate_sr's static form. Writes timestamps q..q+2.
 Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool extrapolate, uint32_t& q) {
-    const TileSet& ts = tile_sets[k];
+    const TileSet& ts = tiles.sets[k];
     const vk::Buffer& out = outputs[k];
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
@@ -214,7 +214,7 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
         b[GENSR_COLOR0] = f0.color;
         b[GENSR_COLOR1] = f1.color;
         b[GENSR_SRC] = gen_sr_source(extrapolate);
-        b[GENSR_LUT] = lut;
+        b[GENSR_LUT] = sr_history.lut;
         b[GENSR_OUTPUT] = out;
         bind_list(b, ts.generate, ts, false);
         FGSR_TRY(rec.dispatch_indirect(Variant::generate_sr_tiled, b, &push, ts.generate));
@@ -228,41 +228,42 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
 }
 
 bool Session::Impl::classify_generate() {
-    const bool tiled = params.skip_tiles && !(params.separate_passes && !sr()) && gen_unclassified_left == 0;
-    if (gen_unclassified_left > 0) --gen_unclassified_left;
+    const bool tiled =
+        params.skip_tiles && !(params.separate_passes && !sr()) && tiles.gen_unclassified_left == 0;
+    if (tiles.gen_unclassified_left > 0) --tiles.gen_unclassified_left;
     return tiled;
 }
 
 bool Session::Impl::classify_sr(bool has_history) {
-    const bool tiled = params.skip_tiles && has_history && sr_unclassified_left == 0;
-    if (sr_unclassified_left > 0) --sr_unclassified_left;
+    const bool tiled = params.skip_tiles && has_history && tiles.sr_unclassified_left == 0;
+    if (tiles.sr_unclassified_left > 0) --tiles.sr_unclassified_left;
     return tiled;
 }
 
 // classify, splat, generate(_sr): tiles outside the lists were skipped.
 void Session::Impl::count_generate_tiles(size_t k, GeneratedFrame& gf) {
-    const TileSet& ts = tile_sets[k];
+    const TileSet& ts = tiles.sets[k];
     const uint32_t total = tiles_total();
     gf.passes[0].tiles_total = gf.passes[1].tiles_total = gf.passes[2].tiles_total = total;
     gf.passes[1].tiles_skipped = total - std::min(total, list_count(ts.work));
     gf.passes[2].tiles_skipped = total - std::min(total, list_count(ts.generate));
     if (double(gf.passes[2].tiles_skipped) < kMinSkipShare * double(total))
-        gen_unclassified_left = kUnclassifiedRun;
+        tiles.gen_unclassified_left = kUnclassifiedRun;
 }
 
 void Session::Impl::count_sr_tiles() {
-    last_tile_side = tile_side();
-    sr_tiles_total = tiles_total();
-    sr_tiles_skipped = std::min(sr_tiles_total, list_count(tile_sets[0].statics));
-    if (double(sr_tiles_skipped) < kMinSkipShare * double(sr_tiles_total))
-        sr_unclassified_left = kUnclassifiedRun;
+    tiles.last_side = tile_side();
+    tiles.sr_total = tiles_total();
+    tiles.sr_skipped = std::min(tiles.sr_total, list_count(tiles.sets[0].statics));
+    if (double(tiles.sr_skipped) < kMinSkipShare * double(tiles.sr_total))
+        tiles.sr_unclassified_left = kUnclassifiedRun;
 }
 
 std::vector<uint32_t> Session::last_sr_tile_flags() const {
     const Impl& s = *impl_;
-    if (!s.last_sr_tiled || s.tile_sets.empty()) return {};
-    const uint32_t* flags = static_cast<const uint32_t*>(s.tile_sets[0].flags.mapped());
-    return std::vector<uint32_t>(flags, flags + s.sr_tiles_total);
+    if (!s.tiles.last_sr_tiled || s.tiles.sets.empty()) return {};
+    const uint32_t* flags = static_cast<const uint32_t*>(s.tiles.sets[0].flags.mapped());
+    return std::vector<uint32_t>(flags, flags + s.tiles.sr_total);
 }
 
 } // namespace fgsr
