@@ -15,10 +15,8 @@ Result<void> Session::Impl::record_denoise(const vk::Buffer& color) {
     gpu::DenoiseParams d = params::denoise_params(format, params);
     // Stages 0-2 bind the frame's colour and the scratch (bindings.h, DENOISE_*); stage 3 copies
     // the scratch back into the colour.
-    Slots<PassId::denoise> b;
-    b[DENOISE_COLOR_IN] = color;
-    b[DENOISE_COLOR] = denoiser.scratch;
-    b[DENOISE_NOISE] = denoiser.noise;
+    const auto b = make_slots<PassId::denoise>(
+        at<DENOISE_COLOR_IN>(color), at<DENOISE_COLOR>(denoiser.scratch), at<DENOISE_NOISE>(denoiser.noise));
     d.stage = DENOISE_HISTOGRAM;
     FGSR_TRY(rec.dispatch_pixels(Variant::denoise, b, &d, (format.width + 1) / 2, (format.height + 1) / 2));
     rec.barrier();
@@ -30,10 +28,8 @@ Result<void> Session::Impl::record_denoise(const vk::Buffer& color) {
         rec.dispatch_indirect(Variant::denoise, b, &d, denoiser.noise, VkDeviceSize(DENOISE_DISPATCH) * 4));
     rec.barrier();
     d.stage = DENOISE_COPY;
-    Slots<PassId::denoise> copy;
-    copy[DENOISE_COLOR_IN] = denoiser.scratch;
-    copy[DENOISE_COLOR] = color;
-    copy[DENOISE_NOISE] = denoiser.noise;
+    const auto copy = make_slots<PassId::denoise>(
+        at<DENOISE_COLOR_IN>(denoiser.scratch), at<DENOISE_COLOR>(color), at<DENOISE_NOISE>(denoiser.noise));
     FGSR_TRY(rec.dispatch_indirect(Variant::denoise, copy, &d, denoiser.noise,
                                    VkDeviceSize(DENOISE_DISPATCH) * 4));
     return {};

@@ -58,20 +58,16 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         }
         vkCmdFillBuffer(rec.cmd(), keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
         rec.barrier();
-        Slots<PassId::splat> sb;
-        bind_generated_frames(sb);
+        const auto sb = make_slots<PassId::splat>(generated_frames());
         FGSR_TRY(rec.dispatch_pixels(Variant::splat, sb, &g, format.width, format.height));
         rec.barrier();
         rec.timestamp(q++);
         if (sr()) { // joint ISR / ESR at output resolution (always fused)
             const GenSrPush push = gen_sr_push(g);
-            Slots<PassId::generate_sr> b;
-            bind_generated_frames(b);
-            b[GENSR_COLOR0] = f0.color;
-            b[GENSR_COLOR1] = f1.color;
-            b[GENSR_SRC] = gen_sr_source(extrapolate);
-            b[GENSR_LUT] = sr_history.lut;
-            b[GENSR_OUTPUT] = out;
+            const auto b = make_slots<PassId::generate_sr>(
+                generated_frames(), at<GENSR_COLOR0>(f0.color), at<GENSR_COLOR1>(f1.color),
+                at<GENSR_SRC>(gen_sr_source(extrapolate)), at<GENSR_LUT>(sr_history.lut),
+                at<GENSR_OUTPUT>(out));
             FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr, b, &push, out_w, out_h));
             rec.barrier();
             rec.timestamp(q++);
@@ -79,59 +75,45 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             continue;
         }
         if (!params.separate_passes) {
-            Slots<PassId::generate> b;
-            bind_generated_frames(b);
-            b[GENERATE_COLOR0] = f0.color;
-            b[GENERATE_COLOR1] = f1.color;
-            b[GENERATE_OUTPUT] = out;
+            const auto b =
+                make_slots<PassId::generate>(generated_frames(), at<GENERATE_COLOR0>(f0.color),
+                                             at<GENERATE_COLOR1>(f1.color), at<GENERATE_OUTPUT>(out));
             FGSR_TRY(rec.dispatch_pixels(Variant::generate, b, &g, format.width, format.height));
             rec.barrier();
             rec.timestamp(q++);
             timings[k] = {PassId::splat, PassId::generate};
             continue;
         }
-        Slots<PassId::refine> rb;
-        bind_generated_frames(rb);
-        rb[REFINE_FIELD] = field;
-        rb[REFINE_FIELD_DEPTH] = field_depth;
-        rb[REFINE_FIELD_STATE] = field_state;
+        const auto rb = make_slots<PassId::refine>(generated_frames(), at<REFINE_FIELD>(field),
+                                                   at<REFINE_FIELD_DEPTH>(field_depth),
+                                                   at<REFINE_FIELD_STATE>(field_state));
         FGSR_TRY(rec.dispatch_pixels(Variant::refine, rb, &g, format.width, format.height));
         rec.barrier();
         rec.timestamp(q++);
         timings[k] = {PassId::splat, PassId::refine};
         if (params.fill_holes) {
-            Slots<PassId::disocc> db;
-            bind_generated_frames(db);
-            db[DISOCC_FIELD] = field;
-            db[DISOCC_FIELD_DEPTH] = field_depth;
-            db[DISOCC_FIELD_STATE] = field_state;
+            const auto db = make_slots<PassId::disocc>(generated_frames(), at<DISOCC_FIELD>(field),
+                                                       at<DISOCC_FIELD_DEPTH>(field_depth),
+                                                       at<DISOCC_FIELD_STATE>(field_state));
             FGSR_TRY(rec.dispatch_pixels(Variant::disocc, db, &g, format.width, format.height));
             rec.barrier();
             rec.timestamp(q++);
             timings[k].push_back(PassId::disocc);
         }
-        Slots<PassId::warp> wb;
-        wb[WARP_FIELD] = field;
-        wb[WARP_COLOR0] = f0.color;
-        wb[WARP_COLOR1] = f1.color;
-        wb[WARP_DEPTH0] = f0.depth;
-        wb[WARP_DEPTH1] = f1.depth;
-        wb[WARP_OUT_COLOR0] = warped_color0;
-        wb[WARP_OUT_DEPTH0] = warped_depth0;
-        wb[WARP_OUT_COLOR1] = extrapolate ? out : warped_color1;
-        wb[WARP_OUT_DEPTH1] = warped_depth1;
+        const auto wb = make_slots<PassId::warp>(
+            at<WARP_FIELD>(field), at<WARP_COLOR0>(f0.color), at<WARP_COLOR1>(f1.color),
+            at<WARP_DEPTH0>(f0.depth), at<WARP_DEPTH1>(f1.depth), at<WARP_OUT_COLOR0>(warped_color0),
+            at<WARP_OUT_DEPTH0>(warped_depth0), at<WARP_OUT_COLOR1>(extrapolate ? out : warped_color1),
+            at<WARP_OUT_DEPTH1>(warped_depth1));
         FGSR_TRY(rec.dispatch_pixels(Variant::warp, wb, &g, format.width, format.height));
         rec.barrier();
         rec.timestamp(q++);
         timings[k].push_back(PassId::warp);
         if (!extrapolate) {
-            Slots<PassId::blend> bb;
-            bb[BLEND_COLOR0] = warped_color0;
-            bb[BLEND_DEPTH0] = warped_depth0;
-            bb[BLEND_COLOR1] = warped_color1;
-            bb[BLEND_DEPTH1] = warped_depth1;
-            bb[BLEND_FIELD_STATE] = field_state;
-            bb[BLEND_OUTPUT] = out;
+            const auto bb =
+                make_slots<PassId::blend>(at<BLEND_COLOR0>(warped_color0), at<BLEND_DEPTH0>(warped_depth0),
+                                          at<BLEND_COLOR1>(warped_color1), at<BLEND_DEPTH1>(warped_depth1),
+                                          at<BLEND_FIELD_STATE>(field_state), at<BLEND_OUTPUT>(out));
             FGSR_TRY(rec.dispatch_pixels(Variant::blend, bb, &g, format.width, format.height));
             rec.barrier();
             rec.timestamp(q++);

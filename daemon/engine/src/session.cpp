@@ -153,10 +153,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     const bool has_mv = !frame.mv.empty();
     // The raw planes ingest reads: the session's upload buffers, or (zero copy) ranges of the
     // imported memory, where they must lie at offsets the device can bind.
-    Slots<PassId::ingest> b;
-    b[INGEST_COLOR_RAW] = s.color_raw;
-    b[INGEST_DEPTH_RAW] = s.depth_raw;
-    b[INGEST_MV_RAW] = s.mv_raw;
+    BufRef color_in = s.color_raw, depth_in = s.depth_raw, mv_in = s.mv_raw;
     if (memory) {
         const std::byte* base = memory->data();
         const VkDeviceSize align =
@@ -173,12 +170,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             out = BufRef(memory->impl()->buffer.handle(), offset, plane.size());
             return {};
         };
-        FGSR_TRY(range(frame.color, "colour", b[INGEST_COLOR_RAW]));
-        FGSR_TRY(range(frame.depth, "depth", b[INGEST_DEPTH_RAW]));
+        FGSR_TRY(range(frame.color, "colour", color_in));
+        FGSR_TRY(range(frame.depth, "depth", depth_in));
         if (has_mv)
-            FGSR_TRY(range(frame.mv, "motion-vector", b[INGEST_MV_RAW]));
+            FGSR_TRY(range(frame.mv, "motion-vector", mv_in));
         else
-            b[INGEST_MV_RAW] = unused(b[INGEST_COLOR_RAW]); // no vectors: has_mv 0, not read
+            mv_in = unused(color_in); // no vectors: has_mv 0, not read
     } else {
         std::memcpy(s.color_raw.mapped(), frame.color.data(), frame.color.size());
         std::memcpy(s.depth_raw.mapped(), frame.depth.data(), frame.depth.size());
@@ -198,9 +195,9 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         p.mv_offset_x = s.jitter_x - frame.jitter_x;
         p.mv_offset_y = s.jitter_y - frame.jitter_y;
     }
-    b[INGEST_COLOR] = f.color;
-    b[INGEST_DEPTH] = f.depth;
-    b[INGEST_MV] = f.mv;
+    const auto b = make_slots<PassId::ingest>(at<INGEST_COLOR_RAW>(color_in), at<INGEST_DEPTH_RAW>(depth_in),
+                                              at<INGEST_MV_RAW>(mv_in), at<INGEST_COLOR>(f.color),
+                                              at<INGEST_DEPTH>(f.depth), at<INGEST_MV>(f.mv));
     FGSR_TRY(s.rec.begin());
     // Timestamps: 0, after ingest, [after denoise], [after classify], after sr.
     uint32_t q = 0;

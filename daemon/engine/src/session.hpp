@@ -112,15 +112,11 @@ struct Session::Impl {
     // generate.cpp
     // The bindings (GEN_*) of frame 1, frame 0 and the splat keys and motion that splat, refine,
     // disocc, generate, generate_sr and classify (generate mode) share.
-    template <class S> void bind_generated_frames(S& s) const {
+    using GenFrames = At<GEN_MV1, GEN_MV0, GEN_DEPTH1, GEN_DEPTH0, GEN_KEYS, GEN_MOTION>;
+    GenFrames generated_frames() const {
         const GpuFrame& f1 = frames[size_t(newest)];
         const GpuFrame& f0 = frames[size_t(1 - newest)];
-        s[GEN_MV1] = f1.mv;
-        s[GEN_MV0] = f0.mv;
-        s[GEN_DEPTH1] = f1.depth;
-        s[GEN_DEPTH0] = f0.depth;
-        s[GEN_KEYS] = keys;
-        s[GEN_MOTION] = motion;
+        return GenFrames{{f1.mv, f0.mv, f1.depth, f0.depth, keys, motion}};
     }
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
     Result<void> ensure_outputs(size_t count);
@@ -131,6 +127,10 @@ struct Session::Impl {
     // when classification may pay; writes timestamp `query` after classify when tiled. Returns
     // whether it was tiled.
     Result<bool> record_sr(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev, uint32_t& query);
+    // The sr pass's own bindings (before the tiled ones) for frame f into `out`.
+    using SrInputs = At<SR_COLOR, SR_DEPTH, SR_MV, SR_PREV_DEPTH, SR_HISTORY, SR_LUT, SR_OUTPUT>;
+    SrInputs sr_inputs(const GpuFrame& f, const GpuFrame& prev, const vk::Buffer& history,
+                       const vk::Buffer& out) const;
     // After the submit's fence: the sr timing, the history swap.
     void finish_sr(const PassTiming& t);
     // The generate_sr push block of generated frames (the newest frame's jitter, with history).

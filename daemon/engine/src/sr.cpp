@@ -26,19 +26,17 @@ Result<bool> Session::Impl::record_sr(const gpu::SrParams& sp, const GpuFrame& f
     if (tiled) {
         FGSR_TRY(record_sr_tiled(sp, f, prev, history, out, query++));
     } else {
-        Slots<PassId::sr> b;
-        b[SR_COLOR] = f.color;
-        b[SR_DEPTH] = f.depth;
-        b[SR_MV] = f.mv;
-        b[SR_PREV_DEPTH] = prev.depth;
-        b[SR_HISTORY] = history;
-        b[SR_LUT] = sr_history.lut;
-        b[SR_OUTPUT] = out;
+        const auto b = make_slots<PassId::sr>(sr_inputs(f, prev, history, out));
         FGSR_TRY(rec.dispatch_pixels(Variant::sr, b, &sp, out_w, out_h));
     }
     rec.barrier();
     rec.timestamp(query++);
     return tiled;
+}
+
+Session::Impl::SrInputs Session::Impl::sr_inputs(const GpuFrame& f, const GpuFrame& prev,
+                                                 const vk::Buffer& history, const vk::Buffer& out) const {
+    return SrInputs{{f.color, f.depth, f.mv, prev.depth, history, sr_history.lut, out}};
 }
 
 void Session::Impl::finish_sr(const PassTiming& t) {

@@ -26,13 +26,16 @@ uint32_t output_span(uint32_t tile, float scale) {
 
 // The TILED_EXTRA bindings of a tiled pass: the list it iterates, the flags, and the list splat
 // appends the static tiles it dirties to (the other passes do not write it: unused).
-template <PassId P>
-void bind_list(Slots<P, Layout::TILED>& s, const vk::Buffer& list, const Session::Impl::TileSet& ts,
-               bool appends) {
-    constexpr uint32_t base = pass_bindings(P);
-    s[base + TILED_LIST] = list;
-    s[base + TILED_FLAGS] = ts.flags;
-    s[base + TILED_APPEND] = appends ? BufRef(ts.generate) : unused(ts.generate);
+template <PassId P, uint32_t Base = pass_bindings(P)>
+At<Base + TILED_LIST, Base + TILED_FLAGS, Base + TILED_APPEND>
+tile_list(const vk::Buffer& list, const Session::Impl::TileSet& ts, bool appends) {
+    return {{list, ts.flags, appends ? BufRef(ts.generate) : unused(ts.generate)}};
+}
+
+// classify's outputs: the flags and the three lists.
+At<CLASSIFY_FLAGS, CLASSIFY_LIST_WORK, CLASSIFY_LIST_GENERATE, CLASSIFY_LIST_STATIC>
+tile_lists(const Session::Impl::TileSet& ts) {
+    return {{ts.flags, ts.work, ts.generate, ts.statics}};
 }
 
 } // namespace
@@ -125,38 +128,25 @@ Result<void> Session::Impl::record_sr_tiled(const gpu::SrParams& sp, const GpuFr
     c.output_invocations = span * span;
     // sr mode reads the current vectors and depth (GEN_MV1, GEN_DEPTH1) and the previous depth
     // (GEN_DEPTH0); the generate-mode bindings it does not touch are unused.
-    Slots<PassId::classify> cb;
-    cb[GEN_MV1] = f.mv;
-    cb[GEN_MV0] = unused(prev.mv);
-    cb[GEN_DEPTH1] = f.depth;
-    cb[GEN_DEPTH0] = prev.depth;
-    cb[GEN_KEYS] = unused(keys);
-    cb[GEN_MOTION] = unused(motion);
-    cb[CLASSIFY_COLOR0] = unused(f.color);
-    cb[CLASSIFY_COLOR1] = unused(f.color);
-    cb[CLASSIFY_OUTPUT] = unused(out);
-    cb[CLASSIFY_FLAGS] = ts.flags;
-    cb[CLASSIFY_LIST_WORK] = ts.work;
-    cb[CLASSIFY_LIST_GENERATE] = ts.generate;
-    cb[CLASSIFY_LIST_STATIC] = ts.statics;
-    FGSR_TRY(classify(c, cb));
+    FGSR_TRY(classify(c, make_slots<PassId::classify>(
+                             at<GEN_MV1>(f.mv), at<GEN_MV0>(unused(prev.mv)), at<GEN_DEPTH1>(f.depth),
+                             at<GEN_DEPTH0>(prev.depth), at<GEN_KEYS>(unused(keys)),
+                             at<GEN_MOTION>(unused(motion)), at<CLASSIFY_COLOR0>(unused(f.color)),
+                             at<CLASSIFY_COLOR1>(unused(f.color)), at<CLASSIFY_OUTPUT>(unused(out)),
+                             tile_lists(ts))));
     rec.barrier();
     rec.timestamp(query);
-    Slots<PassId::sr, Layout::TILED> b;
-    b[SR_COLOR] = f.color;
-    b[SR_DEPTH] = f.depth;
-    b[SR_MV] = f.mv;
-    b[SR_PREV_DEPTH] = prev.depth;
-    b[SR_HISTORY] = history;
-    b[SR_LUT] = sr_history.lut;
-    b[SR_OUTPUT] = out;
-    bind_list(b, ts.work, ts, false);
-    FGSR_TRY(rec.dispatch_indirect(Variant::sr_tiled, b, &sp, ts.work));
+    const auto in = sr_inputs(f, prev, history, out);
+    FGSR_TRY(rec.dispatch_indirect(
+        Variant::sr_tiled,
+        make_slots<PassId::sr, Layout::TILED>(in, tile_list<PassId::sr>(ts.work, ts, false)), &sp, ts.work));
     gpu::SrParams st = sp;
     st.resample = uint32_t(Resample::bilinear); // exact at the static pixels' phase 0
     st.dilate = 0;                              // every vector around a static pixel is zero
-    bind_list(b, ts.statics, ts, false);
-    FGSR_TRY(rec.dispatch_indirect(Variant::sr_static, b, &st, ts.statics));
+    FGSR_TRY(rec.dispatch_indirect(
+        Variant::sr_static,
+        make_slots<PassId::sr, Layout::TILED>(in, tile_list<PassId::sr>(ts.statics, ts, false)), &st,
+        ts.statics));
     return {};
 }
 
@@ -181,46 +171,38 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
     c.write_output = sr() ? 0u : 1u;
     c.work_invocations = side * side;
     c.output_invocations = span * span;
-    Slots<PassId::classify> cb;
-    bind_generated_frames(cb);
-    cb[CLASSIFY_COLOR0] = f0.color;
-    cb[CLASSIFY_COLOR1] = f1.color;
-    cb[CLASSIFY_OUTPUT] = out; // written only without super resolution (write_output)
-    cb[CLASSIFY_FLAGS] = ts.flags;
-    cb[CLASSIFY_LIST_WORK] = ts.work;
-    cb[CLASSIFY_LIST_GENERATE] = ts.generate;
-    cb[CLASSIFY_LIST_STATIC] = ts.statics;
-    FGSR_TRY(classify(c, cb));
+    // The output is written only without super resolution (write_output).
+    FGSR_TRY(classify(c, make_slots<PassId::classify>(generated_frames(), at<CLASSIFY_COLOR0>(f0.color),
+                                                      at<CLASSIFY_COLOR1>(f1.color), at<CLASSIFY_OUTPUT>(out),
+                                                      tile_lists(ts))));
     rec.barrier();
     rec.timestamp(q++);
-    Slots<PassId::splat, Layout::TILED> sb;
-    bind_generated_frames(sb);
-    bind_list(sb, ts.work, ts, true);
-    FGSR_TRY(rec.dispatch_indirect(Variant::splat_tiled, sb, &g, ts.work));
+    FGSR_TRY(rec.dispatch_indirect(Variant::splat_tiled,
+                                   make_slots<PassId::splat, Layout::TILED>(
+                                       generated_frames(), tile_list<PassId::splat>(ts.work, ts, true)),
+                                   &g, ts.work));
     rec.barrier();
     rec.timestamp(q++);
     if (!sr()) {
-        Slots<PassId::generate, Layout::TILED> b;
-        bind_generated_frames(b);
-        b[GENERATE_COLOR0] = f0.color;
-        b[GENERATE_COLOR1] = f1.color;
-        b[GENERATE_OUTPUT] = out;
-        bind_list(b, ts.generate, ts, false);
+        const auto b = make_slots<PassId::generate, Layout::TILED>(
+            generated_frames(), at<GENERATE_COLOR0>(f0.color), at<GENERATE_COLOR1>(f1.color),
+            at<GENERATE_OUTPUT>(out), tile_list<PassId::generate>(ts.generate, ts, false));
         FGSR_TRY(rec.dispatch_indirect(Variant::generate_tiled, b, &g, ts.generate));
     } else {
         GenSrPush push = gen_sr_push(g);
-        Slots<PassId::generate_sr, Layout::TILED> b;
-        bind_generated_frames(b);
-        b[GENSR_COLOR0] = f0.color;
-        b[GENSR_COLOR1] = f1.color;
-        b[GENSR_SRC] = gen_sr_source(extrapolate);
-        b[GENSR_LUT] = sr_history.lut;
-        b[GENSR_OUTPUT] = out;
-        bind_list(b, ts.generate, ts, false);
-        FGSR_TRY(rec.dispatch_indirect(Variant::generate_sr_tiled, b, &push, ts.generate));
+        const auto gen = At<GENSR_COLOR0, GENSR_COLOR1, GENSR_SRC, GENSR_LUT, GENSR_OUTPUT>{
+            {f0.color, f1.color, gen_sr_source(extrapolate), sr_history.lut, out}};
+        FGSR_TRY(rec.dispatch_indirect(
+            Variant::generate_sr_tiled,
+            make_slots<PassId::generate_sr, Layout::TILED>(
+                generated_frames(), gen, tile_list<PassId::generate_sr>(ts.generate, ts, false)),
+            &push, ts.generate));
         push.s.resample = uint32_t(Resample::bilinear); // exact at the static pixels' phase 0
-        bind_list(b, ts.statics, ts, false);
-        FGSR_TRY(rec.dispatch_indirect(Variant::generate_sr_static, b, &push, ts.statics));
+        FGSR_TRY(rec.dispatch_indirect(
+            Variant::generate_sr_static,
+            make_slots<PassId::generate_sr, Layout::TILED>(
+                generated_frames(), gen, tile_list<PassId::generate_sr>(ts.statics, ts, false)),
+            &push, ts.statics));
     }
     rec.barrier();
     rec.timestamp(q++);

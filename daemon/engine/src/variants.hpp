@@ -144,17 +144,27 @@ struct BufRef {
     VkDeviceSize range = VK_WHOLE_SIZE;
 };
 
-// The descriptor bindings of one dispatch of pass P in layout L: slot i is binding i, indexed by
-// the numbers of shaders/bindings.h (s[GEN_MV1] = ...). Its size is the pass's <PASS>_COUNT (plus
-// TILED_EXTRA) by construction, and the recorder refuses a dispatch with a slot left unbound or
-// of a variant of another pass or layout. A slot the variant does not read still needs a valid
-// buffer (Vulkan binds every binding of the set layout): the caller says so with unused().
+// Buffers for the bindings I... (numbers of shaders/bindings.h), in that order: at<SR_COLOR>(b),
+// or several at once (a group the passes share, e.g. the GEN_* frames).
+template <uint32_t... I> struct At { std::array<BufRef, sizeof...(I)> buf; };
+template <uint32_t I> At<I> at(BufRef b) {
+    return At<I>{{b}};
+}
+
+// A buffer bound to a slot the variant does not read: Vulkan needs every binding of the set
+// layout bound to a valid buffer, and any buffer of the right kind serves.
+inline BufRef unused(BufRef b) {
+    return b;
+}
+
+// The descriptor bindings of one dispatch of pass P in layout L (slot i is binding i): the pass's
+// <PASS>_COUNT bindings, plus TILED_EXTRA for TILED. Made only by make_slots, which checks at
+// compile time that its parts bind every slot exactly once.
 template <PassId P, Layout L = Layout::PLAIN> struct Slots {
     static constexpr PassId pass = P;
     static constexpr Layout layout = L;
     static constexpr uint32_t count = layout_bindings(P, L);
     std::array<BufRef, count> slot{};
-    BufRef& operator[](uint32_t binding) { return slot[binding]; }
     const BufRef& operator[](uint32_t binding) const { return slot[binding]; }
 };
 static_assert(Slots<PassId::ingest>::count == INGEST_COUNT && Slots<PassId::splat>::count == SPLAT_COUNT &&
@@ -166,9 +176,43 @@ static_assert(Slots<PassId::ingest>::count == INGEST_COUNT && Slots<PassId::spla
               Slots<PassId::denoise>::count == DENOISE_COUNT &&
               Slots<PassId::splat, Layout::TILED>::count == SPLAT_COUNT + TILED_EXTRA);
 
-// A buffer bound to a slot the variant does not read (any buffer of the right kind serves).
-inline BufRef unused(BufRef b) {
-    return b;
+namespace detail {
+
+template <class T> struct BindingsOf;
+template <uint32_t... I> struct BindingsOf<At<I...>> {
+    static constexpr std::array<uint32_t, sizeof...(I)> value{I...};
+};
+
+// Whether the parts bind each of the N slots exactly once.
+template <uint32_t N, class... Parts> constexpr bool binds_each_once() {
+    std::array<uint32_t, N> seen{};
+    bool ok = true;
+    auto add = [&](const auto& bindings) {
+        for (uint32_t b : bindings) {
+            if (b >= N)
+                ok = false;
+            else
+                ++seen[b];
+        }
+    };
+    (add(BindingsOf<Parts>::value), ...);
+    for (uint32_t c : seen) ok = ok && c == 1;
+    return ok;
+}
+
+template <class S, uint32_t... I> void fill(S& s, const At<I...>& part) {
+    size_t k = 0;
+    ((s.slot[I] = part.buf[k++]), ...);
+}
+
+} // namespace detail
+
+template <PassId P, Layout L = Layout::PLAIN, class... Parts> Slots<P, L> make_slots(const Parts&... parts) {
+    static_assert(detail::binds_each_once<Slots<P, L>::count, Parts...>(),
+                  "every binding of the pass (shaders/bindings.h) must be bound exactly once");
+    Slots<P, L> s;
+    (detail::fill(s, parts), ...);
+    return s;
 }
 
 } // namespace fgsr
