@@ -44,6 +44,16 @@ using gpu::GenParams;
 using gpu::IngestParams;
 using gpu::SrParams;
 
+Result<void> validate_formats(const FrameFormat& f) {
+    if (bytes_per_pixel(f.color_format) == 0)
+        return make_error(Errc::unsupported,
+                          "unknown colour format " + std::to_string(uint32_t(f.color_format)));
+    if (bytes_per_pixel(f.mv_format) == 0)
+        return make_error(Errc::unsupported,
+                          "unknown motion-vector format " + std::to_string(uint32_t(f.mv_format)));
+    return {};
+}
+
 Result<void> validate(const FrameFormat& f, const FrameView& frame) {
     if (f.width == 0 || f.height == 0)
         return make_error(Errc::empty_input,
@@ -53,12 +63,7 @@ Result<void> validate(const FrameFormat& f, const FrameView& frame) {
                                                       std::to_string(f.height) + " exceeds " +
                                                       std::to_string(kMaxFrameSide) + "x" +
                                                       std::to_string(kMaxFrameSide));
-    if (bytes_per_pixel(f.color_format) == 0)
-        return make_error(Errc::unsupported,
-                          "unknown colour format " + std::to_string(uint32_t(f.color_format)));
-    if (bytes_per_pixel(f.mv_format) == 0)
-        return make_error(Errc::unsupported,
-                          "unknown motion-vector format " + std::to_string(uint32_t(f.mv_format)));
+    FGSR_TRY(validate_formats(f));
     const Conventions& c = f.conventions;
     if (uint32_t(c.depth_kind) > uint32_t(DepthKind::device_reversed))
         return make_error(Errc::unsupported, "unknown depth kind " + std::to_string(uint32_t(c.depth_kind)));

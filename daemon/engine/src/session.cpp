@@ -61,12 +61,7 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     if (n == 0)
         return make_error(Errc::empty_input, "session frame size is " + std::to_string(format.width) + "x" +
                                                  std::to_string(format.height));
-    if (bytes_per_pixel(format.color_format) == 0)
-        return make_error(Errc::unsupported,
-                          "unknown colour format " + std::to_string(uint32_t(format.color_format)));
-    if (bytes_per_pixel(format.mv_format) == 0)
-        return make_error(Errc::unsupported,
-                          "unknown motion-vector format " + std::to_string(uint32_t(format.mv_format)));
+    FGSR_TRY(params::validate_formats(format));
     auto impl = std::make_unique<Session::Impl>();
     impl->engine = impl_.get();
     impl->ctx = impl_->ctx.get();

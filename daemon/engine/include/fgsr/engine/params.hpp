@@ -14,6 +14,9 @@ namespace fgsr::params {
 
 using fgsr::validate; // of Params (engine.hpp)
 
+// Checks the colour and motion-vector format codes of a format. Errors: unsupported.
+Result<void> validate_formats(const FrameFormat& format);
+
 // Checks a frame against its format (sizes, enum values, near/far). Shared by the engine and tools.
 Result<void> validate(const FrameFormat& format, const FrameView& frame);
 
