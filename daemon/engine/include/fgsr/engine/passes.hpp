@@ -10,12 +10,14 @@
 
 namespace fgsr {
 
+// clang-format off
 enum class PassId : uint32_t {
 #define FGSR_ENGINE_PASS_ID_(ID, name, value) name = value,
     FGSR_PASSES(FGSR_ENGINE_PASS_ID_)
 #undef FGSR_ENGINE_PASS_ID_
-        count // not a pass: the number of passes, and "no pass" where one is unknown
+    count // not a pass: the number of passes, and "no pass" where one is unknown
 };
+// clang-format on
 inline constexpr uint32_t kPassCount = uint32_t(PassId::count);
 
 inline constexpr std::array<std::string_view, kPassCount> kPassNames = {
