@@ -114,7 +114,7 @@ TEST(Denoise, PassMatchesReference) {
         const RawFrame f = edged_frame(w, h, 0.08f, w);
         ASSERT_TRUE((*s)->submit(f.view()));
         const ref::InternalFrame in = ref::ingest(internal_format(w, h), f.view());
-        const ref::DenoiseParams dp = ref::denoise_params(internal_format(w, h), sr_params());
+        const ref::DenoiseParams dp = params::denoise_params(internal_format(w, h), sr_params());
         const NoiseEstimate cpu = ref::noise_level(in, dp);
         const NoiseEstimate gpu = (*s)->last_noise_estimate();
         // Same histogram up to log2 rounding at bin edges: the same or the adjacent bin.

@@ -229,7 +229,7 @@ TEST(Importers, BlenderTossFg) {
     EXPECT_TRUE(c.hr_reference.empty());
     EXPECT_TRUE(c.inputs[0].mv.empty()) << "in_aux/0001.exr's all-zero vectors must be unknown";
     for (size_t k = 0; k < c.inputs.size(); ++k) {
-        ASSERT_TRUE(ref::validate(c.format, c.inputs[k].view())) << k;
+        ASSERT_TRUE(params::validate(c.format, c.inputs[k].view())) << k;
         if (k > 0) {
             EXPECT_FALSE(c.inputs[k].mv.empty()) << k;
         }
@@ -380,7 +380,7 @@ TEST(Importers, MobFgsrBunkerLr) {
     EXPECT_EQ(c.hr_format.width, 1920u);
     EXPECT_EQ(c.hr_format.height, 1080u);
     for (const auto& f : c.inputs) {
-        ASSERT_TRUE(ref::validate(c.format, f.view()));
+        ASSERT_TRUE(params::validate(c.format, f.view()));
         EXPECT_FALSE(f.mv.empty()); // frame 0's vectors are real (they point before the capture)
         for (size_t i = 3; i < f.color.size(); i += 4) ASSERT_EQ(uint8_t(f.color[i]), 255);
     }
@@ -492,7 +492,7 @@ void expect_internal_half_rate(const Capture& full, const Capture& half) {
     ASSERT_FALSE(half.inputs.empty());
     EXPECT_TRUE(half.inputs[0].mv.empty());
     for (size_t j = 0; j < half.inputs.size(); ++j) {
-        ASSERT_TRUE(ref::validate(half.format, half.inputs[j].view())) << j;
+        ASSERT_TRUE(params::validate(half.format, half.inputs[j].view())) << j;
         if (j > 0) {
             EXPECT_FALSE(half.inputs[j].mv.empty()) << j;
         }

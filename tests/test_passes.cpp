@@ -124,7 +124,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     ASSERT_TRUE(out_pre) << out_pre.error().message;
     auto pre = session.read_intermediates();
     ASSERT_TRUE(pre);
-    ref::GenParams g = ref::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
+    ref::GenParams g = params::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
     ref::Splat sp = ref::splat(f0, f1, g);
     size_t key_diff = 0, occupied = 0;
     double motion_err = 0;
@@ -171,7 +171,7 @@ TEST_P(PassesMatchReference, EveryPass) {
 
     params.fill_holes = true;
     session.set_params(params);
-    g = ref::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
+    g = params::gen_params(fmt, params, c.alpha, c.extrapolate, true, true);
     auto out = c.extrapolate ? session.extrapolate(alphas) : session.interpolate(alphas);
     ASSERT_TRUE(out) << out.error().message;
     auto post = session.read_intermediates();

@@ -304,7 +304,7 @@ TEST(Sr, PassMatchesReference) {
             std::vector<glm::vec4> hist(size_t(4 * w * h));
             std::memcpy(hist.data(), history->color.rgba.data(), hist.size() * 16);
             const ref::SrParams sp =
-                ref::sr_params(internal_format(w, h), p, 2 * w, 2 * h, v1.jitter_x, v1.jitter_y, true);
+                params::sr_params(internal_format(w, h), p, 2 * w, 2 * h, v1.jitter_x, v1.jitter_y, true);
             const Lut lut = default_lut(2.f);
             auto expect = ref::super_resolve(cur, g0->depth, hist, sp, lut.weights);
             double err = 0;
@@ -427,8 +427,8 @@ TEST(Sr, JointPassMatchesReference) {
         std::vector<glm::vec4> src(size_t(4) * n);
         std::memcpy(src.data(), prev_out->color.rgba.data(), src.size() * 16);
         const FrameFormat fmt = internal_format(w, h);
-        const ref::GenParams g = ref::gen_params(fmt, p, 0.5f, extrap, true, true);
-        const ref::SrParams sr = ref::sr_params(fmt, p, 2 * w, 2 * h, v_jitter(2), 0.f, true);
+        const ref::GenParams g = params::gen_params(fmt, p, 0.5f, extrap, true, true);
+        const ref::SrParams sr = params::sr_params(fmt, p, 2 * w, 2 * h, v_jitter(2), 0.f, true);
         auto expect = ref::generate_sr(to_internal(*g0, w, h), to_internal(*g1, w, h), sp, src, g, sr,
                                        default_lut(2.f).weights);
         double err = 0;

@@ -39,12 +39,6 @@ uint32_t color_bpp(uint32_t f) {
     return uint32_t(fgsr::bytes_per_pixel(fgsr::ColorFormat(f)));
 }
 
-uint32_t pass_id(const std::string& name) {
-    for (uint32_t i = 0; i < FGSR_PASS_COUNT_; ++i)
-        if (name == fgsr_pass_name(i)) return i;
-    return FGSR_PASS_COUNT_;
-}
-
 uint64_t percentile(std::vector<uint64_t> v, double q) {
     if (v.empty()) return 0;
     const size_t k = std::min(v.size() - 1, size_t(std::floor(q * double(v.size() - 1) + 0.5)));
@@ -493,7 +487,7 @@ std::optional<std::string> ServiceSession::run(const Pending& p) {
         auto add_pass = [&](const fgsr::PassTiming& pt) {
             if (t.pass_count >= FGSR_MAX_PASSES) return;
             fgsr_pass_record& r = t.passes[t.pass_count++];
-            r.pass = pass_id(pt.name);
+            r.pass = uint32_t(pt.pass);
             r.gpu_begin_ns = pt.begin_ns;
             r.gpu_end_ns = pt.end_ns;
             r.tiles_total = pt.tiles_total;

@@ -1,4 +1,5 @@
-/* fgsr_status_string and fgsr_pass_name: the one table of status descriptions and of pass names. */
+/* fgsr_status_string and fgsr_pass_name: the one table of status descriptions; the pass
+ * names come from the pass table (fgsr/passes.h). */
 #include <fgsr/protocol.h>
 
 const char* fgsr_status_string(int32_t status) {
@@ -26,8 +27,11 @@ const char* fgsr_status_string(int32_t status) {
 }
 
 const char* fgsr_pass_name(uint32_t pass) {
-    static const char* const names[FGSR_PASS_COUNT_] = {"ingest", "splat",       "refine",   "disocc",
-                                                         "warp",   "blend",       "generate", "sr",
-                                                         "generate_sr", "classify", "denoise"};
-    return pass < FGSR_PASS_COUNT_ ? names[pass] : "unknown";
+    switch ((fgsr_pass_id)pass) {
+#define FGSR_PASS_NAME_(ID, name, value) case FGSR_PASS_##ID: return #name;
+    FGSR_PASSES(FGSR_PASS_NAME_)
+#undef FGSR_PASS_NAME_
+    case FGSR_PASS_COUNT_: break;
+    }
+    return "unknown";
 }

@@ -1,6 +1,7 @@
 // CPU reference: the algorithm headers of shaders/ compiled as C++ members of small structs whose
 // load_/store_ functions read and write host vectors.
 #include <fgsr/engine/lut.hpp>
+#include <fgsr/engine/params.hpp>
 #include <fgsr/engine/reference.hpp>
 
 #include <array>
@@ -164,70 +165,6 @@ using gpu::for_each_pixel;
 static_assert(kFieldSplatted == FIELD_SPLATTED && kFieldGapFilled == FIELD_GAP_FILLED &&
               kFieldHole == FIELD_HOLE && kFieldHoleFilled == FIELD_HOLE_FILLED);
 
-Result<void> validate(const FrameFormat& f, const FrameView& frame) {
-    if (f.width == 0 || f.height == 0)
-        return make_error(Errc::empty_input,
-                          "frame size is " + std::to_string(f.width) + "x" + std::to_string(f.height));
-    if (f.width > kMaxFrameSide || f.height > kMaxFrameSide)
-        return make_error(Errc::invalid_argument, "frame size " + std::to_string(f.width) + "x" +
-                                                      std::to_string(f.height) + " exceeds " + std::to_string(kMaxFrameSide) + "x" + std::to_string(kMaxFrameSide));
-    if (bytes_per_pixel(f.color_format) == 0)
-        return make_error(Errc::unsupported,
-                          "unknown colour format " + std::to_string(uint32_t(f.color_format)));
-    if (bytes_per_pixel(f.mv_format) == 0)
-        return make_error(Errc::unsupported,
-                          "unknown motion-vector format " + std::to_string(uint32_t(f.mv_format)));
-    const Conventions& c = f.conventions;
-    if (uint32_t(c.depth_kind) > uint32_t(DepthKind::device_reversed))
-        return make_error(Errc::unsupported, "unknown depth kind " + std::to_string(uint32_t(c.depth_kind)));
-    if (uint32_t(c.mv_units) > uint32_t(MvUnits::uv) ||
-        uint32_t(c.mv_direction) > uint32_t(MvDirection::from_previous))
-        return make_error(Errc::unsupported, "unknown motion-vector units or direction");
-    if (c.depth_kind != DepthKind::linear) {
-        bool far_ok = std::isinf(c.far_plane) || c.far_plane == 0.f ||
-                      (std::isfinite(c.far_plane) && c.far_plane > c.near_plane);
-        if (!(std::isfinite(c.near_plane) && c.near_plane > 0.f) || !far_ok)
-            return make_error(Errc::invalid_argument,
-                              "device depth needs 0 < near < far (far may be 0 or inf for an "
-                              "infinite far plane); got near " +
-                                  std::to_string(c.near_plane) + ", far " + std::to_string(c.far_plane));
-    }
-    const size_t n = size_t(f.width) * f.height;
-    auto check = [&](std::span<const std::byte> plane, size_t bpp, const char* what) -> Result<void> {
-        if (plane.empty()) return make_error(Errc::empty_input, std::string(what) + " plane is empty");
-        if (plane.size() != n * bpp)
-            return make_error(Errc::size_mismatch,
-                              std::string(what) + " plane has " + std::to_string(plane.size()) +
-                                  " bytes, expected " + std::to_string(n * bpp) + " for " +
-                                  std::to_string(f.width) + "x" + std::to_string(f.height));
-        return {};
-    };
-    FGSR_TRY(check(frame.color, bytes_per_pixel(f.color_format), "colour"));
-    FGSR_TRY(check(frame.depth, 4, "depth"));
-    if (!frame.mv.empty()) FGSR_TRY(check(frame.mv, bytes_per_pixel(f.mv_format), "motion-vector"));
-    return {};
-}
-
-IngestParams ingest_params(const FrameFormat& f, bool has_mv) {
-    const Conventions& c = f.conventions;
-    float sx = c.mv_units == MvUnits::uv ? float(f.width) : 1.f;
-    float sy = c.mv_units == MvUnits::uv ? float(f.height) : 1.f;
-    if (c.mv_direction == MvDirection::from_previous) sx = -sx, sy = -sy;
-    if (c.mv_y_up) sy = -sy;
-    IngestParams p{};
-    p.width = f.width;
-    p.height = f.height;
-    p.color_format = uint32_t(f.color_format);
-    p.depth_kind = uint32_t(c.depth_kind);
-    p.near_plane = c.near_plane;
-    p.far_plane = std::isinf(c.far_plane) ? 0.f : c.far_plane;
-    p.mv_format = uint32_t(f.mv_format);
-    p.has_mv = has_mv ? 1u : 0u;
-    p.mv_scale_x = sx;
-    p.mv_scale_y = sy;
-    return p;
-}
-
 InternalFrame ingest(const FrameFormat& f, const FrameView& frame, glm::vec2 mv_offset) {
     const size_t n = size_t(f.width) * f.height;
     InternalFrame out;
@@ -238,29 +175,11 @@ InternalFrame ingest(const FrameFormat& f, const FrameView& frame, glm::vec2 mv_
     out.mv.resize(n);
     out.has_mv = !frame.mv.empty();
     gpu::IngestCpu cpu{frame.color.data(), frame.depth.data(), frame.mv.data(), &out};
-    IngestParams p = ingest_params(f, out.has_mv);
+    IngestParams p = params::ingest_params(f, out.has_mv);
     p.mv_offset_x = mv_offset.x;
     p.mv_offset_y = mv_offset.y;
     for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.ingest_pixel(glm::uvec2(q), p); });
     return out;
-}
-
-GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
-                     bool frame0_has_mv, bool frame1_has_mv) {
-    GenParams g{};
-    g.width = format.width;
-    g.height = format.height;
-    g.alpha = alpha;
-    g.extrapolate = extrapolate ? 1u : 0u;
-    g.quadratic = params.motion == MotionModel::quadratic ? 1u : 0u;
-    g.frame0_has_mv = frame0_has_mv ? 1u : 0u;
-    g.frame1_has_mv = frame1_has_mv ? 1u : 0u;
-    g.t_depth = params.t_depth;
-    g.t_bright = params.t_bright;
-    g.blend_mode = uint32_t(params.blend);
-    g.fill_gaps = params.fill_gaps ? 1u : 0u;
-    g.fill_holes = params.fill_holes ? 1u : 0u;
-    return g;
 }
 
 std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame& f1, const Splat& sp,
@@ -274,25 +193,6 @@ std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame&
     return out;
 }
 
-SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width, uint32_t out_height,
-                   float jitter_x, float jitter_y, bool has_history) {
-    SrParams p{};
-    p.lr_width = format.width;
-    p.lr_height = format.height;
-    p.hr_width = out_width;
-    p.hr_height = out_height;
-    p.scale = float(out_width) / float(format.width);
-    p.jitter_x = jitter_x;
-    p.jitter_y = jitter_y;
-    p.a = params.sr_a;
-    p.b = params.sr_b;
-    p.t_depth = params.t_depth;
-    p.resample = uint32_t(params.resample);
-    p.has_history = has_history ? 1u : 0u;
-    p.dilate = params.dilate_mvs ? 1u : 0u;
-    return p;
-}
-
 std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector<float>& prev_depth,
                                      const std::vector<glm::vec4>& history, const SrParams& p,
                                      std::span<const float> lut) {
@@ -302,15 +202,6 @@ std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector
         for (uint32_t x = 0; x < p.hr_width; ++x)
             out[size_t(y) * p.hr_width + x] = cpu.super_resolve(glm::ivec2(int(x), int(y)), p);
     return out;
-}
-
-DenoiseParams denoise_params(const FrameFormat& format, const Params& params) {
-    DenoiseParams d{};
-    d.width = format.width;
-    d.height = format.height;
-    d.strength = params.denoise_strength;
-    d.noise_floor = params.noise_floor;
-    return d;
 }
 
 NoiseEstimate noise_level(const InternalFrame& f, const DenoiseParams& p) {

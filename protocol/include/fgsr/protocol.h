@@ -390,20 +390,16 @@ typedef enum fgsr_frame_type {
     FGSR_FRAME_EXTRAPOLATED = 3  /* after this frame */
 } fgsr_frame_type;
 
+/* Pass ids and names follow from the pass table (fgsr/passes.h): INGEST 0 .. CLASSIFY 9,
+ * DENOISE 10 (minor 1). */
+#include <fgsr/passes.h>
 typedef enum fgsr_pass_id {
-    FGSR_PASS_INGEST = 0,
-    FGSR_PASS_SPLAT = 1,
-    FGSR_PASS_REFINE = 2,
-    FGSR_PASS_DISOCC = 3,
-    FGSR_PASS_WARP = 4,
-    FGSR_PASS_BLEND = 5,
-    FGSR_PASS_GENERATE = 6,    /* fused refine, disocc, warp, blend */
-    FGSR_PASS_SR = 7,          /* temporal super resolution */
-    FGSR_PASS_GENERATE_SR = 8, /* generation at output resolution (ISR/ESR) */
-    FGSR_PASS_CLASSIFY = 9,    /* per-tile work classification */
-    FGSR_PASS_DENOISE = 10,    /* SR: noise estimate and pre-filter of the rendered frame (minor 1) */
-    FGSR_PASS_COUNT_ = 11
+#define FGSR_PASS_ID_(ID, name, value) FGSR_PASS_##ID = value,
+    FGSR_PASSES(FGSR_PASS_ID_)
+#undef FGSR_PASS_ID_
+    FGSR_PASS_COUNT_
 } fgsr_pass_id;
+FGSR_STATIC_ASSERT(FGSR_PASS_COUNT_ == 11, "the pass table's values are 0..10 in order");
 
 /* The engine's name of a pass ("ingest", ..., "denoise"; "unknown" for values out of range). */
 const char* fgsr_pass_name(uint32_t pass);

@@ -103,7 +103,7 @@ Result<Capture> make_half_rate(const Capture& c) {
     if (c.inputs.empty())
         return make_error(Errc::empty_input, "make_half_rate: capture '" + c.name + "' has no frames");
     for (size_t i = 0; i < c.inputs.size(); ++i) {
-        auto v = ref::validate(c.format, c.inputs[i].view());
+        auto v = params::validate(c.format, c.inputs[i].view());
         if (!v)
             return make_error(v.error().code, "make_half_rate: capture '" + c.name + "' frame " +
                                                   std::to_string(i) + ": " + v.error().message);

@@ -6,6 +6,7 @@
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/stress_checks.hpp>
 #include <fgsr/engine/lut.hpp>
+#include <fgsr/engine/params.hpp>
 #include <fgsr/engine/reference.hpp>
 
 #include <algorithm>
@@ -159,7 +160,7 @@ class Runner {
         if (sr && c_.params.denoise) {
             // The pre-filter with the GPU's range; its estimate must agree with the CPU's up to a
             // histogram bin (log2 rounding at bin edges).
-            const ref::DenoiseParams dp = ref::denoise_params(f, c_.params);
+            const ref::DenoiseParams dp = params::denoise_params(f, c_.params);
             const NoiseEstimate cpu = ref::noise_level(cur, dp), gpu = s.last_noise_estimate();
             if (!(std::isfinite(gpu.sigma) && std::isfinite(gpu.range)))
                 return fail(where + ": noise estimate is not finite");
@@ -170,8 +171,8 @@ class Runner {
         }
         if (sr) {
             const ref::SrParams p =
-                ref::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
-                               !restart && cs_.hr_valid && cur.has_mv);
+                params::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
+                                  !restart && cs_.hr_valid && cur.has_mv);
             if (cs_.hr_new.empty()) cs_.hr_new.assign(size_t(p.hr_width) * p.hr_height, glm::vec4(0.f));
             const std::vector<float>& prev_depth = cs_.frames > 0 ? cs_.f1.depth : cur.depth;
             std::vector<glm::vec4> out = ref::super_resolve(cur, prev_depth, cs_.hr_new, p, lut);
@@ -198,12 +199,13 @@ class Runner {
         const bool extrap = st.op == Op::extrapolate;
         for (float a : st.alphas) {
             const ref::GenParams g =
-                ref::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv, cs_.f1.has_mv);
+                params::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv, cs_.f1.has_mv);
             std::vector<glm::vec4> out;
             if (sr) {
                 const ref::Splat sp = ref::splat(cs_.f0, cs_.f1, g);
-                const ref::SrParams p = ref::sr_params(c_.format, c_.params, s.output_width(),
-                                                       s.output_height(), cs_.jitter_x, cs_.jitter_y, true);
+                const ref::SrParams p =
+                    params::sr_params(c_.format, c_.params, s.output_width(), s.output_height(), cs_.jitter_x,
+                                      cs_.jitter_y, true);
                 out = ref::generate_sr(cs_.f0, cs_.f1, sp, extrap ? cs_.hr_new : cs_.hr_prev, g, p, lut);
             } else {
                 out = ref::generate(cs_.f0, cs_.f1, g);

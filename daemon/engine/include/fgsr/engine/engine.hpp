@@ -5,6 +5,7 @@
 #pragma once
 
 #include <fgsr/engine/defaults.hpp>
+#include <fgsr/engine/passes.hpp>
 #include <fgsr/core/result.hpp>
 #include <fgsr/core/types.hpp>
 
@@ -109,6 +110,8 @@ struct PassTiming {
     // (Params::skip_tiles); both 0 when the pass does not classify tiles.
     uint32_t tiles_total = 0;
     uint32_t tiles_skipped = 0;
+    // The pass (fgsr_pass_id numbering, fgsr/engine/passes.hpp); name is pass_name(pass).
+    PassId pass = PassId::count;
 };
 
 // Noise of a rendered frame as the `denoise` pass estimated it (shaders/denoise.h).

@@ -1,9 +1,11 @@
 // CPU reference of the engine: the same algorithm headers (shaders/*.h) compiled as C++ with GLM.
 // Each function runs one pass on explicit inputs, so a test can feed it exactly what the GPU pass
-// saw and compare outputs pass by pass. Tools use ingest() to reach the internal convention.
+// saw and compare outputs pass by pass. Tools use ingest() to reach the internal convention. The
+// push constants the passes take, and the checks of frames, come from fgsr/engine/params.hpp.
 #pragma once
 
 #include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/params.hpp>
 #include <fgsr/core/result.hpp>
 #include <fgsr/core/types.hpp>
 
@@ -55,28 +57,10 @@ struct Warped {
     std::vector<float> depth;
 };
 
-// Checks a frame against its format (sizes, enum values, near/far). Shared by the engine and tools.
-Result<void> validate(const FrameFormat& format, const FrameView& frame);
-
-// The push constants the engine uses for `ingest` of a frame of this format.
-IngestParams ingest_params(const FrameFormat& format, bool has_mv);
-
 // Converts a validated frame to the internal convention (the `ingest` pass on the CPU).
 // mv_offset: IngestParams::mv_offset (the camera-jitter removal of Params::mvs_contain_jitter,
 // jitter(previous) - jitter(current), pixels); zero when the vectors contain no jitter.
 InternalFrame ingest(const FrameFormat& format, const FrameView& frame, glm::vec2 mv_offset = glm::vec2(0.f));
-
-// The push constants the engine uses for one generated frame.
-GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
-                     bool frame0_has_mv, bool frame1_has_mv);
-
-// The push constants of the `sr` pass for a frame (has_history: a previous output exists and
-// the frame is no reset).
-SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width, uint32_t out_height,
-                   float jitter_x, float jitter_y, bool has_history);
-
-// The push constants of the `denoise` pass (stage left 0) for frames of this format.
-DenoiseParams denoise_params(const FrameFormat& format, const Params& params);
 
 // The `denoise` pass's noise estimate of one ingested frame (stages histogram and level).
 NoiseEstimate noise_level(const InternalFrame& f, const DenoiseParams& p);

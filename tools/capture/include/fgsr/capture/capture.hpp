@@ -49,7 +49,7 @@ Result<Capture> load_mobfgsr(const std::filesystem::path& dir, bool lr, size_t m
 // bilinearly among the 2x2 neighbours that belong to x's surface (depth test against depth_k(x));
 // when no neighbour does, or y is outside the image, 2 * mv_k(x) (constant velocity).
 // Requires ground_truth_kind == consecutive (Errc::invalid_argument otherwise) and frames that pass
-// ref::validate. hr_reference, when present (one per frame), is split the same way into
+// params::validate. hr_reference, when present (one per frame), is split the same way into
 // hr_reference (even frames) and hr_ground_truth (odd frames).
 Result<Capture> make_half_rate(const Capture& c);
 

@@ -486,7 +486,7 @@ inline ref::SrParams sr_loop_params(const SrLoop& l, int t, float a, float b, Re
     p.sr_a = a;
     p.sr_b = b;
     p.resample = kind;
-    return ref::sr_params(fmt, p, l.out_w, l.out_h, l.jitter[size_t(t)].x, l.jitter[size_t(t)].y, t > 0);
+    return params::sr_params(fmt, p, l.out_w, l.out_h, l.jitter[size_t(t)].x, l.jitter[size_t(t)].y, t > 0);
 }
 
 // Outputs of the engine's CPU reference `sr` pass on every frame of the loop (linear RGB), with the

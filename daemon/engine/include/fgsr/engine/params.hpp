@@ -1,0 +1,38 @@
+// Parameter building: checks of a frame against its format, and the push constants of every pass
+// (shaders/common.h: IngestParams, GenParams, SrParams, DenoiseParams) from a format and Params.
+// The GPU path and the CPU reference (fgsr/engine/reference.hpp) both take them from here; the
+// check of Params itself is fgsr::validate(const Params&) (engine.hpp), defined with these.
+#pragma once
+
+#include <fgsr/core/result.hpp>
+#include <fgsr/core/types.hpp>
+#include <fgsr/engine/engine.hpp>
+
+#include "common.h" // shaders/: the push-constant structs
+
+namespace fgsr::params {
+
+using fgsr::validate; // of Params (engine.hpp)
+
+// Checks the colour and motion-vector format codes of a format. Errors: unsupported.
+Result<void> validate_formats(const FrameFormat& format);
+
+// Checks a frame against its format (sizes, enum values, near/far). Shared by the engine and tools.
+Result<void> validate(const FrameFormat& format, const FrameView& frame);
+
+// The push constants the engine uses for `ingest` of a frame of this format.
+gpu::IngestParams ingest_params(const FrameFormat& format, bool has_mv);
+
+// The push constants the engine uses for one generated frame.
+gpu::GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
+                          bool frame0_has_mv, bool frame1_has_mv);
+
+// The push constants of the `sr` pass for a frame (has_history: a previous output exists and
+// the frame is no reset).
+gpu::SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
+                        uint32_t out_height, float jitter_x, float jitter_y, bool has_history);
+
+// The push constants of the `denoise` pass (stage left 0) for frames of this format.
+gpu::DenoiseParams denoise_params(const FrameFormat& format, const Params& params);
+
+} // namespace fgsr::params

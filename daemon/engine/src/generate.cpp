@@ -1,0 +1,193 @@
+// Generated frames: recording interpolation and extrapolation (splat, then the fused generate
+// pass, generate_sr with super resolution, or the separate passes; tile-skipping forms are
+// tiles.cpp's), and assembling the results: frames, pass timings, intermediates.
+#include <fgsr/engine/params.hpp>
+
+#include "session.hpp"
+
+#include <cmath>
+#include <cstring>
+
+namespace fgsr {
+
+Result<void> Session::Impl::ensure_outputs(size_t count) {
+    while (outputs.size() < count) {
+        auto r = vk::Buffer::create(*ctx, VkDeviceSize(out_w) * out_h * 16, true);
+        if (!r) return r.error();
+        outputs.push_back(std::move(*r));
+    }
+    return {};
+}
+
+Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
+    if (submitted < 2)
+        return make_error(Errc::empty_input, std::string(extrapolate ? "extrapolation" : "interpolation") +
+                                                 " needs two submitted frames, the session has " +
+                                                 std::to_string(submitted));
+    if (alphas.empty()) return make_error(Errc::invalid_argument, "no alpha requested");
+    if (alphas.size() > kMaxAlphas)
+        return make_error(Errc::invalid_argument, std::to_string(alphas.size()) +
+                                                      " alphas requested, at most " +
+                                                      std::to_string(kMaxAlphas) + " per call");
+    for (float a : alphas) {
+        bool ok = extrapolate ? (a > 0.f && a <= 1.f) : (a > 0.f && a < 1.f);
+        if (!std::isfinite(a) || !ok)
+            return make_error(Errc::invalid_argument,
+                              "alpha " + std::to_string(a) + " is outside " +
+                                  (extrapolate ? "(0, 1] for extrapolation" : "(0, 1) for interpolation"));
+    }
+    FGSR_TRY(ensure_outputs(alphas.size()));
+    const bool tiled = classify_generate();
+    if (tiled) FGSR_TRY(ensure_tile_sets(alphas.size()));
+    const GpuFrame& f1 = frames[size_t(newest)];
+    const GpuFrame& f0 = frames[size_t(1 - newest)];
+
+    std::vector<std::vector<PassId>> timings(alphas.size()); // passes timed per generated frame, in order
+    FGSR_TRY(rec.begin());
+    for (size_t k = 0; k < alphas.size(); ++k) {
+        const gpu::GenParams g =
+            params::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv);
+        const uint32_t q0 = uint32_t(k) * kQueriesPerFrame;
+        uint32_t q = q0;
+        const vk::Buffer& out = outputs[k];
+        rec.timestamp(q++);
+        if (tiled) {
+            FGSR_TRY(record_tiled(k, g, extrapolate, q));
+            timings[k] = {PassId::classify, PassId::splat, sr() ? PassId::generate_sr : PassId::generate};
+            continue;
+        }
+        vkCmdFillBuffer(rec.cmd(), keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
+        rec.barrier();
+        const auto sb = make_slots<PassId::splat>(generated_frames());
+        FGSR_TRY(rec.dispatch_pixels(Variant::splat, sb, &g, format.width, format.height));
+        rec.barrier();
+        rec.timestamp(q++);
+        if (sr()) { // joint ISR / ESR at output resolution (always fused)
+            const GenSrPush push = gen_sr_push(g);
+            const auto b = make_slots<PassId::generate_sr>(
+                generated_frames(), at<GENSR_COLOR0>(f0.color), at<GENSR_COLOR1>(f1.color),
+                at<GENSR_SRC>(gen_sr_source(extrapolate)), at<GENSR_LUT>(sr_history.lut),
+                at<GENSR_OUTPUT>(out));
+            FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr, b, &push, out_w, out_h));
+            rec.barrier();
+            rec.timestamp(q++);
+            timings[k] = {PassId::splat, PassId::generate_sr};
+            continue;
+        }
+        if (!params.separate_passes) {
+            const auto b =
+                make_slots<PassId::generate>(generated_frames(), at<GENERATE_COLOR0>(f0.color),
+                                             at<GENERATE_COLOR1>(f1.color), at<GENERATE_OUTPUT>(out));
+            FGSR_TRY(rec.dispatch_pixels(Variant::generate, b, &g, format.width, format.height));
+            rec.barrier();
+            rec.timestamp(q++);
+            timings[k] = {PassId::splat, PassId::generate};
+            continue;
+        }
+        const auto rb = make_slots<PassId::refine>(generated_frames(), at<REFINE_FIELD>(field),
+                                                   at<REFINE_FIELD_DEPTH>(field_depth),
+                                                   at<REFINE_FIELD_STATE>(field_state));
+        FGSR_TRY(rec.dispatch_pixels(Variant::refine, rb, &g, format.width, format.height));
+        rec.barrier();
+        rec.timestamp(q++);
+        timings[k] = {PassId::splat, PassId::refine};
+        if (params.fill_holes) {
+            const auto db = make_slots<PassId::disocc>(generated_frames(), at<DISOCC_FIELD>(field),
+                                                       at<DISOCC_FIELD_DEPTH>(field_depth),
+                                                       at<DISOCC_FIELD_STATE>(field_state));
+            FGSR_TRY(rec.dispatch_pixels(Variant::disocc, db, &g, format.width, format.height));
+            rec.barrier();
+            rec.timestamp(q++);
+            timings[k].push_back(PassId::disocc);
+        }
+        const auto wb = make_slots<PassId::warp>(
+            at<WARP_FIELD>(field), at<WARP_COLOR0>(f0.color), at<WARP_COLOR1>(f1.color),
+            at<WARP_DEPTH0>(f0.depth), at<WARP_DEPTH1>(f1.depth), at<WARP_OUT_COLOR0>(warped_color0),
+            at<WARP_OUT_DEPTH0>(warped_depth0), at<WARP_OUT_COLOR1>(extrapolate ? out : warped_color1),
+            at<WARP_OUT_DEPTH1>(warped_depth1));
+        FGSR_TRY(rec.dispatch_pixels(Variant::warp, wb, &g, format.width, format.height));
+        rec.barrier();
+        rec.timestamp(q++);
+        timings[k].push_back(PassId::warp);
+        if (!extrapolate) {
+            const auto bb =
+                make_slots<PassId::blend>(at<BLEND_COLOR0>(warped_color0), at<BLEND_DEPTH0>(warped_depth0),
+                                          at<BLEND_COLOR1>(warped_color1), at<BLEND_DEPTH1>(warped_depth1),
+                                          at<BLEND_FIELD_STATE>(field_state), at<BLEND_OUTPUT>(out));
+            FGSR_TRY(rec.dispatch_pixels(Variant::blend, bb, &g, format.width, format.height));
+            rec.barrier();
+            rec.timestamp(q++);
+            timings[k].push_back(PassId::blend);
+        }
+    }
+    FGSR_TRY(rec.finish(true));
+
+    std::vector<GeneratedFrame> result(alphas.size());
+    for (size_t k = 0; k < alphas.size(); ++k) {
+        GeneratedFrame& gf = result[k];
+        gf.time = extrapolate ? 1.f + alphas[k] : alphas[k];
+        auto t = rec.read_times(uint32_t(k) * kQueriesPerFrame, uint32_t(timings[k].size()));
+        if (!t) return t.error();
+        for (size_t p = 0; p < timings[k].size(); ++p) {
+            PassTiming pt = timing_of(timings[k][p], (*t)[p]);
+            gf.gpu_ms += pt.ms;
+            gf.passes.push_back(std::move(pt));
+        }
+        if (tiled) count_generate_tiles(k, gf);
+        const size_t out_n = size_t(out_w) * out_h;
+        gf.color.width = out_w;
+        gf.color.height = out_h;
+        gf.color.rgba.resize(out_n * 4);
+        std::memcpy(gf.color.rgba.data(), outputs[k].mapped(), out_n * 16);
+    }
+    last_extrapolate = extrapolate;
+    last_separate = params.separate_passes && !sr();
+    tiles.last_tiled = tiled;
+    tiles.last_side = tile_side();
+    last_output = alphas.size() - 1;
+    return result;
+}
+
+Result<std::vector<GeneratedFrame>> Session::interpolate(std::span<const float> alphas) {
+    return impl_->generate(alphas, false);
+}
+
+Result<std::vector<GeneratedFrame>> Session::extrapolate(std::span<const float> alphas) {
+    return impl_->generate(alphas, true);
+}
+
+Result<Session::Intermediates> Session::read_intermediates() const {
+    Impl& s = *impl_;
+    Intermediates out;
+    auto keys = s.rec.download<uint64_t>(s.keys, s.n);
+    if (!keys) return keys.error();
+    out.keys = std::move(*keys);
+    auto motion = s.rec.download<float>(s.motion, s.n * 4);
+    if (!motion) return motion.error();
+    out.motion = std::move(*motion);
+    if (s.tiles.last_tiled && s.last_output < s.tiles.sets.size()) {
+        const uint32_t* flags = static_cast<const uint32_t*>(s.tiles.sets[s.last_output].flags.mapped());
+        out.tile_flags.assign(flags, flags + s.tiles_total());
+        out.tile_side = s.tiles.last_side;
+    }
+    if (!s.last_separate) return out; // the fused pass keeps no other intermediates
+    auto get_f = [&](const vk::Buffer& b, size_t count, std::vector<float>& dst) -> Result<void> {
+        auto r = s.rec.download<float>(b, count);
+        if (!r) return r.error();
+        dst = std::move(*r);
+        return {};
+    };
+    FGSR_TRY(get_f(s.field, s.n * 4, out.field));
+    FGSR_TRY(get_f(s.field_depth, s.n, out.field_depth));
+    auto st = s.rec.download<uint32_t>(s.field_state, s.n);
+    if (!st) return st.error();
+    out.field_state = std::move(*st);
+    FGSR_TRY(get_f(s.warped_color0, s.n * 4, out.warped_color0));
+    FGSR_TRY(get_f(s.warped_depth0, s.n, out.warped_depth0));
+    FGSR_TRY(
+        get_f(s.last_extrapolate ? s.outputs[s.last_output] : s.warped_color1, s.n * 4, out.warped_color1));
+    FGSR_TRY(get_f(s.warped_depth1, s.n, out.warped_depth1));
+    return out;
+}
+
+} // namespace fgsr

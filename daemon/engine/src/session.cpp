@@ -1,0 +1,271 @@
+// Session orchestration: creating a session (checks, buffers), the accessors, and submitting a
+// frame (validation, upload or zero-copy ranges, ingest, then denoise and sr, their timings).
+// Generated frames are generate.cpp's; the passes' parts are in sr.cpp, denoise.cpp, tiles.cpp.
+#include <fgsr/engine/lut.hpp>
+#include <fgsr/engine/params.hpp>
+
+#include "session.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace fgsr {
+
+Session::Impl::~Impl() {
+    if (ctx) vkDeviceWaitIdle(ctx->device);
+}
+
+Result<void> Session::Impl::init() {
+    FGSR_TRY(rec.init(*ctx, engine->pipelines, engine->group, kMaxAlphas * kSetsPerFrame + 4,
+                      kMaxAlphas * kQueriesPerFrame));
+    const VkDeviceSize px = n;
+    auto make = [&](vk::Buffer& b, VkDeviceSize bytes, bool host) -> Result<void> {
+        auto r = vk::Buffer::create(*ctx, bytes, host);
+        if (!r) return r.error();
+        b = std::move(*r);
+        return {};
+    };
+    FGSR_TRY(make(color_raw, px * bytes_per_pixel(format.color_format), true));
+    FGSR_TRY(make(depth_raw, px * 4, true));
+    FGSR_TRY(make(mv_raw, px * bytes_per_pixel(format.mv_format), true));
+    for (GpuFrame& f : frames) {
+        FGSR_TRY(make(f.color, px * 8, false)); // pack_color: 4 halves
+        FGSR_TRY(make(f.depth, px * 4, false));
+        FGSR_TRY(make(f.mv, px * 8, false));
+    }
+    FGSR_TRY(make(keys, px * 8, false));
+    FGSR_TRY(make(motion, px * 16, false));
+    FGSR_TRY(make(field, px * 16, false));
+    FGSR_TRY(make(field_depth, px * 4, false));
+    FGSR_TRY(make(field_state, px * 4, false));
+    FGSR_TRY(make(warped_color0, px * 16, false));
+    FGSR_TRY(make(warped_depth0, px * 4, false));
+    FGSR_TRY(make(warped_color1, px * 16, false));
+    FGSR_TRY(make(warped_depth1, px * 4, false));
+    if (sr()) {
+        const VkDeviceSize hpx = VkDeviceSize(out_w) * out_h;
+        for (vk::Buffer& b : sr_history.hr) FGSR_TRY(make(b, hpx * 16, false));
+        FGSR_TRY(make(sr_history.lut, kLutSize * 4, true));
+        FGSR_TRY(upload_lut());
+        // Whatever Params::denoise says now: set_params may turn it on later.
+        FGSR_TRY(make(denoiser.scratch, px * 8, false));
+        FGSR_TRY(make(denoiser.noise, DENOISE_WORDS * 4, true));
+    }
+    return {};
+}
+
+Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& format, const Params& params) {
+    // Validate the format with an empty frame view of the right sizes.
+    const size_t n = size_t(format.width) * format.height;
+    if (n == 0)
+        return make_error(Errc::empty_input, "session frame size is " + std::to_string(format.width) + "x" +
+                                                 std::to_string(format.height));
+    FGSR_TRY(params::validate_formats(format));
+    auto impl = std::make_unique<Session::Impl>();
+    impl->engine = impl_.get();
+    impl->ctx = impl_->ctx.get();
+    impl->format = format;
+    impl->params = params;
+    impl->n = n;
+    FGSR_TRY(validate(params));
+    impl->out_w = uint32_t(std::lround(double(format.width) * params.scale));
+    impl->out_h = uint32_t(std::lround(double(format.height) * params.scale));
+    if (impl->out_w > kMaxFrameSide || impl->out_h > kMaxFrameSide)
+        return make_error(Errc::invalid_argument, "output size " + std::to_string(impl->out_w) + "x" +
+                                                      std::to_string(impl->out_h) + " exceeds " +
+                                                      std::to_string(kMaxFrameSide) + "x" +
+                                                      std::to_string(kMaxFrameSide));
+    if (params.tile_size != 0 && params.tile_size != 8 && params.tile_size != 16 && params.tile_size != 32)
+        return make_error(Errc::invalid_argument,
+                          "tile size " + std::to_string(params.tile_size) + " is not 0, 8, 16 or 32");
+    // A view with planes of exactly the right size validates conventions and limits.
+    std::vector<std::byte> c(n * bytes_per_pixel(format.color_format)), d(n * 4);
+    FGSR_TRY(params::validate(format, FrameView{c, d, {}}));
+    FGSR_TRY(impl->init());
+    return std::unique_ptr<Session>(new Session(std::move(impl)));
+}
+
+Session::Session(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Session::~Session() = default;
+const FrameFormat& Session::format() const {
+    return impl_->format;
+}
+const Params& Session::params() const {
+    return impl_->params;
+}
+void Session::set_params(const Params& p) {
+    // The scale (and so every buffer size) is fixed at creation.
+    const float scale = impl_->params.scale;
+    Params checked = p;
+    checked.scale = scale;
+    if (!validate(checked)) return;
+    const bool lut_changed = p.lut != impl_->params.lut;
+    impl_->params = p;
+    impl_->params.scale = scale;
+    if (p.tile_size != 8 && p.tile_size != 16 && p.tile_size != 32) impl_->params.tile_size = 0;
+    if (lut_changed && impl_->sr()) (void)impl_->upload_lut();
+}
+uint32_t Session::output_width() const {
+    return impl_->out_w;
+}
+uint32_t Session::output_height() const {
+    return impl_->out_h;
+}
+uint64_t Session::frames_submitted() const {
+    return impl_->submitted;
+}
+NoiseEstimate Session::last_noise_estimate() const {
+    return impl_->denoiser.estimate;
+}
+double Session::last_ingest_ms() const {
+    return impl_->ingest_timing.ms;
+}
+PassTiming Session::last_ingest_timing() const {
+    return impl_->ingest_timing;
+}
+uint32_t Session::tile_side() const {
+    return impl_->tile_side();
+}
+
+void Session::reset() {
+    impl_->submitted = 0;
+    impl_->sr_history.valid = false;
+    for (auto& f : impl_->frames) f.has_mv = false;
+}
+
+Result<void> Session::submit(const FrameView& frame) {
+    return impl_->submit(frame, nullptr);
+}
+
+Result<void> Session::submit(const FrameView& frame, const HostMemory& memory) {
+    return impl_->submit(frame, &memory);
+}
+
+Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* memory) {
+    Impl& s = *this;
+    FGSR_TRY(params::validate(s.format, frame));
+    const bool has_mv = !frame.mv.empty();
+    // The raw planes ingest reads: the session's upload buffers, or (zero copy) ranges of the
+    // imported memory, where they must lie at offsets the device can bind.
+    BufRef color_in = s.color_raw, depth_in = s.depth_raw, mv_in = s.mv_raw;
+    if (memory) {
+        const std::byte* base = memory->data();
+        const VkDeviceSize align =
+            std::max<VkDeviceSize>(ctx->props.limits.minStorageBufferOffsetAlignment, 4);
+        auto range = [&](std::span<const std::byte> plane, const char* what, BufRef& out) -> Result<void> {
+            if (plane.data() < base || plane.data() + plane.size() > base + memory->size())
+                return make_error(Errc::invalid_argument,
+                                  std::string(what) + " plane lies outside the imported host memory");
+            const VkDeviceSize offset = VkDeviceSize(plane.data() - base);
+            if (offset % align != 0)
+                return make_error(Errc::invalid_argument,
+                                  std::string(what) + " plane offset " + std::to_string(offset) +
+                                      " is not a multiple of " + std::to_string(align));
+            out = BufRef(memory->impl()->buffer.handle(), offset, plane.size());
+            return {};
+        };
+        FGSR_TRY(range(frame.color, "colour", color_in));
+        FGSR_TRY(range(frame.depth, "depth", depth_in));
+        if (has_mv)
+            FGSR_TRY(range(frame.mv, "motion-vector", mv_in));
+        else
+            mv_in = unused(color_in); // no vectors: has_mv 0, not read
+    } else {
+        std::memcpy(s.color_raw.mapped(), frame.color.data(), frame.color.size());
+        std::memcpy(s.depth_raw.mapped(), frame.depth.data(), frame.depth.size());
+        if (has_mv) std::memcpy(s.mv_raw.mapped(), frame.mv.data(), frame.mv.size());
+    }
+    if (!std::isfinite(frame.jitter_x) || !std::isfinite(frame.jitter_y) || std::abs(frame.jitter_x) > 1.f ||
+        std::abs(frame.jitter_y) > 1.f)
+        return make_error(Errc::invalid_argument, "jitter (" + std::to_string(frame.jitter_x) + ", " +
+                                                      std::to_string(frame.jitter_y) +
+                                                      ") is outside [-1, 1] pixels");
+    const bool restart = frame.reset || s.submitted == 0;
+    const int slot = 1 - s.newest;
+    GpuFrame& f = s.frames[size_t(slot)];
+    const GpuFrame& prev = s.frames[size_t(s.newest)];
+    gpu::IngestParams p = params::ingest_params(s.format, has_mv);
+    if (s.params.mvs_contain_jitter && !restart) {
+        p.mv_offset_x = s.jitter_x - frame.jitter_x;
+        p.mv_offset_y = s.jitter_y - frame.jitter_y;
+    }
+    const auto b = make_slots<PassId::ingest>(at<INGEST_COLOR_RAW>(color_in), at<INGEST_DEPTH_RAW>(depth_in),
+                                              at<INGEST_MV_RAW>(mv_in), at<INGEST_COLOR>(f.color),
+                                              at<INGEST_DEPTH>(f.depth), at<INGEST_MV>(f.mv));
+    FGSR_TRY(s.rec.begin());
+    // Timestamps: 0, after ingest, [after denoise], [after classify], after sr.
+    uint32_t q = 0;
+    s.rec.timestamp(q++);
+    const bool denoise = s.denoise();
+    // The build for the session's formats (shaders/ingest.comp); the generic ingest serves the same.
+    constexpr std::array<std::array<Variant, 2>, 3> kIngestFormats = {{
+        {Variant::ingest_c0_m0, Variant::ingest_c0_m1},
+        {Variant::ingest_c1_m0, Variant::ingest_c1_m1},
+        {Variant::ingest_c2_m0, Variant::ingest_c2_m1},
+    }};
+    const bool fixed = p.color_format < kIngestFormats.size() && p.mv_format < kIngestFormats[0].size();
+    const Variant ingest = fixed ? kIngestFormats[p.color_format][p.mv_format] : Variant::ingest;
+    const uint32_t span = fixed && s.rec.group() == 32 ? FGSR_INGEST_SPAN_CPU : 1u;
+    FGSR_TRY(s.rec.dispatch_pixels(ingest, b, &p, groups(s.format.width, span), s.format.height));
+    s.rec.barrier();
+    s.rec.timestamp(q++);
+    if (denoise) {
+        FGSR_TRY(s.record_denoise(f.color));
+        s.rec.barrier();
+        s.rec.timestamp(q++);
+    }
+    bool sr_tiled = false;
+    if (s.sr()) {
+        const gpu::SrParams sp = params::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x,
+                                                   frame.jitter_y, !restart && s.sr_history.valid && has_mv);
+        auto tiled = s.record_sr(sp, f, prev, q);
+        if (!tiled) return tiled.error();
+        sr_tiled = *tiled;
+    }
+    FGSR_TRY(s.rec.finish(true));
+    auto t = s.rec.read_times(0, q - 1);
+    if (!t) return t.error();
+    size_t ti = 0;
+    s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
+    s.denoiser.estimate = NoiseEstimate{};
+    if (denoise) {
+        s.denoiser.timing = timing_of(PassId::denoise, (*t)[ti++]);
+        s.read_noise_estimate();
+    }
+    s.tiles.last_sr_tiled = sr_tiled;
+    s.tiles.classify_sr_timing = timing_of(PassId::classify, sr_tiled ? (*t)[ti++] : PassTiming{});
+    if (sr_tiled) s.count_sr_tiles();
+    f.has_mv = has_mv;
+    s.newest = slot;
+    s.jitter_x = frame.jitter_x;
+    s.jitter_y = frame.jitter_y;
+    if (restart) s.submitted = 0;
+    ++s.submitted;
+    if (s.sr()) s.finish_sr((*t)[ti]);
+    return {};
+}
+
+Result<Session::InternalFrameData> Session::read_frame(int which) const {
+    Impl& s = *impl_;
+    if (which != 0 && which != 1) return make_error(Errc::invalid_argument, "frame index must be 0 or 1");
+    const Impl::GpuFrame& f = s.frames[size_t(which == 1 ? s.newest : 1 - s.newest)];
+    InternalFrameData out;
+    auto c = s.rec.download<uint32_t>(f.color, s.n * 2); // pack_color
+    if (!c) return c.error();
+    auto d = s.rec.download<float>(f.depth, s.n);
+    if (!d) return d.error();
+    auto m = s.rec.download<float>(f.mv, s.n * 2);
+    if (!m) return m.error();
+    out.color.resize(s.n * 4);
+    for (size_t i = 0; i < s.n; ++i) {
+        const glm::vec4 v = gpu::unpack_color(glm::uvec2((*c)[2 * i], (*c)[2 * i + 1]));
+        for (int k = 0; k < 4; ++k) out.color[4 * i + size_t(k)] = v[k];
+    }
+    out.depth = std::move(*d);
+    out.mv = std::move(*m);
+    out.has_mv = f.has_mv;
+    return out;
+}
+
+} // namespace fgsr

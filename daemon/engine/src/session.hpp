@@ -1,0 +1,165 @@
+// A session's state (Session::Impl) and the split of its work over files: session.cpp creates it
+// (buffers), submits frames (ingest) and answers the accessors; generate.cpp records and assembles
+// generated frames; sr.cpp the super-resolution history and LUT; denoise.cpp the denoise pass;
+// tiles.cpp tile classification, the tile lists and the skip bookkeeping. Command recording is
+// the Recorder's (recorder.hpp).
+#pragma once
+
+#include <fgsr/engine/engine.hpp>
+
+#include "context.hpp"
+#include "recorder.hpp"
+#include "variants.hpp"
+#include "vk.hpp"
+
+#include <array>
+#include <span>
+#include <vector>
+
+namespace fgsr {
+
+constexpr uint32_t kMaxAlphas = 64;
+constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
+constexpr uint32_t kSetsPerFrame = 10;   // descriptor sets of one generated frame (at most 5), doubled
+
+// Classification pays only where tiles can be skipped (on lavapipe a frame with every tile moving
+// costs about 2x with it, docs/TILES.md): after a classification that found less than
+// kMinSkipShare of the tiles skippable, the next kUnclassifiedRun calls (generate) or submits (sr)
+// run every tile without classifying, then classify again. Same frames either way.
+constexpr double kMinSkipShare = 0.25;
+constexpr uint32_t kUnclassifiedRun = 7;
+
+// A timing record of a pass, named.
+inline PassTiming timing_of(PassId pass, PassTiming t = {}) {
+    t.name = std::string(pass_name(pass));
+    t.pass = pass;
+    return t;
+}
+
+struct Session::Impl {
+    Engine::Impl* engine = nullptr;
+    vk::Context* ctx = nullptr;
+    FrameFormat format;
+    Params params;
+    size_t n = 0;
+    Recorder rec;
+
+    // Frames (session.cpp): client planes are copied here, then ingested.
+    vk::Buffer color_raw, depth_raw, mv_raw;
+    struct GpuFrame {
+        vk::Buffer color, depth, mv;
+        bool has_mv = false;
+    };
+    std::array<GpuFrame, 2> frames;
+    int newest = 1; // index into frames of frame 1
+    uint64_t submitted = 0;
+    PassTiming ingest_timing = timing_of(PassId::ingest);
+    float jitter_x = 0, jitter_y = 0; // of the newest frame
+
+    // Super resolution (sr.cpp): the output size (the frame size without super resolution) and
+    // the history.
+    uint32_t out_w = 0, out_h = 0;
+    struct SrHistory {
+        std::array<vk::Buffer, 2> hr; // ping-pong outputs: the newest is hr[newest]
+        int newest = 0;
+        bool valid = false;                        // an output exists (no reset since)
+        vk::Buffer lut;                            // kLutSize weights (Resample::lut)
+        PassTiming timing = timing_of(PassId::sr); // of the last submit
+    } sr_history;
+
+    // Params::denoise (denoise.cpp, shaders/denoise.h).
+    struct Denoiser {
+        vk::Buffer scratch; // the filter's output, copied back into the frame's colour
+        vk::Buffer noise;   // host-visible: histogram, estimate, indirect dispatch (DENOISE_WORDS)
+        PassTiming timing = timing_of(PassId::denoise);
+        NoiseEstimate estimate; // of the last submit
+    } denoiser;
+
+    // Intermediates of one generated frame (generate.cpp), reused by each alpha in turn.
+    vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1,
+        warped_depth1;
+    std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
+    bool last_extrapolate = false;
+    bool last_separate = false;
+    size_t last_output = 0;
+
+    // Tile skipping (tiles.cpp, shaders/classify.h).
+    struct TileSet {
+        vk::Buffer flags, work, generate, statics;
+    };
+    struct Tiles {
+        // Per generated frame of a call (and index 0 for the sr pass of a submit), the TILE_* flags
+        // and the tile lists, host-visible (the host writes their headers in the command buffer
+        // and reads the counts after the fence).
+        std::vector<TileSet> sets;
+        bool last_tiled = false;    // the last generated frame was classified
+        bool last_sr_tiled = false; // the last submit's sr pass was classified
+        uint32_t last_side = 0;     // tile side of the last classification
+        uint32_t sr_total = 0, sr_skipped = 0;
+        PassTiming classify_sr_timing = timing_of(PassId::classify);
+        // Calls (generate) or submits (sr) left to run unclassified (kUnclassifiedRun).
+        uint32_t gen_unclassified_left = 0, sr_unclassified_left = 0;
+    } tiles;
+
+    ~Impl();
+
+    // session.cpp
+    Result<void> init();
+    Result<void> submit(const FrameView& frame, const HostMemory* memory);
+    bool sr() const { return out_w != format.width || out_h != format.height; }
+    bool denoise() const { return sr() && params.denoise; }
+
+    // generate.cpp
+    // The bindings (GEN_*) of frame 1, frame 0 and the splat keys and motion that splat, refine,
+    // disocc, generate, generate_sr and classify (generate mode) share.
+    using GenFrames = At<GEN_MV1, GEN_MV0, GEN_DEPTH1, GEN_DEPTH0, GEN_KEYS, GEN_MOTION>;
+    GenFrames generated_frames() const {
+        const GpuFrame& f1 = frames[size_t(newest)];
+        const GpuFrame& f0 = frames[size_t(1 - newest)];
+        return GenFrames{{f1.mv, f0.mv, f1.depth, f0.depth, keys, motion}};
+    }
+    Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
+    Result<void> ensure_outputs(size_t count);
+
+    // sr.cpp
+    Result<void> upload_lut();
+    // Records the sr pass of frame f (previous frame prev) into the history's next output, tiled
+    // when classification may pay; writes timestamp `query` after classify when tiled. Returns
+    // whether it was tiled.
+    Result<bool> record_sr(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev, uint32_t& query);
+    // The sr pass's own bindings (before the tiled ones) for frame f into `out`.
+    using SrInputs = At<SR_COLOR, SR_DEPTH, SR_MV, SR_PREV_DEPTH, SR_HISTORY, SR_LUT, SR_OUTPUT>;
+    SrInputs sr_inputs(const GpuFrame& f, const GpuFrame& prev, const vk::Buffer& history,
+                       const vk::Buffer& out) const;
+    // After the submit's fence: the sr timing, the history swap.
+    void finish_sr(const PassTiming& t);
+    // The generate_sr push block of generated frames (the newest frame's jitter, with history).
+    GenSrPush gen_sr_push(const gpu::GenParams& g) const;
+    // The SR output generate_sr reads: the previous one (interpolation) or the newest one.
+    const vk::Buffer& gen_sr_source(bool extrapolate) const;
+
+    // denoise.cpp
+    Result<void> record_denoise(const vk::Buffer& color);
+    void read_noise_estimate();
+
+    // tiles.cpp
+    uint32_t tile_side() const;
+    uint32_t tiles_x() const;
+    uint32_t tiles_total() const;
+    Result<void> ensure_tile_sets(size_t count);
+    void reset_lists(const TileSet& t, uint32_t work_span, uint32_t output_span);
+    static uint32_t list_count(const vk::Buffer& list);
+    Result<void> classify(gpu::ClassifyParams c, const Slots<PassId::classify>& s);
+    Result<void> record_sr_tiled(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,
+                                 const vk::Buffer& history, const vk::Buffer& out, uint32_t query);
+    Result<void> record_tiled(size_t k, const gpu::GenParams& g, bool extrapolate, uint32_t& q);
+    // Skip bookkeeping: whether this call (generate) or submit (sr) classifies.
+    bool classify_generate();
+    bool classify_sr(bool has_history);
+    // After the fence: the tiles counts of a tiled generated frame k (passes classify, splat,
+    // generate(_sr)) and of a tiled sr pass.
+    void count_generate_tiles(size_t k, GeneratedFrame& gf);
+    void count_sr_tiles();
+};
+
+} // namespace fgsr
