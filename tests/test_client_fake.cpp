@@ -9,6 +9,7 @@
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/client.h>
 #include <fgsr/client.hpp>
+#include <fgsr/wire.h>
 
 #include <gtest/gtest.h>
 

@@ -5,6 +5,7 @@
 
 #include <fgsr/core/clock.hpp>
 #include <fgsr/protocol.h>
+#include <fgsr/wire.h>
 
 #include <gtest/gtest.h>
 

@@ -3,6 +3,7 @@
 // wire or shared-memory layout changed: bump FGSR_PROTOCOL_MAJOR (incompatible) or add fields only at
 // the end (minor), then update these numbers on purpose.
 #include <fgsr/protocol.h>
+#include <fgsr/wire.h>
 
 #include <gtest/gtest.h>
 

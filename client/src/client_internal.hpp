@@ -1,71 +1,51 @@
-// Private pieces of libfgsr_client shared by its translation units. Nothing here is exported
-// (the library is built with hidden visibility; only the fgsr_* C functions are public).
+// Private pieces of libfgsr_client shared by its translation units: the connection and session
+// objects behind the C handles, and small helpers. Nothing here is exported (the version script
+// exports only the fgsr_* C functions of fgsr/client.h and fgsr/protocol.h).
+//
+// Translation units: client.cpp (connection, handshake, request/reply), session.cpp (session
+// creation and the reply's checks, destroy, stats, recording switch), frames.cpp (acquire,
+// submit, wait, release: the rings), record.cpp (recording submitted frames as a capture).
 #pragma once
 
-#include <fgsr/protocol.h>
+#include <fgsr/client.h>
+#include <fgsr/ipc/ring.hpp>
+#include <fgsr/ipc/unique_fd.hpp>
+#include <fgsr/wire.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <new>
 #include <string>
-#include <utility>
+#include <vector>
 
 namespace fgsr::client {
 
-// Owns one file descriptor; move-only; closes on destruction.
-class Fd {
-  public:
-    Fd() = default;
-    explicit Fd(int fd) : fd_(fd) {}
-    Fd(Fd&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
-    Fd& operator=(Fd&& o) noexcept {
-        if (this != &o) {
-            reset();
-            fd_ = std::exchange(o.fd_, -1);
-        }
-        return *this;
+using Fd = fgsr::ipc::UniqueFd;
+using fgsr::ipc::Mapping;
+
+inline constexpr uint32_t kDefaultTimeoutMs = 5000;
+
+// Milliseconds left until `deadline_ns` (0 when passed), for poll().
+int ms_left(uint64_t deadline_ns);
+// One line on stderr ("fgsr_client: " + fmt), unless FGSR_CLIENT_QUIET is set.
+void log_line(const char* fmt, const char* a, unsigned long b = 0, unsigned long c = 0);
+// A status the daemon sent, checked against the statuses the API may return for the request.
+fgsr_status peer_status(int32_t s);
+
+// Runs `f` and turns any exception into a status: nothing throws across the C API.
+template <class F> fgsr_status guarded(F&& f) noexcept {
+    try {
+        return f();
+    } catch (const std::bad_alloc&) {
+        return FGSR_STATUS_OUT_OF_MEMORY;
+    } catch (...) {
+        return FGSR_STATUS_INTERNAL;
     }
-    Fd(const Fd&) = delete;
-    Fd& operator=(const Fd&) = delete;
-    ~Fd() { reset(); }
-    int get() const { return fd_; }
-    bool valid() const { return fd_ >= 0; }
-    void reset();
-
-  private:
-    int fd_ = -1;
-};
-
-// Owns one mmap'ed range; move-only; unmaps on destruction.
-class Mapping {
-  public:
-    Mapping() = default;
-    Mapping(void* p, size_t n) : p_(p), n_(n) {}
-    Mapping(Mapping&& o) noexcept : p_(std::exchange(o.p_, nullptr)), n_(std::exchange(o.n_, 0)) {}
-    Mapping& operator=(Mapping&& o) noexcept {
-        if (this != &o) {
-            reset();
-            p_ = std::exchange(o.p_, nullptr);
-            n_ = std::exchange(o.n_, 0);
-        }
-        return *this;
-    }
-    Mapping(const Mapping&) = delete;
-    Mapping& operator=(const Mapping&) = delete;
-    ~Mapping() { reset(); }
-    std::byte* data() const { return static_cast<std::byte*>(p_); }
-    size_t size() const { return n_; }
-    void reset();
-
-  private:
-    void* p_ = nullptr;
-    size_t n_ = 0;
-};
-
-// Bytes per pixel of a protocol colour format (0 for an unknown value).
-size_t color_bytes(uint32_t format);
-// Bytes per pixel of a protocol vector format (0 for an unknown value).
-size_t mv_bytes(uint32_t format);
+}
 
 // Recording of submitted frames as an fgsr capture (record.cpp). Not thread-safe: owned by one
 // session, used from the thread that uses the session.
@@ -85,4 +65,56 @@ class Recorder {
 std::unique_ptr<Recorder> make_recorder(const std::string& dir, const std::string& name,
                                         const fgsr_session_desc& desc, std::string& reason);
 
+enum class InputState : uint8_t { free, acquired, submitted };
+
+struct Outstanding {
+    uint32_t input_slot;
+    uint32_t outputs_seen;
+};
+
 } // namespace fgsr::client
+
+struct fgsr_connection {
+    fgsr::client::Fd sock;
+    std::mutex mutex; // one request/reply exchange at a time (sessions may be on other threads)
+    uint32_t next_request = 1;
+    bool dead = false; // the daemon went away or violated the protocol; guarded by mutex
+    fgsr_daemon_info info{};
+    std::string name;
+
+    // Sends `msg` (header filled here) and receives the reply of type `reply_type` into `reply`
+    // (exactly reply_size bytes are kept; a longer reply from a newer minor version is cut).
+    // fds received with it are appended to `fds` (nullptr: any fd is an error).
+    fgsr_status request(void* msg, uint32_t size, uint16_t type, void* reply, uint32_t reply_size,
+                        uint16_t reply_type, std::vector<fgsr::client::Fd>* fds, uint32_t timeout_ms);
+    // DESTROY_SESSION for `session_id` under the mutex; the exchange's status.
+    fgsr_status destroy_session(uint32_t session_id);
+};
+
+struct fgsr_session {
+    fgsr_connection* conn = nullptr;
+    uint32_t id = 0;
+    fgsr_session_desc desc{};
+    fgsr_pool_layout layout{};
+    fgsr::client::Fd fds[FGSR_FD_COUNT];
+    fgsr::client::Mapping input, output, rings_map;
+    fgsr::ipc::Rings rings{};
+    // Private copies of the positions this side writes (never read back from shared memory).
+    uint64_t submit_head = 0, completion_tail = 0, release_head = 0;
+    uint64_t next_sequence = 1;
+    fgsr::client::InputState inputs[FGSR_MAX_SLOTS] = {};
+    bool output_held[FGSR_MAX_SLOTS] = {};
+    std::map<uint64_t, fgsr::client::Outstanding> outstanding; // sequences without their LAST completion
+    std::deque<fgsr_completion_entry> ready;                   // validated, not yet returned by wait
+    fgsr_status broken = FGSR_STATUS_OK; // DISCONNECTED or PROTOCOL_ERROR once it happened
+    std::unique_ptr<fgsr::client::Recorder> recorder;
+    std::string record_dir;
+
+    fgsr_status pump();
+    fgsr_status wait_event(uint64_t deadline_ns);
+    fgsr_status fail(fgsr_status s) {
+        if (broken == FGSR_STATUS_OK) broken = s;
+        return s;
+    }
+    void stop_recording();
+};

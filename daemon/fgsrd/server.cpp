@@ -10,10 +10,10 @@
 
 #include "log.hpp"
 #include "session.hpp"
-#include "unique_fd.hpp"
 
 #include <fgsr/engine/engine.hpp>
-#include <fgsr/protocol.h>
+#include <fgsr/ipc/socket.hpp>
+#include <fgsr/wire.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -190,36 +190,13 @@ bool Server::setup_socket() {
 }
 
 bool Server::send_reply(Client& c, const void* msg, size_t size, const int* fds, size_t nfds) {
-    iovec iov{const_cast<void*>(msg), size};
-    msghdr m{};
-    m.msg_iov = &iov;
-    m.msg_iovlen = 1;
-    alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * FGSR_FD_COUNT)]{};
-    if (nfds) {
-        m.msg_control = control;
-        m.msg_controllen = CMSG_SPACE(sizeof(int) * nfds);
-        cmsghdr* cm = CMSG_FIRSTHDR(&m);
-        cm->cmsg_level = SOL_SOCKET;
-        cm->cmsg_type = SCM_RIGHTS;
-        cm->cmsg_len = CMSG_LEN(sizeof(int) * nfds);
-        std::memcpy(CMSG_DATA(cm), fds, sizeof(int) * nfds);
-    }
-    const ssize_t n = sendmsg(c.fd.get(), &m, MSG_NOSIGNAL | MSG_DONTWAIT);
+    const ssize_t n = fgsr::ipc::send_with_fds(c.fd.get(), msg, size, fds, nfds, MSG_DONTWAIT);
     if (n != ssize_t(size)) {
         log::warn("client {} ({}): reply not sent ({}); dropping it", c.id, c.name,
                   n < 0 ? std::strerror(errno) : "short write");
         return false;
     }
     return true;
-}
-
-fgsr_msg_header reply_header(uint16_t type, uint32_t size, uint32_t sequence) {
-    fgsr_msg_header h{};
-    h.magic = FGSR_PROTOCOL_MAGIC;
-    h.type = type;
-    h.size = size;
-    h.sequence = sequence;
-    return h;
 }
 
 void copy_reason(char* dst, size_t cap, const std::string& s) {
@@ -231,7 +208,7 @@ void copy_reason(char* dst, size_t cap, const std::string& s) {
 void Server::violation(Client& c, uint32_t sequence, const std::string& reason) {
     log::warn("client {} ({}): protocol violation: {}; disconnecting it", c.id, c.name, reason);
     fgsr_reply r{};
-    r.header = reply_header(FGSR_MSG_ERROR, sizeof(r), sequence);
+    r.header = fgsr_msg_header_for(FGSR_MSG_ERROR, sizeof(r), sequence);
     r.status = FGSR_STATUS_PROTOCOL_ERROR;
     copy_reason(r.reason, sizeof(r.reason), reason);
     send_reply(c, &r, sizeof(r));
@@ -325,17 +302,15 @@ void Server::on_client(uint64_t id, uint32_t events) {
         auto it = clients_.find(id);
         if (it == clients_.end()) return;
         Client& c = *it->second;
-        iovec iov{buf, sizeof(buf)};
-        alignas(cmsghdr) char control[CMSG_SPACE(sizeof(int) * 16)];
-        msghdr m{};
-        m.msg_iov = &iov;
-        m.msg_iovlen = 1;
-        m.msg_control = control;
-        m.msg_controllen = sizeof(control);
-        const ssize_t n = recvmsg(c.fd.get(), &m, MSG_CMSG_CLOEXEC | MSG_DONTWAIT);
+        // Any fd a client sends is closed at once (when `received` goes); sending one is a violation.
+        std::vector<UniqueFd> received;
+        const ssize_t n = fgsr::ipc::recv_with_fds(c.fd.get(), buf, sizeof(buf), received, MSG_DONTWAIT);
+        if (n < 0 && (errno == EMSGSIZE || errno == EPROTO)) {
+            violation(c, 0, "message larger than " + std::to_string(FGSR_MAX_MESSAGE_SIZE) + " bytes");
+            return;
+        }
         if (n < 0) {
             if (errno == EAGAIN || errno == EWOULDBLOCK) break;
-            if (errno == EINTR) continue;
             drop_client(id, "socket error; disconnected");
             return;
         }
@@ -343,23 +318,7 @@ void Server::on_client(uint64_t id, uint32_t events) {
             drop_client(id, "disconnected");
             return;
         }
-        // Any fd a client sends is closed at once; sending one is a violation.
-        size_t received_fds = 0;
-        for (cmsghdr* cm = CMSG_FIRSTHDR(&m); cm; cm = CMSG_NXTHDR(&m, cm)) {
-            if (cm->cmsg_level != SOL_SOCKET || cm->cmsg_type != SCM_RIGHTS) continue;
-            const size_t count = (cm->cmsg_len - CMSG_LEN(0)) / sizeof(int);
-            for (size_t k = 0; k < count; ++k) {
-                int fd;
-                std::memcpy(&fd, CMSG_DATA(cm) + k * sizeof(int), sizeof(int));
-                UniqueFd close_it(fd);
-            }
-            received_fds += count;
-        }
-        if (m.msg_flags & (MSG_TRUNC | MSG_CTRUNC)) {
-            violation(c, 0, "message larger than " + std::to_string(FGSR_MAX_MESSAGE_SIZE) + " bytes");
-            return;
-        }
-        if (received_fds) {
+        if (!received.empty()) {
             violation(c, 0, "clients must not send file descriptors");
             return;
         }
@@ -408,7 +367,7 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
         hello.name[sizeof(hello.name) - 1] = 0;
         c.name = std::string(hello.name) + " (pid " + std::to_string(c.pid) + ")";
         fgsr_hello_reply r{};
-        r.header = reply_header(FGSR_MSG_HELLO_REPLY, sizeof(r), h.sequence);
+        r.header = fgsr_msg_header_for(FGSR_MSG_HELLO_REPLY, sizeof(r), h.sequence);
         r.major = FGSR_PROTOCOL_MAJOR;
         r.minor = FGSR_PROTOCOL_MINOR;
         r.capabilities = caps_;
@@ -448,7 +407,7 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
             return false;
         }
         fgsr_create_session_reply r{};
-        r.header = reply_header(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), h.sequence);
+        r.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), h.sequence);
         r.epoch = epoch_;
         std::string reason;
         std::unique_ptr<ServiceSession> s;
@@ -493,7 +452,7 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
         auto it = c.sessions.find(ref.session_id);
         if (h.type == FGSR_MSG_STATS) {
             fgsr_stats_reply r{};
-            r.header = reply_header(FGSR_MSG_STATS_REPLY, sizeof(r), h.sequence);
+            r.header = fgsr_msg_header_for(FGSR_MSG_STATS_REPLY, sizeof(r), h.sequence);
             r.session_id = ref.session_id;
             r.status = it == c.sessions.end() ? FGSR_STATUS_INVALID_ARGUMENT : FGSR_STATUS_OK;
             if (it != c.sessions.end()) r.stats = it->second->stats();
@@ -504,7 +463,7 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
             return true;
         }
         fgsr_reply r{};
-        r.header = reply_header(FGSR_MSG_DESTROY_SESSION_REPLY, sizeof(r), h.sequence);
+        r.header = fgsr_msg_header_for(FGSR_MSG_DESTROY_SESSION_REPLY, sizeof(r), h.sequence);
         r.session_id = ref.session_id;
         r.status = it == c.sessions.end() ? FGSR_STATUS_INVALID_ARGUMENT : FGSR_STATUS_OK;
         if (it == c.sessions.end())

@@ -25,19 +25,8 @@ uint64_t thread_cpu_ns() {
 
 namespace {
 
-constexpr uint64_t kMaxPoolBytes = 2ull << 30; // per pool and session
-constexpr uint32_t kMaxRingCapacity = 4096;
 constexpr size_t kLatencySamples = 4096;
-constexpr uint32_t kKnownModes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
-constexpr uint32_t kKnownSessionFlags = FGSR_SESSION_MVS_CONTAIN_JITTER | FGSR_SESSION_DILATE_MVS |
-                                        FGSR_SESSION_MV_Y_UP | FGSR_SESSION_LINEAR_MOTION |
-                                        FGSR_SESSION_NO_DENOISE;
 constexpr uint32_t kKnownSubmitFlags = FGSR_SUBMIT_RESET | FGSR_SUBMIT_HAS_MV | FGSR_SUBMIT_WANT_SR;
-
-// Plane sizes of a validated description (the protocol's format values are the engine's).
-uint32_t color_bpp(uint32_t f) {
-    return uint32_t(fgsr::bytes_per_pixel(fgsr::ColorFormat(f)));
-}
 
 uint64_t percentile(std::vector<uint64_t> v, double q) {
     if (v.empty()) return 0;
@@ -53,55 +42,19 @@ UniqueFd make_memfd(const char* name, uint64_t size) {
     return fd;
 }
 
-bool is_scale(float s) {
-    return s == 1.f || s == 1.5f || s == 2.f || s == 3.f || s == 4.f;
-}
-
-bool finite_nonneg(float v) {
-    return std::isfinite(v) && v >= 0.f;
-}
-
 } // namespace
 
 std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uint32_t id,
                                                        const fgsr_session_desc& in, bool zero_copy,
                                                        int32_t& status, std::string& reason) {
     status = FGSR_STATUS_INVALID_ARGUMENT;
-    fgsr_session_desc d = in;
-    if (d.input_slots == 0) d.input_slots = 3;
-    if (d.output_slots == 0) d.output_slots = 4;
-    if (d.ring_capacity == 0) d.ring_capacity = 64;
     auto bad = [&](std::string why) -> std::unique_ptr<ServiceSession> {
         reason = std::move(why);
         return nullptr;
     };
-    if (d.width < 1 || d.width > FGSR_MAX_FRAME_SIDE || d.height < 1 || d.height > FGSR_MAX_FRAME_SIDE)
-        return bad("size " + std::to_string(d.width) + "x" + std::to_string(d.height) + " outside 1.." + std::to_string(FGSR_MAX_FRAME_SIDE));
-    if (d.color_format > FGSR_COLOR_RGBA32F_LINEAR || d.output_format > FGSR_COLOR_RGBA32F_LINEAR)
-        return bad("unknown colour format");
-    if (d.mv_format > FGSR_MV_RG32F || d.mv_units > FGSR_MV_UV || d.mv_direction > FGSR_MV_FROM_PREVIOUS)
-        return bad("unknown motion-vector format, units or direction");
-    if (d.depth_kind > FGSR_DEPTH_DEVICE_REVERSED) return bad("unknown depth kind");
-    if (!is_scale(d.scale)) return bad("scale " + std::to_string(d.scale) + " not in {1, 1.5, 2, 3, 4}");
-    if (d.modes == 0 || (d.modes & ~kKnownModes))
-        return bad("modes must be a nonzero set of FGSR_MODE_* bits");
-    if ((d.modes & FGSR_MODE_SR) && d.scale == 1.f) return bad("FGSR_MODE_SR needs a scale above 1");
-    if (d.flags & ~kKnownSessionFlags) return bad("unknown session flags");
-    if (d.queue_policy > FGSR_QUEUE_MAILBOX) return bad("unknown queue policy");
-    if (d.input_slots > FGSR_MAX_SLOTS || d.output_slots > FGSR_MAX_SLOTS)
-        return bad("slot counts must be 1.." + std::to_string(FGSR_MAX_SLOTS));
-    // Every slot can be in flight at once, and the completions of one submit (at most
-    // output_slots, see process_one) fit in the ring.
-    const uint32_t min_capacity = std::max(d.input_slots, d.output_slots);
-    if ((d.ring_capacity & (d.ring_capacity - 1)) != 0 || d.ring_capacity < min_capacity ||
-        d.ring_capacity > kMaxRingCapacity)
-        return bad("ring capacity " + std::to_string(d.ring_capacity) + " is not a power of two in " +
-                   std::to_string(min_capacity) + ".." + std::to_string(kMaxRingCapacity));
-    if (!finite_nonneg(d.t_depth) || !finite_nonneg(d.t_bright) || !finite_nonneg(d.sr_a) ||
-        !finite_nonneg(d.sr_b))
-        return bad("t_depth, t_bright, sr_a and sr_b must be finite and >= 0");
-    for (uint32_t r : d.reserved)
-        if (r != 0) return bad("reserved fields must be zero");
+    fgsr_session_desc d;
+    char why[128];
+    if (fgsr_session_desc_normalize(&in, &d, why, sizeof(why)) != FGSR_STATUS_OK) return bad(why);
 
     fgsr::FrameFormat format;
     format.width = d.width;
@@ -130,30 +83,10 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uin
     s->id_ = id;
     s->desc_ = d;
 
-    // Layout: planes and slots on FGSR_PLANE_ALIGNMENT (host-pointer import and page mapping).
-    const uint64_t px = uint64_t(d.width) * d.height;
-    fgsr_pool_layout& l = s->layout_;
-    l.input_slot_count = d.input_slots;
-    l.output_slot_count = d.output_slots;
-    l.color = {0, px * color_bpp(d.color_format), d.width * color_bpp(d.color_format), d.color_format};
-    l.depth = {fgsr_align_up(l.color.size, FGSR_PLANE_ALIGNMENT), px * 4, d.width * 4, 0};
-    const uint32_t mv_bpp = uint32_t(fgsr::bytes_per_pixel(fgsr::MvFormat(d.mv_format)));
-    l.mv = {fgsr_align_up(l.depth.offset + l.depth.size, FGSR_PLANE_ALIGNMENT), px * mv_bpp, d.width * mv_bpp,
-            d.mv_format};
-    l.input_slot_stride = fgsr_align_up(l.mv.offset + l.mv.size, FGSR_PLANE_ALIGNMENT);
-    l.input_pool_size = l.input_slot_stride * d.input_slots;
-    l.output_width = uint32_t(std::lround(double(d.width) * d.scale));
-    l.output_height = uint32_t(std::lround(double(d.height) * d.scale));
-    const uint64_t opx = uint64_t(l.output_width) * l.output_height;
-    l.output = {0, opx * color_bpp(d.output_format), l.output_width * color_bpp(d.output_format),
-                d.output_format};
-    l.output_slot_stride = fgsr_align_up(l.output.size, FGSR_PLANE_ALIGNMENT);
-    l.output_pool_size = l.output_slot_stride * d.output_slots;
-    s->rings_ = fgsr_rings_layout_for(d.ring_capacity);
-    l.rings_size = s->rings_.total_size;
-    l.ring_capacity = d.ring_capacity;
-    if (l.input_pool_size > kMaxPoolBytes || l.output_pool_size > kMaxPoolBytes)
-        return bad("slot pools would exceed the daemon's limit of 2 GiB each");
+    // Layout: planes and slots on FGSR_PLANE_ALIGNMENT (host-pointer import and page mapping); the
+    // client computes the same and compares.
+    s->layout_ = fgsr_pool_layout_for(&d);
+    const fgsr_pool_layout& l = s->layout_;
 
     auto engine_session = engine.create_session(format, params);
     if (!engine_session) {
@@ -177,6 +110,7 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uin
     s->rings_map_ = Mapping::map(s->rings_fd_.get(), l.rings_size, PROT_READ | PROT_WRITE);
     if (!s->input_map_.valid() || !s->output_map_.valid() || !s->rings_map_.valid())
         return bad(std::string("mmap: ") + std::strerror(errno));
+    s->rings_ = fgsr::ipc::Rings::at(s->rings_map_.data(), l.ring_capacity);
     // Seals: no side can change the sizes (no SIGBUS from a truncation); the output pool gets
     // FUTURE_WRITE after the daemon's writable mapping exists, so clients can map it read-only only.
     if (fcntl(s->input_fd_.get(), F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL) != 0 ||
@@ -253,53 +187,44 @@ std::optional<std::string> ServiceSession::poll() {
     uint64_t counter = 0;
     while (read(submit_event_.get(), &counter, sizeof(counter)) == sizeof(counter)) {
     }
-    std::byte* base = rings_map_.data();
     const uint32_t cap = layout_.ring_capacity;
-    // Submits: copy each entry, then validate the copy.
-    auto* sh = reinterpret_cast<fgsr_ring_header*>(base + rings_.submit_header);
-    const auto* se = reinterpret_cast<const fgsr_submit_entry*>(base + rings_.submit_entries);
-    const uint64_t shead = fgsr_ring_load_head(sh);
-    if (shead - submit_tail_ > cap)
-        return "submit ring head " + std::to_string(shead) + " is beyond tail " +
-               std::to_string(submit_tail_) + " + capacity " + std::to_string(cap);
-    while (submit_tail_ != shead) {
-        fgsr_submit_entry e;
-        std::memcpy(&e, &se[fgsr_ring_index(submit_tail_, cap)], sizeof(e));
-        ++submit_tail_;
-        fgsr_ring_consume(sh, submit_tail_);
-        if (auto why = validate(e)) return why;
+    // Submits: each entry is copied out of the ring, then the copy is validated.
+    std::optional<std::string> why;
+    uint64_t head = 0;
+    auto drained = fgsr::ipc::drain(rings_.submit, submit_tail_, head, [&](const fgsr_submit_entry& e) {
+        if ((why = validate(e))) return false;
         last_sequence_ = e.sequence;
         input_with_daemon_[e.input_slot] = true;
         ++stats_.frames_submitted;
         pending_.push_back(Pending{e, monotonic_ns()});
-    }
+        return true;
+    });
+    if (drained == fgsr::ipc::Drain::overrun)
+        return "submit ring head " + std::to_string(head) + " is beyond tail " +
+               std::to_string(submit_tail_) + " + capacity " + std::to_string(cap);
+    if (why) return why;
     // Releases.
-    auto* rh = reinterpret_cast<fgsr_ring_header*>(base + rings_.release_header);
-    const auto* re = reinterpret_cast<const fgsr_release_entry*>(base + rings_.release_entries);
-    const uint64_t rhead = fgsr_ring_load_head(rh);
-    if (rhead - release_tail_ > cap)
-        return "release ring head " + std::to_string(rhead) + " is beyond tail " +
-               std::to_string(release_tail_) + " + capacity " + std::to_string(cap);
-    while (release_tail_ != rhead) {
-        fgsr_release_entry r;
-        std::memcpy(&r, &re[fgsr_ring_index(release_tail_, cap)], sizeof(r));
-        ++release_tail_;
-        fgsr_ring_consume(rh, release_tail_);
-        if (r.output_slot >= layout_.output_slot_count || !output_with_client_[r.output_slot])
-            return "release of output slot " + std::to_string(r.output_slot) + " the client does not hold";
+    drained = fgsr::ipc::drain(rings_.release, release_tail_, head, [&](const fgsr_release_entry& r) {
+        if (r.output_slot >= layout_.output_slot_count || !output_with_client_[r.output_slot]) {
+            why = "release of output slot " + std::to_string(r.output_slot) + " the client does not hold";
+            return false;
+        }
         output_with_client_[r.output_slot] = false;
         ++free_outputs_;
-    }
+        return true;
+    });
+    if (drained == fgsr::ipc::Drain::overrun)
+        return "release ring head " + std::to_string(head) + " is beyond tail " +
+               std::to_string(release_tail_) + " + capacity " + std::to_string(cap);
+    if (why) return why;
     if (!completion_free()) return std::string("completion ring tail corrupted by the client");
     return std::nullopt;
 }
 
 std::optional<uint64_t> ServiceSession::completion_free() const {
-    const auto* ch = reinterpret_cast<const fgsr_ring_header*>(rings_map_.data() + rings_.completion_header);
-    const uint64_t tail = fgsr_ring_load_tail(ch);
-    const uint64_t used = completion_head_ - tail;
-    if (used > layout_.ring_capacity) return std::nullopt; // tail beyond head, or too far behind
-    return layout_.ring_capacity - used;
+    const int64_t room = rings_.completion.free_space(completion_head_);
+    if (room < 0) return std::nullopt; // tail beyond head, or too far behind
+    return uint64_t(room);
 }
 
 bool ServiceSession::ready() const {
@@ -319,12 +244,7 @@ bool ServiceSession::waiting_on_completion_ring() const {
 }
 
 void ServiceSession::push_completion(const fgsr_completion_entry& c) {
-    std::byte* base = rings_map_.data();
-    auto* ch = reinterpret_cast<fgsr_ring_header*>(base + rings_.completion_header);
-    auto* ce = reinterpret_cast<fgsr_completion_entry*>(base + rings_.completion_entries);
-    std::memcpy(&ce[fgsr_ring_index(completion_head_, layout_.ring_capacity)], &c, sizeof(c));
-    ++completion_head_;
-    fgsr_ring_publish(ch, completion_head_);
+    rings_.completion.push(completion_head_, c);
 }
 
 void ServiceSession::signal_complete() {

@@ -6,11 +6,11 @@
 // private memory and validated there; the daemon keeps private copies of the positions it owns.
 #pragma once
 
-#include "unique_fd.hpp"
-
 #include <fgsr/core/clock.hpp>
 #include <fgsr/engine/engine.hpp>
-#include <fgsr/protocol.h>
+#include <fgsr/ipc/ring.hpp>
+#include <fgsr/ipc/unique_fd.hpp>
+#include <fgsr/wire.h>
 
 #include <array>
 #include <deque>
@@ -22,6 +22,8 @@
 namespace fgsrd {
 
 using fgsr::monotonic_ns;
+using fgsr::ipc::Mapping;
+using fgsr::ipc::UniqueFd;
 uint64_t thread_cpu_ns();
 
 class ServiceSession {
@@ -83,7 +85,7 @@ class ServiceSession {
     uint32_t id_ = 0;
     fgsr_session_desc desc_{};
     fgsr_pool_layout layout_{};
-    fgsr_rings_layout rings_{};
+    fgsr::ipc::Rings rings_{}; // in rings_map_, set once the mapping exists
     uint32_t outputs_per_frame_limit_ = 0;
 
     // Declaration order is destruction order reversed: the engine session goes first, then the

@@ -1,14 +1,13 @@
-// Move-only owners of the daemon's kernel resources: file descriptors and memory mappings.
-// Every fd and mapping fgsrd holds lives in one of these, so tearing a session or client down
-// frees everything by destruction. Not thread-safe (each owner is used by one thread).
+// Move-only owners of kernel resources shared by libfgsr_client and fgsrd: a file descriptor and
+// a memory mapping. Every fd and mapping either side holds lives in one of these, so tearing a
+// session or connection down frees everything by destruction. Not thread-safe (each owner is
+// used by one thread).
 #pragma once
 
 #include <cstddef>
-#include <sys/mman.h>
-#include <unistd.h>
 #include <utility>
 
-namespace fgsrd {
+namespace fgsr::ipc {
 
 class UniqueFd {
   public:
@@ -27,10 +26,7 @@ class UniqueFd {
     bool valid() const { return fd_ >= 0; }
     explicit operator bool() const { return valid(); }
     // Closes the owned fd (if any) and owns `fd` instead.
-    void reset(int fd = -1) {
-        if (fd_ >= 0) ::close(fd_);
-        fd_ = fd;
-    }
+    void reset(int fd = -1);
     // Gives up ownership without closing.
     int release() { return std::exchange(fd_, -1); }
 
@@ -58,24 +54,16 @@ class Mapping {
     ~Mapping() { reset(); }
 
     // Maps `size` bytes of `fd` MAP_SHARED with `prot`; an invalid Mapping on failure (errno set).
-    static Mapping map(int fd, size_t size, int prot) {
-        void* p = ::mmap(nullptr, size, prot, MAP_SHARED, fd, 0);
-        if (p == MAP_FAILED) return {};
-        return Mapping(p, size);
-    }
+    static Mapping map(int fd, size_t size, int prot);
 
     std::byte* data() const { return static_cast<std::byte*>(data_); }
     size_t size() const { return size_; }
     bool valid() const { return data_ != nullptr; }
-    void reset() {
-        if (data_) ::munmap(data_, size_);
-        data_ = nullptr;
-        size_ = 0;
-    }
+    void reset();
 
   private:
     void* data_ = nullptr;
     size_t size_ = 0;
 };
 
-} // namespace fgsrd
+} // namespace fgsr::ipc
