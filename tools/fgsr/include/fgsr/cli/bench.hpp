@@ -99,7 +99,7 @@ struct PassBytes {
 };
 
 // Estimated bytes one generated frame (interp, extrap, isr, esr: one alpha) or one super-resolved
-// frame (sr) reads and writes, per pass, from the engine's buffer formats (engine.cpp):
+// frame (sr) reads and writes, per pass, from the engine's buffer formats (daemon/engine/src/session.cpp):
 // internal colour 8 B/px (4 halves), depth 4, vectors 8 (rg32f), splat keys 8, splat motion 16
 // (v0, v1), field 16 + field depth 4 + field state 4, warped colour 16 + warped depth 4 per
 // frame, output and SR history 16 (rgba32f). n = width * height input pixels, m = out_width *
