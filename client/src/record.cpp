@@ -13,17 +13,7 @@ namespace fgsr::client {
 
 namespace {
 
-// The protocol's enum values equal the engine's (protocol.h "Formats and conventions").
-static_assert(uint32_t(ColorFormat::rgba8_srgb) == FGSR_COLOR_RGBA8_SRGB);
-static_assert(uint32_t(ColorFormat::rgba16f_linear) == FGSR_COLOR_RGBA16F_LINEAR);
-static_assert(uint32_t(ColorFormat::rgba32f_linear) == FGSR_COLOR_RGBA32F_LINEAR);
-static_assert(uint32_t(MvFormat::rg16f) == FGSR_MV_RG16F && uint32_t(MvFormat::rg32f) == FGSR_MV_RG32F);
-static_assert(uint32_t(DepthKind::linear) == FGSR_DEPTH_LINEAR &&
-              uint32_t(DepthKind::device) == FGSR_DEPTH_DEVICE &&
-              uint32_t(DepthKind::device_reversed) == FGSR_DEPTH_DEVICE_REVERSED);
-static_assert(uint32_t(MvUnits::pixels) == FGSR_MV_PIXELS && uint32_t(MvUnits::uv) == FGSR_MV_UV);
-static_assert(uint32_t(MvDirection::to_previous) == FGSR_MV_TO_PREVIOUS &&
-              uint32_t(MvDirection::from_previous) == FGSR_MV_FROM_PREVIOUS);
+// The protocol's enum values equal fgsr_core's (static_asserts in fgsr/core/types.hpp).
 
 // Copies a plane of `rows` rows of `row_bytes` bytes, `pitch` apart, into a tightly packed buffer.
 void pack_plane(std::vector<std::byte>& out, const std::byte* src, uint32_t pitch, size_t row_bytes,

@@ -19,17 +19,12 @@ static fgsr_status refuse(char* reason, size_t reason_size, const char* fmt, ...
     return FGSR_STATUS_INVALID_ARGUMENT;
 }
 
-/* Bytes per pixel, indexed by the format's value. */
-static const uint32_t kColorBytes[] = {
-    [FGSR_COLOR_RGBA8_SRGB] = 4, [FGSR_COLOR_RGBA16F_LINEAR] = 8, [FGSR_COLOR_RGBA32F_LINEAR] = 16};
-static const uint32_t kMvBytes[] = {[FGSR_MV_RG16F] = 4, [FGSR_MV_RG32F] = 8};
-
 uint32_t fgsr_color_format_bytes(uint32_t format) {
-    return format < sizeof(kColorBytes) / sizeof(kColorBytes[0]) ? kColorBytes[format] : 0;
+    return FGSR_COLOR_FORMAT_BYTES(format);
 }
 
 uint32_t fgsr_mv_format_bytes(uint32_t format) {
-    return format < sizeof(kMvBytes) / sizeof(kMvBytes[0]) ? kMvBytes[format] : 0;
+    return FGSR_MV_FORMAT_BYTES(format);
 }
 
 static int is_scale(float s) {

@@ -78,6 +78,16 @@ typedef enum fgsr_depth_kind {
 } fgsr_depth_kind;
 
 typedef enum fgsr_mv_format { FGSR_MV_RG16F = 0, FGSR_MV_RG32F = 1 } fgsr_mv_format;
+
+/* Bytes per pixel of a colour or vector format, 0 for a value outside its enum: the one table of
+ * plane sizes (C, and C++ constant expressions: fgsr/core/types.hpp bytes_per_pixel). */
+#define FGSR_COLOR_FORMAT_BYTES(f)                                                                           \
+    ((uint32_t)(f) == (uint32_t)FGSR_COLOR_RGBA8_SRGB       ? 4u                                             \
+     : (uint32_t)(f) == (uint32_t)FGSR_COLOR_RGBA16F_LINEAR ? 8u                                             \
+     : (uint32_t)(f) == (uint32_t)FGSR_COLOR_RGBA32F_LINEAR ? 16u                                            \
+                                                            : 0u)
+#define FGSR_MV_FORMAT_BYTES(f)                                                                              \
+    ((uint32_t)(f) == (uint32_t)FGSR_MV_RG16F ? 4u : (uint32_t)(f) == (uint32_t)FGSR_MV_RG32F ? 8u : 0u)
 typedef enum fgsr_mv_units { FGSR_MV_PIXELS = 0, FGSR_MV_UV = 1 } fgsr_mv_units;
 typedef enum fgsr_mv_direction { FGSR_MV_TO_PREVIOUS = 0, FGSR_MV_FROM_PREVIOUS = 1 } fgsr_mv_direction;
 

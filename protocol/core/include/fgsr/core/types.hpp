@@ -67,27 +67,24 @@ struct FrameFormat {
     Conventions conventions{};
 };
 
-// Bytes per pixel of a plane (0 for a value outside the enum). Header-only so that libraries that
-// must not link the engine (the capture-format writer inside libfgsr_client) share it.
+// The values of these enums are the protocol's (protocol.h "Formats and conventions").
+static_assert(uint32_t(ColorFormat::rgba8_srgb) == FGSR_COLOR_RGBA8_SRGB);
+static_assert(uint32_t(ColorFormat::rgba16f_linear) == FGSR_COLOR_RGBA16F_LINEAR);
+static_assert(uint32_t(ColorFormat::rgba32f_linear) == FGSR_COLOR_RGBA32F_LINEAR);
+static_assert(uint32_t(MvFormat::rg16f) == FGSR_MV_RG16F && uint32_t(MvFormat::rg32f) == FGSR_MV_RG32F);
+static_assert(uint32_t(DepthKind::linear) == FGSR_DEPTH_LINEAR &&
+              uint32_t(DepthKind::device) == FGSR_DEPTH_DEVICE &&
+              uint32_t(DepthKind::device_reversed) == FGSR_DEPTH_DEVICE_REVERSED);
+static_assert(uint32_t(MvUnits::pixels) == FGSR_MV_PIXELS && uint32_t(MvUnits::uv) == FGSR_MV_UV);
+static_assert(uint32_t(MvDirection::to_previous) == FGSR_MV_TO_PREVIOUS &&
+              uint32_t(MvDirection::from_previous) == FGSR_MV_FROM_PREVIOUS);
+
+// Bytes per pixel of a plane (0 for a value outside the enum): the protocol's table.
 constexpr size_t bytes_per_pixel(ColorFormat f) {
-    switch (f) {
-    case ColorFormat::rgba8_srgb:
-        return 4;
-    case ColorFormat::rgba16f_linear:
-        return 8;
-    case ColorFormat::rgba32f_linear:
-        return 16;
-    }
-    return 0;
+    return FGSR_COLOR_FORMAT_BYTES(uint32_t(f));
 }
 constexpr size_t bytes_per_pixel(MvFormat f) {
-    switch (f) {
-    case MvFormat::rg16f:
-        return 4;
-    case MvFormat::rg32f:
-        return 8;
-    }
-    return 0;
+    return FGSR_MV_FORMAT_BYTES(uint32_t(f));
 }
 std::string_view to_string(ColorFormat f);
 std::string_view to_string(DepthKind k);
