@@ -4,8 +4,8 @@
 #include "engine_fixture.hpp"
 
 #include <fgsr/core/clock.hpp>
+
 #include <sys/mman.h>
-#include <time.h>
 
 namespace fgsr::test {
 namespace {

@@ -3,9 +3,9 @@
 // high-resolution rendering, plus the `sr` pass against its CPU reference.
 #include "engine_fixture.hpp"
 
-#include <fgsr/core/halton.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
+#include <fgsr/core/halton.hpp>
 #include <fgsr/engine/lut.hpp>
 
 #include <cmath>
@@ -18,7 +18,6 @@ namespace {
 
 using capture::SceneOptions;
 using capture::SyntheticScene;
-
 
 float v_jitter(uint32_t k) {
     return 0.1f * float(k);
