@@ -31,12 +31,12 @@ class CaptureRecorder final : public Recorder {
     fgsr_status add(const fgsr_pool_layout& l, const std::byte* slot, const fgsr_submit_entry& e) override {
         const FrameFormat& f = manifest_.format;
         pack_plane(color_, slot + l.color.offset, l.color.row_pitch,
-                   size_t(f.width) * fgsr_color_format_bytes(uint32_t(f.color_format)), f.height);
+                   size_t(f.width) * bytes_per_pixel(f.color_format), f.height);
         pack_plane(depth_, slot + l.depth.offset, l.depth.row_pitch, size_t(f.width) * 4, f.height);
         const bool has_mv = (e.flags & FGSR_SUBMIT_HAS_MV) != 0;
         if (has_mv)
             pack_plane(mv_, slot + l.mv.offset, l.mv.row_pitch,
-                       size_t(f.width) * fgsr_mv_format_bytes(uint32_t(f.mv_format)), f.height);
+                       size_t(f.width) * bytes_per_pixel(f.mv_format), f.height);
         FrameView view{color_, depth_,
                        has_mv ? std::span<const std::byte>(mv_) : std::span<const std::byte>()};
         view.jitter_x = e.jitter_x;

@@ -4,8 +4,6 @@
 // promises), mapping the pools and rings; destroy, layout, stats, and the recording switch.
 #include "client_internal.hpp"
 
-#include <fgsr/core/clock.hpp>
-
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
