@@ -36,6 +36,8 @@ import cv2
 
 def colour_pngs(fgsr, capture, lr, png_dir):
     """Runs `fgsr convert --colour-png`; returns the PNG paths of the inputs, in order."""
+    if os.path.exists(os.path.join(png_dir, '0000.png')):
+        raise SystemExit('dis_vectors: %s already holds colour PNGs; give an empty directory' % png_dir)
     cmd = [fgsr, 'convert', '--capture', capture, '--colour-png', '--out', png_dir]
     if lr:
         cmd.append('--lr')
