@@ -178,5 +178,55 @@ TEST_F(EvalMotion, VectorsFromRefusesBadFlowFiles) {
     EXPECT_NE(r.status, 0);
 }
 
+// The motion passes' timings come from Session::last_motion_timings() when the type has it (the
+// engine's accessor, added with the motion passes) and are empty otherwise; a colour-only frame's
+// time adds them as passes of their own.
+struct TimedSession {
+    std::vector<PassTiming> last_motion_timings() const {
+        PassTiming a, b;
+        a.name = "luma";
+        a.ms = 1.25;
+        b.name = "match";
+        b.ms = 2.5;
+        return {a, b};
+    }
+};
+struct UntimedSession {};
+
+TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
+    UntimedSession untimed;
+    EXPECT_TRUE(cli::last_motion_timings(untimed).empty());
+    TimedSession timed;
+    const std::vector<PassTiming> motion = cli::last_motion_timings(timed);
+    ASSERT_EQ(motion.size(), 2u);
+    GeneratedFrame f;
+    f.gpu_ms = 10.0;
+    PassTiming splat;
+    splat.name = "splat";
+    splat.ms = 10.0;
+    f.passes = {splat};
+    const GeneratedFrame g = cli::with_motion_timings(f, motion);
+    EXPECT_DOUBLE_EQ(g.gpu_ms, 13.75);
+    ASSERT_EQ(g.passes.size(), 3u);
+    EXPECT_EQ(g.passes[1].name, "luma");
+    EXPECT_EQ(g.passes[2].name, "match");
+    cli::MethodScore score;
+    cli::add_timing(score, g);
+    EXPECT_DOUBLE_EQ(score.pass_ms["match"], 2.5);
+}
+
+TEST(EvalMotionCaptures, ColourMethodInSuperResolution) {
+    const std::filesystem::path dir = std::filesystem::path(FGSR_SHARED_CAPTURES) / "blender/orbit-sr";
+    if (!std::filesystem::exists(dir))
+        GTEST_SKIP() << "../shared/captures/blender/orbit-sr not found (captures exist in CI only)";
+    nlohmann::json j = eval_json(
+        "--mode sr --frames 3 --static-frames 0 --methods fgsr,fgsr-colour --capture " + dir.string());
+    ASSERT_FALSE(j.is_discarded());
+    const nlohmann::json& c = j["methods"]["fgsr-colour"];
+    for (const char* key : {"psnr", "ssim", "ms", "epe"})
+        EXPECT_TRUE(finite_number(c[key])) << key << " = " << c[key];
+    EXPECT_GT(c["psnr"].get<double>(), 15.0);
+}
+
 } // namespace
 } // namespace fgsr::test

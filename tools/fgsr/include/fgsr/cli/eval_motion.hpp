@@ -40,7 +40,8 @@ FrameView session_view(const FrameFormat& session_format, const FrameView& frame
 // engine times them.
 // TODO(lead): once Session::last_motion_timings() lands on main this picks it up by itself; then
 // replace the template by a plain call.
-template <class S> std::vector<PassTiming> last_motion_timings(const S& session) {
+// (S deduced as given: a const Session& needs a const accessor, a Session& takes either.)
+template <class S> std::vector<PassTiming> last_motion_timings(S& session) {
     if constexpr (requires {
                       { session.last_motion_timings() } -> std::convertible_to<std::vector<PassTiming>>;
                   })
