@@ -316,6 +316,39 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
     return {};
 }
 
+// BenchReport::colour on `cap` (the moving synthetic scene at the headline resolution).
+Result<void> time_colour_only(const BenchOptions& o, Engine& engine, const capture::Capture& cap,
+                              const Params& params, BenchReport& rep) {
+    auto s = engine.create_session(colour_only(cap.format), params);
+    if (!s) return s.error();
+    for (const capture::Frame& f : cap.inputs) FGSR_TRY((*s)->submit(session_view((*s)->format(), f.view())));
+    std::vector<double> motion, ingest, call;
+    std::map<std::string, std::vector<double>> passes;
+    const std::vector<float> half{0.5f};
+    for (int i = 0; i < std::max(o.repeats, 9); ++i) {
+        FGSR_TRY((*s)->submit(session_view((*s)->format(), cap.inputs[1 + size_t(i) % 2].view())));
+        double m = 0;
+        for (const PassTiming& p : last_motion_timings(**s)) {
+            m += p.ms;
+            passes[p.name].push_back(p.ms);
+        }
+        motion.push_back(m);
+        ingest.push_back((*s)->last_ingest_ms());
+        auto c = timed_call(**s, half, nullptr);
+        if (!c) return c.error();
+        call.push_back(*c);
+    }
+    BenchReport::ColourTiming& t = rep.colour;
+    t.measured = true;
+    t.motion_ms = median(motion);
+    t.ingest_ms = median(ingest);
+    t.call_ms = median(call);
+    for (const auto& [name, v] : passes) t.motion_pass_ms[name] = median(v);
+    progress(o, fmt::format("colour only: motion {:.2f} ms, ingest {:.2f} ms, interpolate call {:.2f} ms",
+                            t.motion_ms, t.ingest_ms, t.call_ms));
+    return {};
+}
+
 Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep) {
     const Params balanced = preset_params(Preset::balanced);
     const int reps = std::max(o.repeats, 1);
@@ -399,6 +432,7 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             mv.push_back(*b);
             mv_frame.push_back(*b + (*s)->last_ingest_ms());
         }
+        if (o.colour) FGSR_TRY(time_colour_only(o, engine, *cap, balanced, rep));
         rep.still_ms = median(st);
         rep.moving_ms = median(mv);
         rep.still_frame_ms = median(st_frame);

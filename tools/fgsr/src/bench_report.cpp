@@ -250,6 +250,20 @@ std::string bench_markdown(const BenchReport& r) {
             r.headline.name, num(r.still_ms, 2), num(r.moving_ms, 2), num(r.still_ms / r.moving_ms, 2),
             num(r.still_frame_ms, 2), num(r.moving_frame_ms, 2),
             num(r.still_frame_ms / r.moving_frame_ms, 2));
+    if (r.colour.measured) {
+        std::string split;
+        for (const auto& [name, ms] : r.colour.motion_pass_ms)
+            split += fmt::format("{}{} {:.2f}", split.empty() ? "" : ", ", name, ms);
+        const double rest = r.colour.ingest_ms + r.colour.call_ms;
+        s += fmt::format(
+            "\n## Colour only ({}, balanced interpolation, vectors and depth withheld)\n\nEach "
+            "sample on a fresh pair: the new input's submit (motion estimation, ingest), then the "
+            "call.\n\n| motion passes | ingest | interpolate call | motion / (ingest + call) | "
+            "motion per pass |\n|---:|---:|---:|---:|---|\n| {} ms | {} ms | {} ms | {} | {} |\n",
+            r.headline.name, num(r.colour.motion_ms, 2), num(r.colour.ingest_ms, 2), num(r.colour.call_ms, 2),
+            num(rest > 0 ? r.colour.motion_ms / rest : 0.0, 2),
+            split.empty() ? "(the engine times no motion pass yet)" : split);
+    }
     return s;
 }
 

@@ -222,6 +222,15 @@ struct BenchReport {
     // frame = the new input's ingest + the call (GPU ms, medians).
     double still_ms = 0, moving_ms = 0;
     double still_frame_ms = 0, moving_frame_ms = 0;
+    // Colour only (BenchOptions::colour), balanced interpolation of the moving synthetic scene at
+    // the headline resolution, each sample on a fresh pair: the new input's motion passes (at
+    // submit; 0 until the engine times them), its ingest and the interpolate call (GPU ms,
+    // medians), and the motion passes one by one (issue 12: motion at most 2x the rest).
+    struct ColourTiming {
+        bool measured = false;
+        double motion_ms = 0, ingest_ms = 0, call_ms = 0;
+        std::map<std::string, double> motion_pass_ms;
+    } colour;
     double seconds = 0;
     int repeats = 0, frames = 0;
     unsigned copy_threads = 0;
