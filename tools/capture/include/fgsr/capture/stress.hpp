@@ -54,8 +54,9 @@ struct Step {
     int drift_compare = -1;
     // interpolate / extrapolate across a scene cut the session was not told about (no
     // FrameView::reset; colour-only sessions detect cuts from colour): the step passes when it is
-    // refused with a reason mentioning "needs two submitted frames" (the engine restarted at the
-    // cut, as after FrameView::reset), or when every output equals the session's frame 0 or frame
+    // refused with a reason mentioning "needs two submitted frames" or with the session's
+    // frames_submitted() back at 1 (the engine restarted at the cut, as after FrameView::reset),
+    // or when every output equals the session's frame 0 or frame
     // 1 as stored (Session::read_frame, within 1e-3 relative to max(1, |value|)): never a warp or
     // a blend of the two scenes. `reject` is unused.
     bool across_cut = false;
