@@ -5,8 +5,10 @@
 // client does not flag, and full-frame pans far beyond any search range (216 px per frame at
 // 480x270; a diagonal pan of more than a quarter of the frame on both axes). Every output must be
 // finite, every submitted frame's estimated vectors and depth proxy finite (depth positive), no
-// request may fail, each case ends within max_seconds, and across the cut the generated frame is
-// one of the two inputs or the request is refused as after a reset (Step::across_cut).
+// request may fail except by the engine restarting where it takes the content for a scene cut
+// (Step::cut_allowed: noise, fades and pans beyond the search range may be), each case ends within
+// max_seconds, and across the unflagged cut the generated frame is one of the two inputs or the
+// request is refused as after a reset (Step::across_cut).
 #include "stress_internal.hpp"
 
 #include <cmath>
@@ -101,8 +103,12 @@ Case sequence_case(std::string name, std::string checks, const FrameFormat& f, f
         s.push_back([=] { return submit(frame(k)); });
         if (sr) s.push_back([] { return request(Op::super_resolve, {}); });
         if (k == 0) continue;
-        s.push_back([] { return request(Op::interpolate, kInterp); });
-        s.push_back([] { return request(Op::extrapolate, kExtrap); });
+        for (Op op : {Op::interpolate, Op::extrapolate})
+            s.push_back([op] {
+                Step st = request(op, op == Op::interpolate ? kInterp : kExtrap);
+                st.cut_allowed = true; // the engine may take this content for a cut and restart
+                return st;
+            });
     }
     c.step_count = s.size();
     c.step = sequence(std::move(s));

@@ -22,6 +22,9 @@ namespace {
 
 using namespace detail;
 
+// Why generation is refused after a reset (Session::interpolate / extrapolate).
+constexpr const char* kResetReason = "needs two submitted frames";
+
 struct CpuState {
     ref::InternalFrame f0, f1;
     size_t frames = 0; // submitted since the last reset
@@ -128,6 +131,12 @@ class Runner {
                                 st.reject + "'");
                 continue;
             }
+            if (err && st.cut_allowed &&
+                (contains_nocase(err->message, kResetReason) || s.frames_submitted() == 1)) {
+                r_.rejections.push_back(std::string(errc_name(err->code)) + ": " + err->message +
+                                        " (content taken for a scene cut)");
+                continue;
+            }
             if (err) return fail(where + " failed: " + errc_name(err->code) + ": " + err->message);
             for (size_t k = 0; k < images.size(); ++k)
                 if (!check_image(images[k], where + " output " + std::to_string(k))) return false;
@@ -148,7 +157,7 @@ class Runner {
     // Step::across_cut: refused as after a reset, or every output is one of the stored frames.
     bool check_across_cut(Session& s, const std::optional<Error>& err, const std::vector<ImageRGBA>& images,
                           const std::string& where) {
-        constexpr const char* kReset = "needs two submitted frames";
+        constexpr const char* kReset = kResetReason;
         if (err) {
             r_.rejections.push_back(std::string(errc_name(err->code)) + ": " + err->message);
             // Refused because the session restarted at the cut: the reset's reason, or a session

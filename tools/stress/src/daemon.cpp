@@ -427,7 +427,13 @@ class DaemonRunner {
                 e.seen = true;
                 const auto& [ri, r] = reqs[e.req];
                 const std::string rw = where(ri, r);
-                if (e.reject.empty()) {
+                if (e.reject.empty() && r.cut_allowed && out.status == FGSR_STATUS_NOT_READY) {
+                    // Content the engine took for a scene cut: refused as after a reset.
+                    if (!reason_recorded[e.req]) {
+                        reason_recorded[e.req] = true;
+                        if (!daemon_rejection(rw, out.status, "needs two submitted frames")) return;
+                    }
+                } else if (e.reject.empty()) {
                     if (out.status != FGSR_STATUS_OK || !img) {
                         fail(rw + " failed: " + status_name(out.status) + log_reason_line("session"));
                         return;
