@@ -178,34 +178,21 @@ TEST_F(EvalMotion, VectorsFromRefusesBadFlowFiles) {
     EXPECT_NE(r.status, 0);
 }
 
-// The motion passes' timings come from Session::last_motion_timings() when the type has it (the
-// engine's accessor, added with the motion passes) and are empty otherwise; a colour-only frame's
-// time adds them as passes of their own.
-struct TimedSession {
-    std::vector<PassTiming> last_motion_timings() const {
-        PassTiming a, b;
-        a.name = "luma";
-        a.ms = 1.25;
-        b.name = "match";
-        b.ms = 2.5;
-        return {a, b};
-    }
-};
-struct UntimedSession {};
-
+// A colour-only frame's time adds the motion passes of its newest input's submit as passes of
+// their own; eval's fgsr-colour reports them in pass_ms, and its ms is larger than its generate
+// call's passes alone by their sum.
 TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
-    UntimedSession untimed;
-    EXPECT_TRUE(cli::last_motion_timings(untimed).empty());
-    TimedSession timed;
-    const std::vector<PassTiming> motion = cli::last_motion_timings(timed);
-    ASSERT_EQ(motion.size(), 2u);
     GeneratedFrame f;
     f.gpu_ms = 10.0;
-    PassTiming splat;
+    PassTiming splat, luma, match;
     splat.name = "splat";
     splat.ms = 10.0;
+    luma.name = "luma";
+    luma.ms = 1.25;
+    match.name = "match";
+    match.ms = 2.5;
     f.passes = {splat};
-    const GeneratedFrame g = cli::with_motion_timings(f, motion);
+    const GeneratedFrame g = cli::with_motion_timings(f, {luma, match});
     EXPECT_DOUBLE_EQ(g.gpu_ms, 13.75);
     ASSERT_EQ(g.passes.size(), 3u);
     EXPECT_EQ(g.passes[1].name, "luma");
@@ -213,6 +200,19 @@ TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
     cli::MethodScore score;
     cli::add_timing(score, g);
     EXPECT_DOUBLE_EQ(score.pass_ms["match"], 2.5);
+
+    nlohmann::json j = eval_json(
+        "--capture builtin --frames 2 --no-skip-tiles --methods fgsr-colour"); // every pass every frame
+    ASSERT_FALSE(j.is_discarded());
+    const nlohmann::json& c = j["methods"]["fgsr-colour"];
+    double motion = 0, all = 0;
+    for (const char* pass : {"luma", "match", "flow"}) {
+        ASSERT_TRUE(c["pass_ms"].contains(pass)) << c.dump();
+        motion += c["pass_ms"][pass].get<double>();
+    }
+    for (const auto& [name, ms] : c["pass_ms"].items()) all += ms.get<double>();
+    EXPECT_GT(motion, 0.0);
+    EXPECT_NEAR(c["ms"].get<double>(), all, 1e-6 * all) << "ms is the sum of every pass, motion included";
 }
 
 TEST(EvalMotionCaptures, ColourMethodInSuperResolution) {

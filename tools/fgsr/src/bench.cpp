@@ -174,7 +174,7 @@ Result<std::vector<Samples>> time_configs(const BenchOptions& o, Engine& engine,
     // A colour-only frame costs the motion estimation of the newest input too.
     auto add = [&](size_t c, const GeneratedFrame& f) {
         if (!configs[c].colour_only) return out[c].add(f);
-        const std::vector<PassTiming> motion = last_motion_timings(*sessions[c]);
+        const std::vector<PassTiming> motion = sessions[c]->last_motion_timings();
         double ms = 0;
         for (const PassTiming& p : motion) ms += p.ms;
         out[c].motion.push_back(ms);
@@ -328,7 +328,7 @@ Result<void> time_colour_only(const BenchOptions& o, Engine& engine, const captu
     for (int i = 0; i < std::max(o.repeats, 9); ++i) {
         FGSR_TRY((*s)->submit(session_view((*s)->format(), cap.inputs[1 + size_t(i) % 2].view())));
         double m = 0;
-        for (const PassTiming& p : last_motion_timings(**s)) {
+        for (const PassTiming& p : (*s)->last_motion_timings()) {
             m += p.ms;
             passes[p.name].push_back(p.ms);
         }

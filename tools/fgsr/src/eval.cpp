@@ -264,7 +264,7 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
                 if (!out) return out.error();
                 // A colour-only frame costs the motion estimation of its newest input too.
                 add_timing(score, is_colour_method(m)
-                                      ? with_motion_timings((*out)[0], last_motion_timings(*sessions[m]))
+                                      ? with_motion_timings((*out)[0], sessions[m]->last_motion_timings())
                                       : (*out)[0]);
                 img = std::move((*out)[0].color);
             } else if (m == "blend") {

@@ -26,8 +26,8 @@ bool is_engine_sr(const std::string& m) {
 constexpr const char* kSrMethods = "fgsr, fgsr-colour, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic";
 
 // A colour-only method's output costs the motion estimation of its newest input too.
-GeneratedFrame timed(const std::string& m, Session& s, GeneratedFrame f) {
-    return is_colour_method(m) ? with_motion_timings(std::move(f), last_motion_timings(s)) : f;
+GeneratedFrame timed(const std::string& m, const Session& s, GeneratedFrame f) {
+    return is_colour_method(m) ? with_motion_timings(std::move(f), s.last_motion_timings()) : f;
 }
 
 // After every session took input k: the capture's vectors of it, then each colour-only

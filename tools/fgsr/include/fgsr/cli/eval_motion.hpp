@@ -19,7 +19,6 @@
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/engine/engine.hpp>
 
-#include <concepts>
 #include <cstdint>
 #include <filesystem>
 #include <vector>
@@ -36,22 +35,9 @@ FrameFormat colour_only(FrameFormat f);
 // none, without depth when it has none (withheld, not merely ignored).
 FrameView session_view(const FrameFormat& session_format, const FrameView& frame);
 
-// GPU timings of the motion-estimation passes of the session's last submit: empty until the
-// engine times them.
-// TODO(lead): once Session::last_motion_timings() lands on main this picks it up by itself; then
-// replace the template by a plain call.
-// (S deduced as given: a const Session& needs a const accessor, a Session& takes either.)
-template <class S> std::vector<PassTiming> last_motion_timings(S& session) {
-    if constexpr (requires {
-                      { session.last_motion_timings() } -> std::convertible_to<std::vector<PassTiming>>;
-                  })
-        return session.last_motion_timings();
-    else
-        return {};
-}
-
-// `frame` with the motion timings added as passes of their own (gpu_ms includes them): what a
-// colour-only frame costs, the estimation of its newest input included.
+// `frame` with the motion timings (Session::last_motion_timings of the newest input's submit) added
+// as passes of their own (gpu_ms includes them): what a colour-only frame costs, the estimation of
+// its newest input included.
 GeneratedFrame with_motion_timings(GeneratedFrame frame, const std::vector<PassTiming>& motion);
 
 // The capture's vectors and depths, frame by frame, in the internal convention: the reference the
