@@ -8,12 +8,14 @@
 #include <fgsr/cli/eval_motion.hpp>
 
 #include <fgsr/capture/flow_io.hpp>
+#include <fgsr/capture/synthetic.hpp>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -213,6 +215,45 @@ TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
     for (const auto& [name, ms] : c["pass_ms"].items()) all += ms.get<double>();
     EXPECT_GT(motion, 0.0);
     EXPECT_NEAR(c["ms"].get<double>(), all, 1e-6 * all) << "ms is the sum of every pass, motion included";
+}
+
+// A cut the capture does not flag (the inputs from 5 on come from another scene): the colour-only
+// session detects it and refuses the pair across it; eval shows the nearest input there, counts
+// it and carries on (it used to stop the whole evaluation with the refusal).
+TEST(EvalMotionTiming, DetectedCutIsScoredAsTheNearestInput) {
+    auto a = cli::load_capture_spec("builtin");
+    ASSERT_TRUE(a) << a.error().message;
+    capture::SceneOptions other;
+    other.seed = 77;
+    other.supersample = 1;
+    auto b = capture::make_synthetic_capture(other, 11);
+    ASSERT_TRUE(b) << b.error().message;
+    ASSERT_EQ(b->format.width, a->format.width);
+    for (size_t k = 5; k < a->inputs.size(); ++k) {
+        // Scene B's colour seen by a camera that also turned around: mirrored rows.
+        capture::Frame f = b->inputs[k];
+        const size_t row = f.color.size() / b->format.height;
+        for (uint32_t y = 0; y < b->format.height; ++y)
+            std::copy(b->inputs[k].color.begin() + std::ptrdiff_t(y * row),
+                      b->inputs[k].color.begin() + std::ptrdiff_t((y + 1) * row),
+                      f.color.end() - std::ptrdiff_t((y + 1) * row));
+        a->inputs[k].color = f.color;
+    }
+    cli::EvalOptions o;
+    o.methods = {"fgsr-colour", "blend"};
+    o.preloaded = &*a;
+    o.engine = &engine();
+    o.progress = false;
+    auto r = cli::run_eval(o);
+    ASSERT_TRUE(r) << r.error().message;
+    const cli::MethodScore& c = r->methods.at("fgsr-colour");
+    EXPECT_GE(c.scene_cuts, 1u) << "the cut before input 5 is detected";
+    EXPECT_LT(c.scene_cuts, 4u) << "and little else";
+    EXPECT_EQ(c.psnr.size(), r->frames) << "every frame is scored";
+    EXPECT_EQ(c.ms_samples.size(), r->frames - c.scene_cuts) << "refused frames are not timed";
+    const nlohmann::json j = nlohmann::json::parse(cli::report_json(*r, false));
+    EXPECT_EQ(j["methods"]["fgsr-colour"]["scene_cuts"].get<size_t>(), c.scene_cuts);
+    expect_no_validation_errors();
 }
 
 TEST(EvalMotionCaptures, ColourMethodInSuperResolution) {

@@ -208,6 +208,7 @@ Result<std::vector<Samples>> time_configs(const BenchOptions& o, Engine& engine,
         for (int r = 0; r < reps; ++r)
             for (size_t c = 0; c < sessions.size(); ++c) {
                 auto f = extrap ? sessions[c]->extrapolate(alpha) : sessions[c]->interpolate(alpha);
+                if (!f && restarted_at_cut(*sessions[c])) continue; // nothing generated, nothing timed
                 if (!f) return f.error();
                 add(c, (*f)[0]);
             }
@@ -335,6 +336,7 @@ Result<void> time_colour_only(const BenchOptions& o, Engine& engine, const captu
         motion.push_back(m);
         ingest.push_back((*s)->last_ingest_ms());
         auto c = timed_call(**s, half, nullptr);
+        if (!c && restarted_at_cut(**s)) continue; // taken for a cut: nothing generated
         if (!c) return c.error();
         call.push_back(*c);
     }

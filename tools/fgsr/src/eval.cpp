@@ -261,12 +261,18 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
             if (is_engine_method(m)) {
                 const float a[] = {o.alpha};
                 auto out = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
-                if (!out) return out.error();
-                // A colour-only frame costs the motion estimation of its newest input too.
-                add_timing(score, is_colour_method(m)
-                                      ? with_motion_timings((*out)[0], sessions[m]->last_motion_timings())
-                                      : (*out)[0]);
-                img = std::move((*out)[0].color);
+                if (!out && restarted_at_cut(*sessions[m])) {
+                    ++score.scene_cuts;
+                    img = extrap || o.alpha > 0.5f ? i1 : i0; // as `repeat`
+                } else if (!out) {
+                    return out.error();
+                } else {
+                    // A colour-only frame costs the motion estimation of its newest input too.
+                    add_timing(score, is_colour_method(m)
+                                          ? with_motion_timings((*out)[0], sessions[m]->last_motion_timings())
+                                          : (*out)[0]);
+                    img = std::move((*out)[0].color);
+                }
             } else if (m == "blend") {
                 img = extrap ? i1 : lerp(i0, i1, o.alpha);
             } else { // repeat: the nearest input in time
@@ -332,6 +338,7 @@ std::string report_json(const EvalReport& r, bool per_frame) {
         jm["ms"] = s.mean_ms;
         if (s.scores_vectors)
             jm["epe"] = s.epe.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(s.mean_epe);
+        if (is_colour_method(m)) jm["scene_cuts"] = s.scene_cuts;
         if (s.stability_std >= 0) jm["stability_std"] = s.stability_std;
         if (!s.pass_ms.empty()) {
             nlohmann::ordered_json passes = nlohmann::ordered_json::object();
@@ -379,6 +386,10 @@ std::string report_table(const EvalReport& r) {
                                        100.0 * double(ms.pass_tiles.at(p).first) /
                                            double(ms.pass_tiles.at(p).second));
         if (!skipped.empty()) s += fmt::format("{:<13} skipped tiles: {}\n", "", skipped);
+        if (ms.scene_cuts > 0)
+            s += fmt::format(
+                "{:<13} scene cuts detected before {} of the {} frames (the nearest input shown)\n", "",
+                ms.scene_cuts, ms.psnr.size());
     }
     if (r.ingest_ms > 0) s += fmt::format("ingest: {:.2f} ms per input frame\n", r.ingest_ms);
     if (r.static_frames > 0) {

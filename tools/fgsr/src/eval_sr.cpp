@@ -251,9 +251,17 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
             ImageRGBA img;
             if (is_engine_sr(m)) {
                 auto out = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
-                if (!out) return out.error();
-                add_timing(score, timed(m, *sessions[m], (*out)[0]));
-                img = std::move((*out)[0].color);
+                if (!out && restarted_at_cut(*sessions[m])) { // the newest frame, upscaled
+                    ++score.scene_cuts;
+                    auto sr = sessions[m]->super_resolved();
+                    if (!sr) return sr.error();
+                    img = std::move(sr->color);
+                } else if (!out) {
+                    return out.error();
+                } else {
+                    add_timing(score, timed(m, *sessions[m], (*out)[0]));
+                    img = std::move((*out)[0].color);
+                }
             } else {
                 if (!lr_frame) {
                     auto out = extrap ? (*lr_session)->extrapolate(a) : (*lr_session)->interpolate(a);

@@ -35,6 +35,12 @@ FrameFormat colour_only(FrameFormat f);
 // none, without depth when it has none (withheld, not merely ignored).
 FrameView session_view(const FrameFormat& session_format, const FrameView& frame);
 
+// Whether `session` refused to generate because it restarted at a scene cut it detected in its
+// newest input (colour-only sessions: Session::last_scene_cut, then as after FrameView::reset).
+// Eval then shows the nearest input (the `repeat` rule; sr modes: the newest super-resolved
+// frame), scores it, counts it in MethodScore::scene_cuts and times nothing for it.
+bool restarted_at_cut(const Session& session);
+
 // `frame` with the motion timings (Session::last_motion_timings of the newest input's submit) added
 // as passes of their own (gpu_ms includes them): what a colour-only frame costs, the estimation of
 // its newest input included.
