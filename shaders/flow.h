@@ -33,6 +33,7 @@
 //   void  store_flow(uint pixel, vec2 mv, float depth, bool write_depth)
 
 #define FLOW_SMOOTH_BIAS 0.9f // cost factor of the bilinear candidate
+#define FLOW_AGREE 0.25f     // pixels: blocks this close to their blend need no per-pixel choice
 #define FLOW_PROXY_RANGE 0.04f // depth proxies lie in (1 - range, 1]
 
 FGSR_INLINE vec2 flow_block(ivec2 b, uint offset, FlowParams p) {
@@ -76,16 +77,24 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     vec2 b = pos * (1.0f / float(MOTION_BLOCK)) - 0.5f;
     ivec2 c = ivec2(floor(b));
     vec2 best = flow_bilinear(pos, p.back_offset, p);
-    float best_cost = FLOW_SMOOTH_BIAS * flow_cost(q, best, p);
-    vec2 nearest_g = best;
+    vec2 corner[4];
+    float spread = 0.0f;
     for (int k = 0; k < 4; ++k) {
-        vec2 v = flow_block(c + ivec2(k & 1, k >> 1), p.back_offset, p);
-        float cost = flow_cost(q, v, p);
-        if (cost < best_cost) {
-            best_cost = cost;
-            best = v;
+        corner[k] = flow_block(c + ivec2(k & 1, k >> 1), p.back_offset, p);
+        spread = max(spread, length(corner[k] - best));
+    }
+    vec2 nearest_g = best;
+    // Where the four blocks agree (most of a frame) the blend is the answer: no costs to compare.
+    if (spread > FLOW_AGREE) {
+        float best_cost = FLOW_SMOOTH_BIAS * flow_cost(q, best, p);
+        for (int k = 0; k < 4; ++k) {
+            float cost = flow_cost(q, corner[k], p);
+            if (cost < best_cost) {
+                best_cost = cost;
+                best = corner[k];
+            }
+            if (length(corner[k] - g) < length(nearest_g - g)) nearest_g = corner[k];
         }
-        if (length(v - g) < length(nearest_g - g)) nearest_g = v;
     }
     vec2 back = flow_bilinear(pos + best, p.fwd_offset, p);
     bool occluded = length(best + back) > p.fb_tolerance + 0.1f * length(best);

@@ -29,6 +29,8 @@
 //   vec4  load_field(uint index) the block field (coarser level)
 //   void  store_field(uint index, vec4 value)
 
+#define MATCH_GOOD 0.003f // mean absolute luma difference of a match that needs no search
+
 FGSR_INLINE float match_dst(ivec2 q, MatchParams p) {
     q = clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
     return load_dst(p.dst_offset + uint(q.y) * p.width + uint(q.x));
@@ -124,9 +126,12 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
             }
         }
     }
+    // A candidate that already matches to within MATCH_GOOD needs no search around it (most blocks
+    // of a smooth motion, after the first levels): only its sub-pixel fit.
     ivec2 centre = best;
-    for (int dy = -p.radius; dy <= p.radius; ++dy)
-        for (int dx = -p.radius; dx <= p.radius; ++dx) {
+    int radius = best_cost < MATCH_GOOD ? 0 : p.radius;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
             if (dx == 0 && dy == 0) continue;
             ivec2 d = centre + ivec2(dx, dy);
             float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
