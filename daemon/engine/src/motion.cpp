@@ -98,7 +98,7 @@ gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::ve
     return f;
 }
 
-ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks) {
+ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, float typical_share) {
     MotionSummary s;
     if (blocks.empty()) return s;
     // Dominant motion: the block vector with the most others within kMotionModeRadius, over at most
@@ -126,7 +126,8 @@ ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks) {
     }
     s.global = count ? sum / float(count) : mode;
     s.mismatch_share = float(high) / float(n);
-    s.cut = s.mismatch_share > kCutShare;
+    s.cut = typical_share < 0.f ? s.mismatch_share > kCutShareAlone
+                                : s.mismatch_share > std::max(kCutShare, kCutJump * typical_share);
     return s;
 }
 
@@ -200,7 +201,7 @@ Result<void> Session::Impl::record_match(int cur, int prev) {
 ref::MotionSummary Session::Impl::summarise_motion() const {
     const ref::MotionLevel& l = estimator.levels[0];
     const auto* blocks = static_cast<const glm::vec4*>(estimator.field.mapped());
-    return ref::summarise_motion({blocks, size_t(l.blocks_x) * l.blocks_y});
+    return ref::summarise_motion({blocks, size_t(l.blocks_x) * l.blocks_y}, estimator.typical_share);
 }
 
 Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global) {

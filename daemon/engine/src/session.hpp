@@ -92,6 +92,7 @@ struct Session::Impl {
         std::vector<PassTiming> timings;   // of the last submit: luma, match, flow (those run)
         bool last_cut = false;
         bool field_valid = false; // the field holds the previous submit's vectors (temporal candidates)
+        float typical_share = -1.f; // running mean of unmatched blocks since the restart (scene cuts)
         glm::vec2 global{0.f};
     } estimator;
 

@@ -117,16 +117,21 @@ inline constexpr int kMotionRadiusFine = 1;     // around the best candidate, le
 // zero (it settles the near-ties of flat regions, which would otherwise drift to the window's edge).
 inline constexpr float kMotionLambda = 0.004f;
 inline constexpr float kMotionLambdaCoarsest = 0.004f;
-inline constexpr float kMotionFbTolerance = 1.0f; // forward-backward mismatch (pixels) of occlusion
+inline constexpr float kMotionFbTolerance = 2.0f; // forward-backward mismatch (pixels) of occlusion
 inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) at half the proxy's range
 inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for the same dominant motion
-// Scene cut: more than kCutShare of the level-0 blocks find no match: their best SAD (mean
-// absolute luma difference, display-referred [0, 1]) exceeds both kCutSad and kCutContrast times
-// the block's own contrast (its mean absolute deviation), so that a textured block is judged
-// against its texture and a flat one against an absolute step.
+// Scene cut: a block "finds no match" when its best SAD (mean absolute luma difference,
+// display-referred [0, 1]) exceeds both kCutSad and kCutContrast times the block's own contrast
+// (its mean absolute deviation), so that a textured block is judged against its texture and a
+// flat one against an absolute step. A frame is a cut when the share of such blocks jumps: above
+// kCutShare and kCutJump times the session's typical share (a running mean over the frames since
+// the last restart), or, with no history yet, above kCutShareAlone. Content that never matches
+// well (aliased point-sampled frames, noise) has a high typical share and is not cut every frame.
 inline constexpr float kCutSad = 0.04f;
 inline constexpr float kCutContrast = 0.6f;
 inline constexpr float kCutShare = 0.22f; // real content measured at most 0.09-0.15 (docs/MOTION.md)
+inline constexpr float kCutJump = 3.0f;
+inline constexpr float kCutShareAlone = 0.5f;
 
 // One pyramid level: size, block grid, where its pixels start in a pyramid buffer (floats) and
 // its blocks in the field (vec4s). The field buffer holds five regions of motion_field_blocks
@@ -156,7 +161,12 @@ struct MotionSummary {
     float mismatch_share = 0; // level-0 blocks that found no match (kCutSad, kCutContrast)
     bool cut = false;
 };
-MotionSummary summarise_motion(std::span<const glm::vec4> blocks);
+// typical_share: the session's running mean share (negative: no history yet).
+MotionSummary summarise_motion(std::span<const glm::vec4> blocks, float typical_share = -1.f);
+// The running mean after a frame that was not a cut.
+inline float update_typical_share(float typical, float share) {
+    return typical < 0.f ? share : 0.7f * typical + 0.3f * share;
+}
 
 // The passes on the CPU: the pyramid of a frame; one level of matching into `field` (both
 // directions share it, as on the GPU); the flow pass writing f.mv (and f.depth with write_depth).
