@@ -40,6 +40,10 @@ Swapchain::~Swapchain() {
     drain();
     stop();
     if (!managed_) return;
+    if (last_queue_) { // the layer's presents wait on its semaphores: let them retire first
+        std::lock_guard l(dev_.queue_mutex);
+        dev_.vk.QueueWaitIdle(last_queue_);
+    }
     for (Slot& s : slots_)
         if (s.fence.get()) s.fence.wait();
     for (uint32_t i = 0; i < kMaxMultiplier - 1; ++i)
@@ -206,6 +210,7 @@ VkResult Swapchain::present(VkQueue queue, const VkPresentInfoKHR& info, uint32_
         slot = uint32_t(__builtin_ctz(free_slots_));
         free_slots_ &= ~(1u << slot);
     }
+    last_queue_ = queue;
     Slot& s = slots_[slot];
     VkResult r = record_readback(dev_, s.cmd, images_[index], extent_, s.staging.buffer());
     if (r == VK_SUCCESS) r = s.fence.reset();

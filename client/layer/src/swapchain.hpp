@@ -122,6 +122,7 @@ class Swapchain {
     uint64_t last_entry_ns_ = 0;
     uint64_t interval_ns_ = 0;
     uint64_t app_presents_ = 0;
+    VkQueue last_queue_ = VK_NULL_HANDLE;
 
     // Shared with the present thread (mutex_).
     std::mutex mutex_;
