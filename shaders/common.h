@@ -57,6 +57,7 @@ struct IngestParams {
     float mv_scale_y; // the offset removes camera jitter from vectors that contain it, QRISP Eq. 1)
     float mv_offset_x;
     float mv_offset_y;
+    uint has_depth; // 0: no depth plane (colour-only session): depth 1 until the motion passes set it
 };
 
 // splat, refine, disocc, warp and blend share one parameter block per generated frame.
@@ -170,7 +171,7 @@ FGSR_INLINE bool inside(ivec2 q, GenParams g) {
 FGSR_INLINE float relative_depth_difference(float a, float b) { return abs(a - b) / max(min(a, b), 1.0e-20f); }
 
 #ifdef __cplusplus
-static_assert(sizeof(IngestParams) == 48 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
+static_assert(sizeof(IngestParams) == 52 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");

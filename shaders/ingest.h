@@ -59,5 +59,6 @@ FGSR_INLINE vec2 decode_mv(uint pixel, IngestParams p) {
 FGSR_INLINE void ingest_pixel(uvec2 pix, IngestParams p) {
     if (pix.x >= p.width || pix.y >= p.height) return;
     uint i = pix.y * p.width + pix.x;
-    store_frame(i, pack_color(decode_color(i, p)), linear_depth(uintBitsToFloat(load_depth_word(i)), p), decode_mv(i, p));
+    float z = p.has_depth != 0u ? linear_depth(uintBitsToFloat(load_depth_word(i)), p) : 1.0f;
+    store_frame(i, pack_color(decode_color(i, p)), z, decode_mv(i, p));
 }

@@ -328,7 +328,7 @@ TEST(ProtocolAbi, EnumValues) {
 TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAGIC), uint64_t(0x52534746u));
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAJOR), uint64_t(1u));
-    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(1u));
+    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(2u));
     EXPECT_EQ(uint64_t(FGSR_CACHE_LINE), uint64_t(64u));
     EXPECT_EQ(uint64_t(FGSR_PLANE_ALIGNMENT), uint64_t(4096u));
     EXPECT_EQ(uint64_t(FGSR_MAX_ALPHAS), uint64_t(8u));
@@ -344,6 +344,8 @@ TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_SESSION_MV_Y_UP), uint64_t(0x4u));
     EXPECT_EQ(uint64_t(FGSR_SESSION_LINEAR_MOTION), uint64_t(0x8u));
     EXPECT_EQ(uint64_t(FGSR_SESSION_NO_DENOISE), uint64_t(0x10u));
+    EXPECT_EQ(uint64_t(FGSR_SESSION_NO_MVS), uint64_t(0x20u));
+    EXPECT_EQ(uint64_t(FGSR_SESSION_NO_DEPTH), uint64_t(0x40u));
     EXPECT_EQ(uint64_t(FGSR_CAP_ZERO_COPY_INPUT), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_CAP_SR), uint64_t(0x2u));
     EXPECT_EQ(uint64_t(FGSR_CAP_INTERPOLATE), uint64_t(0x4u));

@@ -224,7 +224,7 @@ TEST(SessionDesc, FormatsModesFlagsAndFloats) {
     expect_refused([](fgsr_session_desc& d) { d.modes = 0; }, "no modes");
     expect_refused([](fgsr_session_desc& d) { d.modes = 0x8; }, "unknown mode");
     expect_ok([](fgsr_session_desc& d) { d.flags = 0x1f; }, "every known flag");
-    expect_refused([](fgsr_session_desc& d) { d.flags = 0x20; }, "unknown flag");
+    expect_refused([](fgsr_session_desc& d) { d.flags = 0x80; }, "unknown flag");
     expect_refused([](fgsr_session_desc& d) { d.reserved[9] = 1; }, "reserved");
     expect_ok([](fgsr_session_desc& d) { d.far_plane = INFINITY; }, "infinite far plane");
     expect_refused([](fgsr_session_desc& d) { d.far_plane = NAN; }, "NaN far plane");
@@ -334,6 +334,55 @@ TEST(PoolLayout, PropertiesHoldForASweep) {
                         ++checked;
                     }
     EXPECT_GT(checked, 1000u);
+}
+
+// Colour-only sessions (FGSR_SESSION_NO_MVS / NO_DEPTH, minor 2): the absent planes take no space,
+// and the slot is exactly as large as the planes that remain need.
+TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
+    const uint64_t A = FGSR_PLANE_ALIGNMENT;
+    for (uint32_t w : {1u, 33u, 1280u})
+        for (uint32_t h : {1u, 17u, 720u})
+            for (uint32_t flags : {0u, FGSR_SESSION_NO_MVS, FGSR_SESSION_NO_DEPTH,
+                                   FGSR_SESSION_NO_MVS | FGSR_SESSION_NO_DEPTH}) {
+                fgsr_session_desc in = base_desc();
+                in.width = w;
+                in.height = h;
+                in.color_format = FGSR_COLOR_RGBA8_SRGB;
+                in.mv_format = FGSR_MV_RG32F;
+                in.flags = flags;
+                fgsr_session_desc d{};
+                char reason[128];
+                ASSERT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof(reason)), FGSR_STATUS_OK)
+                    << reason;
+                const fgsr_pool_layout l = fgsr_pool_layout_for(&d);
+                const std::string at =
+                    std::to_string(w) + "x" + std::to_string(h) + " flags " + std::to_string(flags);
+                const uint64_t color = (uint64_t(w) * h * 4 + A - 1) / A * A;
+                const uint64_t depth =
+                    (flags & FGSR_SESSION_NO_DEPTH) ? 0 : (uint64_t(w) * h * 4 + A - 1) / A * A;
+                const uint64_t mv = (flags & FGSR_SESSION_NO_MVS) ? 0 : (uint64_t(w) * h * 8 + A - 1) / A * A;
+                EXPECT_EQ(l.input_slot_stride, color + depth + mv) << at;
+                if (flags & FGSR_SESSION_NO_DEPTH) {
+                    EXPECT_EQ(l.depth.size, 0u) << at;
+                    EXPECT_EQ(l.depth.row_pitch, 0u) << at;
+                    EXPECT_EQ(l.depth.offset, 0u) << at;
+                } else {
+                    EXPECT_EQ(l.depth.size, uint64_t(w) * h * 4) << at;
+                    EXPECT_EQ(l.depth.offset, color) << at;
+                }
+                if (flags & FGSR_SESSION_NO_MVS) {
+                    EXPECT_EQ(l.mv.size, 0u) << at;
+                    EXPECT_EQ(l.mv.row_pitch, 0u) << at;
+                    EXPECT_EQ(l.mv.format, uint32_t(FGSR_MV_RG32F)) << at;
+                } else {
+                    EXPECT_EQ(l.mv.size, uint64_t(w) * h * 8) << at;
+                    EXPECT_EQ(l.mv.offset, color + depth) << at;
+                }
+            }
+    // Bits beyond the known ones are still refused.
+    fgsr_session_desc in = base_desc(), d{};
+    in.flags = FGSR_SESSION_NO_DEPTH << 1;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, nullptr, 0), FGSR_STATUS_INVALID_ARGUMENT);
 }
 
 TEST(Rings, HelpersAndLoopsAgreeAcrossWrapAround) {

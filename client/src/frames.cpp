@@ -90,8 +90,9 @@ fgsr_status fgsr_acquire_input(fgsr_session* session, uint32_t timeout_ms, fgsr_
                 *out = fgsr_input_slot{};
                 out->index = i;
                 out->color = slot + session->layout.color.offset;
-                out->depth = slot + session->layout.depth.offset;
-                out->mv = slot + session->layout.mv.offset;
+                // A plane the session declared absent (FGSR_SESSION_NO_DEPTH / NO_MVS) is NULL.
+                out->depth = session->layout.depth.size ? slot + session->layout.depth.offset : nullptr;
+                out->mv = session->layout.mv.size ? slot + session->layout.mv.offset : nullptr;
                 return FGSR_STATUS_OK;
             }
             if (ms_left(deadline) == 0) return FGSR_STATUS_NO_SLOT;
@@ -112,6 +113,8 @@ fgsr_status fgsr_submit(fgsr_session* session, const fgsr_submit_info* info, uin
             session->inputs[info->input_slot] != InputState::acquired)
             return FGSR_STATUS_INVALID_ARGUMENT;
         if (info->flags & ~(FGSR_SUBMIT_RESET | FGSR_SUBMIT_HAS_MV | FGSR_SUBMIT_WANT_SR))
+            return FGSR_STATUS_INVALID_ARGUMENT;
+        if ((info->flags & FGSR_SUBMIT_HAS_MV) && (d.flags & FGSR_SESSION_NO_MVS))
             return FGSR_STATUS_INVALID_ARGUMENT;
         if (info->interp_count > FGSR_MAX_ALPHAS || info->extrap_count > FGSR_MAX_ALPHAS)
             return FGSR_STATUS_INVALID_ARGUMENT;

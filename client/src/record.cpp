@@ -32,7 +32,13 @@ class CaptureRecorder final : public Recorder {
         const FrameFormat& f = manifest_.format;
         pack_plane(color_, slot + l.color.offset, l.color.row_pitch,
                    size_t(f.width) * bytes_per_pixel(f.color_format), f.height);
-        pack_plane(depth_, slot + l.depth.offset, l.depth.row_pitch, size_t(f.width) * 4, f.height);
+        if (l.depth.size != 0) {
+            pack_plane(depth_, slot + l.depth.offset, l.depth.row_pitch, size_t(f.width) * 4, f.height);
+        } else if (depth_.empty()) { // colour-only session: the capture records constant depth 1
+            const float one = 1.f;
+            depth_.resize(size_t(f.width) * f.height * 4);
+            for (size_t i = 0; i < depth_.size(); i += 4) std::memcpy(depth_.data() + i, &one, 4);
+        }
         const bool has_mv = (e.flags & FGSR_SUBMIT_HAS_MV) != 0;
         if (has_mv)
             pack_plane(mv_, slot + l.mv.offset, l.mv.row_pitch,

@@ -67,6 +67,8 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uin
     format.conventions.mv_units = fgsr::MvUnits(d.mv_units);
     format.conventions.mv_direction = fgsr::MvDirection(d.mv_direction);
     format.conventions.mv_y_up = (d.flags & FGSR_SESSION_MV_Y_UP) != 0;
+    format.has_vectors = (d.flags & FGSR_SESSION_NO_MVS) == 0;
+    format.has_depth = (d.flags & FGSR_SESSION_NO_DEPTH) == 0;
     fgsr::Params params;
     params.scale = d.scale;
     if (d.t_depth > 0) params.t_depth = d.t_depth;
@@ -166,6 +168,8 @@ std::optional<std::string> ServiceSession::validate(const fgsr_submit_entry& e) 
     if (input_with_daemon_[e.input_slot])
         return "submit names input slot " + std::to_string(e.input_slot) + " the daemon still holds";
     if (e.flags & ~kKnownSubmitFlags) return "unknown submit flags " + std::to_string(e.flags);
+    if ((e.flags & FGSR_SUBMIT_HAS_MV) && (desc_.flags & FGSR_SESSION_NO_MVS))
+        return "submit says it has vectors in a session without vectors";
     if ((e.flags & FGSR_SUBMIT_WANT_SR) && !(desc_.modes & FGSR_MODE_SR))
         return "submit wants super resolution the session did not declare";
     if (e.interp_count > FGSR_MAX_ALPHAS || e.extrap_count > FGSR_MAX_ALPHAS)
@@ -316,7 +320,7 @@ std::optional<std::string> ServiceSession::run(const Pending& p) {
     const std::byte* slot = input_map_.data() + uint64_t(e.input_slot) * layout_.input_slot_stride;
     fgsr::FrameView view;
     view.color = {slot + layout_.color.offset, size_t(layout_.color.size)};
-    view.depth = {slot + layout_.depth.offset, size_t(layout_.depth.size)};
+    if (layout_.depth.size) view.depth = {slot + layout_.depth.offset, size_t(layout_.depth.size)};
     if (e.flags & FGSR_SUBMIT_HAS_MV) view.mv = {slot + layout_.mv.offset, size_t(layout_.mv.size)};
     view.jitter_x = e.jitter_x;
     view.jitter_y = e.jitter_y;

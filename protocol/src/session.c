@@ -38,7 +38,8 @@ static int finite_nonneg(float v) {
 static const uint32_t kKnownModes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
 static const uint32_t kKnownSessionFlags = FGSR_SESSION_MVS_CONTAIN_JITTER | FGSR_SESSION_DILATE_MVS |
                                            FGSR_SESSION_MV_Y_UP | FGSR_SESSION_LINEAR_MOTION |
-                                           FGSR_SESSION_NO_DENOISE;
+                                           FGSR_SESSION_NO_DENOISE | FGSR_SESSION_NO_MVS |
+                                           FGSR_SESSION_NO_DEPTH;
 
 fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_session_desc* out, char* reason,
                                         size_t reason_size) {
@@ -106,10 +107,21 @@ fgsr_pool_layout fgsr_pool_layout_for(const fgsr_session_desc* d) {
     l.input_slot_count = d->input_slots;
     l.output_slot_count = d->output_slots;
     l.color = plane(0, d->width, d->height, fgsr_color_format_bytes(d->color_format), d->color_format);
-    l.depth = plane(fgsr_align_up(l.color.size, FGSR_PLANE_ALIGNMENT), d->width, d->height, 4, 0);
-    l.mv = plane(fgsr_align_up(l.depth.offset + l.depth.size, FGSR_PLANE_ALIGNMENT), d->width, d->height,
-                 fgsr_mv_format_bytes(d->mv_format), d->mv_format);
-    l.input_slot_stride = fgsr_align_up(l.mv.offset + l.mv.size, FGSR_PLANE_ALIGNMENT);
+    /* Planes the session declared absent take no space (offset, size and pitch 0). */
+    uint64_t end = fgsr_align_up(l.color.size, FGSR_PLANE_ALIGNMENT);
+    if (d->flags & FGSR_SESSION_NO_DEPTH) {
+        l.depth = plane(0, 0, 0, 4, 0);
+    } else {
+        l.depth = plane(end, d->width, d->height, 4, 0);
+        end = fgsr_align_up(l.depth.offset + l.depth.size, FGSR_PLANE_ALIGNMENT);
+    }
+    if (d->flags & FGSR_SESSION_NO_MVS) {
+        l.mv = plane(0, 0, 0, fgsr_mv_format_bytes(d->mv_format), d->mv_format);
+    } else {
+        l.mv = plane(end, d->width, d->height, fgsr_mv_format_bytes(d->mv_format), d->mv_format);
+        end = fgsr_align_up(l.mv.offset + l.mv.size, FGSR_PLANE_ALIGNMENT);
+    }
+    l.input_slot_stride = end;
     l.input_pool_size = l.input_slot_stride * d->input_slots;
     l.output_width = (uint32_t)lround((double)d->width * (double)d->scale);
     l.output_height = (uint32_t)lround((double)d->height * (double)d->scale);

@@ -74,8 +74,8 @@ typedef struct fgsr_input_slot {
     uint32_t index;
     uint32_t reserved;
     void* color; /* layout.color.size bytes, rows layout.color.row_pitch apart */
-    void* depth; /* 32-bit float per pixel */
-    void* mv;    /* layout.mv.format per pixel */
+    void* depth; /* 32-bit float per pixel; NULL in a FGSR_SESSION_NO_DEPTH session */
+    void* mv;    /* layout.mv.format per pixel; NULL in a FGSR_SESSION_NO_MVS session */
 } fgsr_input_slot;
 
 /* Takes a free input slot, waiting up to timeout_ms for the daemon to hand one back (0: do not

@@ -90,8 +90,10 @@ Result<void> validate(const FrameFormat& f, const FrameView& frame) {
         return {};
     };
     FGSR_TRY(check(frame.color, bytes_per_pixel(f.color_format), "colour"));
-    FGSR_TRY(check(frame.depth, 4, "depth"));
-    if (!frame.mv.empty()) FGSR_TRY(check(frame.mv, bytes_per_pixel(f.mv_format), "motion-vector"));
+    // Planes a colour-only session does not have are ignored (FrameFormat::has_depth / has_vectors).
+    if (f.has_depth) FGSR_TRY(check(frame.depth, 4, "depth"));
+    if (f.has_vectors && !frame.mv.empty())
+        FGSR_TRY(check(frame.mv, bytes_per_pixel(f.mv_format), "motion-vector"));
     return {};
 }
 
@@ -110,6 +112,7 @@ IngestParams ingest_params(const FrameFormat& f, bool has_mv) {
     p.far_plane = std::isinf(c.far_plane) ? 0.f : c.far_plane;
     p.mv_format = uint32_t(f.mv_format);
     p.has_mv = has_mv ? 1u : 0u;
+    p.has_depth = f.has_depth ? 1u : 0u;
     p.mv_scale_x = sx;
     p.mv_scale_y = sy;
     return p;

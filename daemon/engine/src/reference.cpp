@@ -173,7 +173,7 @@ InternalFrame ingest(const FrameFormat& f, const FrameView& frame, glm::vec2 mv_
     out.color.resize(n);
     out.depth.resize(n);
     out.mv.resize(n);
-    out.has_mv = !frame.mv.empty();
+    out.has_mv = f.has_vectors && !frame.mv.empty();
     gpu::IngestCpu cpu{frame.color.data(), frame.depth.data(), frame.mv.data(), &out};
     IngestParams p = params::ingest_params(f, out.has_mv);
     p.mv_offset_x = mv_offset.x;

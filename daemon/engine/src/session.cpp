@@ -145,7 +145,8 @@ Result<void> Session::submit(const FrameView& frame, const HostMemory& memory) {
 Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* memory) {
     Impl& s = *this;
     FGSR_TRY(params::validate(s.format, frame));
-    const bool has_mv = !frame.mv.empty();
+    const bool has_mv = s.format.has_vectors && !frame.mv.empty();
+    const bool has_depth = s.format.has_depth;
     // The raw planes ingest reads: the session's upload buffers, or (zero copy) ranges of the
     // imported memory, where they must lie at offsets the device can bind.
     BufRef color_in = s.color_raw, depth_in = s.depth_raw, mv_in = s.mv_raw;
@@ -166,14 +167,17 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             return {};
         };
         FGSR_TRY(range(frame.color, "colour", color_in));
-        FGSR_TRY(range(frame.depth, "depth", depth_in));
+        if (has_depth)
+            FGSR_TRY(range(frame.depth, "depth", depth_in));
+        else
+            depth_in = unused(color_in); // no depth: has_depth 0, not read
         if (has_mv)
             FGSR_TRY(range(frame.mv, "motion-vector", mv_in));
         else
             mv_in = unused(color_in); // no vectors: has_mv 0, not read
     } else {
         std::memcpy(s.color_raw.mapped(), frame.color.data(), frame.color.size());
-        std::memcpy(s.depth_raw.mapped(), frame.depth.data(), frame.depth.size());
+        if (has_depth) std::memcpy(s.depth_raw.mapped(), frame.depth.data(), frame.depth.size());
         if (has_mv) std::memcpy(s.mv_raw.mapped(), frame.mv.data(), frame.mv.size());
     }
     if (!std::isfinite(frame.jitter_x) || !std::isfinite(frame.jitter_y) || std::abs(frame.jitter_x) > 1.f ||

@@ -26,7 +26,8 @@ extern "C" {
 #endif
 
 #define FGSR_PROTOCOL_MAJOR 1u
-#define FGSR_PROTOCOL_MINOR 1u /* 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE */
+#define FGSR_PROTOCOL_MINOR 2u /* 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE;
+                                * 2: FGSR_SESSION_NO_MVS, FGSR_SESSION_NO_DEPTH, motion passes */
 
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
 #define FGSR_MAX_ALPHAS 8u          /* interpolated or extrapolated frames per submit, each */
@@ -107,6 +108,14 @@ typedef enum fgsr_queue_policy {
 #define FGSR_SESSION_MV_Y_UP 0x4u            /* +y of the vectors points up on screen */
 #define FGSR_SESSION_LINEAR_MOTION 0x8u      /* uniform velocity instead of quadratic motion */
 #define FGSR_SESSION_NO_DENOISE 0x10u        /* SR: no pre-filter of noisy input (minor 1) */
+/* Colour-only input (minor 2), e.g. a Vulkan layer on an unmodified application. NO_MVS: the client
+ * gives no vectors; the daemon estimates them from colour (luma pyramid, block matching,
+ * forward-backward consistency; scene cuts reset). NO_DEPTH: the client gives no depth; the daemon
+ * orders surfaces by a depth proxy derived from the motion (daemon/engine/README.md). The slot has
+ * no plane for what is absent (its fgsr_plane has size 0 and row_pitch 0); mv_format, mv_units,
+ * mv_direction and depth_kind are then ignored, and FGSR_SUBMIT_HAS_MV is refused. */
+#define FGSR_SESSION_NO_MVS 0x20u
+#define FGSR_SESSION_NO_DEPTH 0x40u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */
 #define FGSR_CAP_ZERO_COPY_INPUT 0x1u /* inputs imported without a copy (external host memory) */
@@ -164,6 +173,8 @@ FGSR_STATIC_ASSERT(sizeof(fgsr_plane) == 24, "fgsr_plane size");
  *   - output_width/height as stated at fgsr_session_desc.scale;
  *   - strides and plane offsets multiples of FGSR_PLANE_ALIGNMENT; each plane inside its slot,
  *     row_pitch >= width * bytes per pixel, size >= row_pitch * height, input planes disjoint;
+ *     a plane the session declared absent (FGSR_SESSION_NO_MVS / NO_DEPTH) is all zero but its
+ *     format (offset 0, size 0, row_pitch 0);
  *     plane formats: color = desc.color_format, depth = 0, mv = desc.mv_format,
  *     output = desc.output_format;
  *   - pool sizes = count * stride, each at most 2 GiB (a larger session is INVALID_ARGUMENT);

@@ -65,6 +65,11 @@ struct FrameFormat {
     ColorFormat color_format = ColorFormat::rgba16f_linear;
     MvFormat mv_format = MvFormat::rg32f;
     Conventions conventions{};
+    // Colour-only input (FGSR_SESSION_NO_MVS / NO_DEPTH): without vectors the engine estimates
+    // them from colour at submit (FrameView::mv is ignored); without depth it orders surfaces by a
+    // depth proxy derived from the motion (FrameView::depth may be empty and is ignored).
+    bool has_vectors = true;
+    bool has_depth = true;
 };
 
 // The values of these enums are the protocol's (protocol.h "Formats and conventions").
@@ -94,7 +99,7 @@ std::string_view to_string(MvFormat f);
 // The engine copies what it needs during submit; the spans need only live for the call.
 struct FrameView {
     std::span<const std::byte> color; // width*height*bytes_per_pixel(color_format)
-    std::span<const std::byte> depth; // width*height*4 (32-bit float)
+    std::span<const std::byte> depth; // width*height*4 (32-bit float); empty without depth
     std::span<const std::byte> mv;    // width*height*bytes_per_pixel(mv_format), or empty = unknown
     // Camera jitter of this frame: where, relative to each pixel centre, the frame sampled the
     // scene, in pixels (x right, y down), e.g. a Halton(2,3) sequence in [-0.5, 0.5).
