@@ -8,7 +8,9 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config git glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers
           vulkan-validationlayers libopenexr-dev libpng-dev libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-          libgtest-dev libusb-1.0-0-dev gnuplot-nox)
+          libgtest-dev libusb-1.0-0-dev gnuplot-nox
+          # the Vulkan layer (client/layer) and its tests: TOML, XCB, Xvfb, vkcube
+          libtomlplusplus-dev libxcb1-dev xvfb vulkan-tools)
 
 install_missing() {
     local missing=()

@@ -360,7 +360,7 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
     }
     const uint64_t t = monotonic_ns();
     for (uint32_t i = 0; i < info->swapchainCount; ++i)
-        Report::get().present(PresentKind::real, 0, t, t, uint64_t(info->pSwapchains[i]));
+        Report::get().present(PresentKind::real, 0, entry, t, t, uint64_t(info->pSwapchains[i]));
     return r;
 }
 

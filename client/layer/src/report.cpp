@@ -15,7 +15,7 @@ void log_line(const std::string& message) {
 
 struct PresentRecord {
     PresentKind kind;
-    uint64_t app_present, intended_ns, actual_ns, swapchain;
+    uint64_t app_present, app_ns, intended_ns, actual_ns, swapchain;
 };
 
 struct Report::State {
@@ -43,13 +43,13 @@ void Report::app_present() {
     ++s_->app_presents;
 }
 
-void Report::present(PresentKind kind, uint64_t app_present, uint64_t intended_ns, uint64_t actual_ns,
-                     uint64_t swapchain) {
+void Report::present(PresentKind kind, uint64_t app_present, uint64_t app_ns, uint64_t intended_ns,
+                     uint64_t actual_ns, uint64_t swapchain) {
     std::lock_guard l(s_->m);
     ++s_->presents;
     if (kind == PresentKind::generated) ++s_->generated;
     if (!s_->presents_path.empty() && s_->records.size() < (1u << 22))
-        s_->records.push_back({kind, app_present, intended_ns, actual_ns, swapchain});
+        s_->records.push_back({kind, app_present, app_ns, intended_ns, actual_ns, swapchain});
 }
 
 void Report::dropped(uint32_t n) {
@@ -115,14 +115,14 @@ void Report::write_files() {
     }
     if (!s_->presents_path.empty()) {
         if (FILE* f = std::fopen(s_->presents_path.c_str(), "w")) {
-            std::fprintf(f, "kind,app_present,intended_ns,actual_ns,swapchain\n");
+            std::fprintf(f, "kind,app_present,app_ns,intended_ns,actual_ns,swapchain\n");
             for (const PresentRecord& r : s_->records)
-                std::fprintf(f, "%s,%llu,%llu,%llu,%llu\n",
-                             r.kind == PresentKind::real ? "real" : "generated",
-                             static_cast<unsigned long long>(r.app_present),
-                             static_cast<unsigned long long>(r.intended_ns),
-                             static_cast<unsigned long long>(r.actual_ns),
-                             static_cast<unsigned long long>(r.swapchain));
+                std::fprintf(
+                    f, "%s,%llu,%llu,%llu,%llu,%llu\n", r.kind == PresentKind::real ? "real" : "generated",
+                    static_cast<unsigned long long>(r.app_present), static_cast<unsigned long long>(r.app_ns),
+                    static_cast<unsigned long long>(r.intended_ns),
+                    static_cast<unsigned long long>(r.actual_ns),
+                    static_cast<unsigned long long>(r.swapchain));
             std::fclose(f);
         }
     }

@@ -8,9 +8,22 @@
 // app_presents: vkQueuePresentKHR calls of the application; presents: presents the layer made
 // (real + generated); generated: generated frames presented; dropped: generated frames requested
 // but not presented (daemon late or gone, first frame of a session, no free image).
-// FGSR_LAYER_PRESENTS=FILE: CSV "kind,app_present,intended_ns,actual_ns,swapchain" per present
-// (kind real|generated; CLOCK_MONOTONIC; actual = when the present call returned, or when
-// VK_KHR_present_wait reported it where used).
+// FGSR_LAYER_PRESENTS=FILE: CSV "kind,app_present,app_ns,intended_ns,actual_ns,swapchain" per
+// present (kind real|generated; CLOCK_MONOTONIC; app_ns: the application's vkQueuePresentKHR of
+// the real frame involved, so actual_ns - app_ns of a real row is the latency the layer adds;
+// actual = when the present call returned: VK_KHR_present_wait is detected, not used).
+// FGSR_LAYER_DUMP. One process-wide Report; every member function is thread-safe.
+//
+// FGSR_LAYER_STATS=FILE, written at exit (and when the last device is destroyed):
+//   {"app_presents": N, "presents": M, "generated": K, "dropped": D, "mode": "...", "multiplier": m,
+//    "present_wait": false, "layer_cpu_ns_per_present": c}
+// app_presents: vkQueuePresentKHR calls of the application; presents: presents the layer made
+// (real + generated); generated: generated frames presented; dropped: generated frames requested
+// but not presented (daemon late or gone, first frame of a session, no free image).
+// FGSR_LAYER_PRESENTS=FILE: CSV "kind,app_present,app_ns,intended_ns,actual_ns,swapchain" per
+// present (kind real|generated; CLOCK_MONOTONIC; app_ns: the application's vkQueuePresentKHR of
+// the real frame involved, so actual_ns - app_ns of a real row is the latency the layer adds;
+// actual = when the present call returned: VK_KHR_present_wait is detected, not used).
 // FGSR_LAYER_DUMP=DIR: each generated frame as DIR/gen_<app_present>_<j>.rgba (RGBA8 sRGB rows,
 // tightly packed) + .json {"width","height","app_present","index","alpha","mode","multiplier"};
 // interpolated frames lie between app presents app_present-1 and app_present at alpha, extrapolated
@@ -42,8 +55,10 @@ class Report {
     static Report& get();
 
     void app_present();
-    void present(PresentKind kind, uint64_t app_present, uint64_t intended_ns, uint64_t actual_ns,
-                 uint64_t swapchain);
+    // app_ns: when the application presented the real frame this present belongs to (generated
+    // frames: the real frame they were made with).
+    void present(PresentKind kind, uint64_t app_present, uint64_t app_ns, uint64_t intended_ns,
+                 uint64_t actual_ns, uint64_t swapchain);
     void dropped(uint32_t n);
     void layer_cpu(uint64_t ns);
     void set_config(const LayerConfig& c);

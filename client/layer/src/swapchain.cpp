@@ -160,7 +160,7 @@ VkResult Swapchain::pass_through(VkQueue queue, const VkPresentInfoKHR& info, ui
         r = dev_.vk.QueuePresentKHR(queue, &pi);
     }
     const uint64_t t = monotonic_ns();
-    Report::get().present(PresentKind::real, app_present, t, t, uint64_t(handle_));
+    Report::get().present(PresentKind::real, app_present, last_entry_ns_, t, t, uint64_t(handle_));
     const VkResult pending = pending_result_.exchange(VK_SUCCESS);
     return r == VK_SUCCESS ? pending : r;
 }
@@ -299,11 +299,16 @@ void Swapchain::process(Item& item) {
         // Generated frames between the previous real frame and this one, then this one.
         const uint64_t deadline = item.entry_ns + budget;
         std::vector<Generated> gens = generate(item, deadline);
+        // The schedule starts at the previous real present R, or later when the generated frames
+        // came after R + P / m: then everything moves later by as much (the real frame too), which
+        // raises the latency to what the daemon needs and keeps the intervals even.
         const uint64_t R = last_real_ns_;
+        const uint64_t ready = monotonic_ns();
+        const uint64_t base = R == 0 ? 0 : std::max(R, ready > P / m ? ready - P / m : 0);
         bool on_time = true;
         uint32_t shown = 0;
         for (const Generated& g : gens) {
-            const uint64_t intended = even && R ? R + g.index * P / m : monotonic_ns();
+            const uint64_t intended = even && R ? base + g.index * P / m : monotonic_ns();
             if (on_time && even && R) on_time = sleep_until(std::min(intended, monotonic_ns() + P));
             if (!on_time) { // a newer frame waits: drop the rest
                 release(g);
@@ -313,7 +318,7 @@ void Swapchain::process(Item& item) {
         }
         Report::get().dropped(m - 1 - shown);
         const uint64_t now = monotonic_ns();
-        uint64_t intended = even && R && shown ? std::max(R + P, now) : now;
+        uint64_t intended = even && R && shown ? std::max(base + P, now) : now;
         if (on_time && intended > now) on_time = sleep_until(std::min(intended, now + P));
         present_real(item, intended);
     } else {
@@ -340,7 +345,8 @@ void Swapchain::present_real(const Item& item, uint64_t intended_ns) {
     const VkResult r = call_present(item.queue, item.image_index, image_ready_[item.image_index].get());
     note_result(r);
     last_real_ns_ = monotonic_ns();
-    Report::get().present(PresentKind::real, item.app_present, intended_ns, last_real_ns_, uint64_t(handle_));
+    Report::get().present(PresentKind::real, item.app_present, item.entry_ns, intended_ns, last_real_ns_,
+                          uint64_t(handle_));
 }
 
 std::vector<Swapchain::Generated> Swapchain::generate(const Item& item, uint64_t deadline_ns) {
@@ -500,8 +506,8 @@ bool Swapchain::present_generated(const Item& item, const Generated& g, uint64_t
     }
     upload_pending_[u] = true;
     note_result(call_present(item.queue, index, ready));
-    Report::get().present(PresentKind::generated, item.app_present, intended_ns, monotonic_ns(),
-                          uint64_t(handle_));
+    Report::get().present(PresentKind::generated, item.app_present, item.entry_ns, intended_ns,
+                          monotonic_ns(), uint64_t(handle_));
     return true;
 }
 
