@@ -349,6 +349,38 @@ TEST_F(LayerE2E, ProfileMatchesTheExecutableAndEnvOverridesIt) {
     expect_multiplied(overridden, 2, 50);
 }
 
+TEST_F(LayerE2E, MailboxAndImmediatePresentModes) {
+    start_daemon();
+    for (const char* mode : {"mailbox", "immediate"}) {
+        const AppRun r =
+            run(app() + " --frames 30 --width 256 --height 144 --fps 10 --present-mode " + std::string(mode));
+        ASSERT_EQ(r.status, 0) << mode << ": " << r.log;
+        EXPECT_EQ(count(r.log, "Validation Error"), 0u) << mode << ": " << r.log;
+        EXPECT_EQ(json_number(r.stats, "app_presents"), 30) << mode;
+        EXPECT_GE(json_number(r.stats, "generated"), 26) << mode << ": " << r.stats;
+    }
+}
+
+TEST_F(LayerE2E, ConfigChangesArePickedUpWhileRunning) {
+    start_daemon();
+    const std::filesystem::path config = dir_ / "fgsr.toml";
+    std::ofstream(config) << "[global]\nmultiplier = 2\n";
+    std::thread editor([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+        std::ofstream(config) << "[global]\nmultiplier = 3\n";
+    });
+    const AppRun r =
+        run(app() + " --frames 60 --width 256 --height 144 --fps 10", {"FGSR_CONFIG=" + config.string()});
+    editor.join();
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "configuration reloaded"), 1u) << r.log;
+    EXPECT_EQ(json_number(r.stats, "multiplier"), 3);
+    const double generated = json_number(r.stats, "generated");
+    EXPECT_GT(generated, 70) << "three per frame after the edit";
+    EXPECT_LT(generated, 110) << "two per frame before it";
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+}
+
 TEST_F(LayerE2E, ConfigErrorLogsOnceAndPassesThrough) {
     start_daemon();
     std::ofstream(dir_ / "fgsr.toml") << "[global]\nmultiplier = 7\n";
