@@ -5,7 +5,7 @@
 //   fgsr_layer_app [--frames 60] [--width 1280 --height 720] [--fps 0] [--dt 0.0333]
 //                  [--format bgra8|rgba8|bgra8-srgb|rgba8-srgb|rgba16f|a2b10g10r10]
 //                  [--present-mode fifo|mailbox|immediate] [--resize-at K:WxH] [--windows 1|2]
-//                  [--no-destroy]
+//                  [--no-destroy] [--one-present]
 //   fgsr_layer_app --score DIR [--dt 0.0333]     (no Vulkan: scores DIR's gen_*.json/.rgba)
 //
 // Prints one JSON line: run: {"frames", "seconds", "fps", "format", "extent", "recreations"}; score:
@@ -43,6 +43,7 @@ struct Options {
     int resize_at = -1;
     uint32_t resize_w = 0, resize_h = 0;
     bool destroy = true;
+    bool one_present = false; // all windows in one vkQueuePresentKHR
 };
 
 #define CHECK(expr)                                                                                          \
@@ -241,6 +242,8 @@ int main(int argc, char** argv) {
             o.windows = uint32_t(std::stoul(next()));
         else if (a == "--no-destroy")
             o.destroy = false;
+        else if (a == "--one-present")
+            o.one_present = true;
         else if (a == "--score")
             o.score_dir = next();
         else if (a == "--resize-at") {

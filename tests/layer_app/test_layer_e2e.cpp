@@ -321,6 +321,17 @@ TEST_F(LayerE2E, TwoSwapchainsEachGetTheirFrames) {
     EXPECT_GE(json_number(r.stats, "generated"), 56); // 2 x (30 - 1 first frame) less 2 %
 }
 
+TEST_F(LayerE2E, TwoSwapchainsInOnePresentPassThrough) {
+    start_daemon();
+    const AppRun r = run(app() + " --frames 20 --width 256 --height 144 --fps 10 --windows 2 --one-present");
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+    // One call for both (their semaphores are waited once): presented as the application asked.
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 40);
+    EXPECT_EQ(json_number(r.stats, "presents"), 40);
+    EXPECT_EQ(json_number(r.stats, "generated"), 0);
+}
+
 TEST_F(LayerE2E, ExitWithoutDestroyingTheSwapchainStillWritesStats) {
     start_daemon();
     const AppRun r = run(app() + " --frames 20 --width 256 --height 144 --fps 10 --no-destroy", {}, false);

@@ -236,7 +236,13 @@ struct App {
     }
 
     // One frame of one window; false when the swapchain had to be recreated first (retry).
-    bool frame(Window& w, uint32_t f) {
+    // With `batch`, the present is left to present_batch (one vkQueuePresentKHR for every window).
+    struct Batch {
+        std::vector<VkSwapchainKHR> swapchains;
+        std::vector<uint32_t> indices;
+        std::vector<VkSemaphore> semaphores;
+    };
+    bool frame(Window& w, uint32_t f, Batch* batch = nullptr) {
         const int s = int(f % 2);
         CHECK(vkWaitForFences(device, 1, &w.fence[s], VK_TRUE, UINT64_MAX));
         uint32_t index = 0;
@@ -285,6 +291,12 @@ struct App {
         si.signalSemaphoreCount = 1;
         si.pSignalSemaphores = &w.rendered[index];
         CHECK(vkQueueSubmit(queue, 1, &si, w.fence[s]));
+        if (batch) {
+            batch->swapchains.push_back(w.swapchain);
+            batch->indices.push_back(index);
+            batch->semaphores.push_back(w.rendered[index]);
+            return true;
+        }
         VkPresentInfoKHR pi{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
         pi.waitSemaphoreCount = 1;
         pi.pWaitSemaphores = &w.rendered[index];
@@ -297,6 +309,22 @@ struct App {
         else
             CHECK(r);
         return true;
+    }
+
+    void present_batch(const Batch& b) {
+        VkPresentInfoKHR pi{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+        pi.waitSemaphoreCount = uint32_t(b.semaphores.size());
+        pi.pWaitSemaphores = b.semaphores.data();
+        pi.swapchainCount = uint32_t(b.swapchains.size());
+        pi.pSwapchains = b.swapchains.data();
+        pi.pImageIndices = b.indices.data();
+        std::vector<VkResult> results(b.swapchains.size(), VK_SUCCESS);
+        pi.pResults = results.data();
+        const VkResult r = vkQueuePresentKHR(queue, &pi);
+        if (r != VK_SUCCESS && r != VK_SUBOPTIMAL_KHR && r != VK_ERROR_OUT_OF_DATE_KHR) CHECK(r);
+        for (size_t i = 0; i < results.size(); ++i)
+            if (results[i] == VK_ERROR_OUT_OF_DATE_KHR || results[i] == VK_SUBOPTIMAL_KHR)
+                recreate(windows[i]);
     }
 
     void destroy() {
@@ -328,9 +356,12 @@ int run(const Options& o) {
             for (Window& w : app.windows) app.resize(w, o.resize_w, o.resize_h);
         if (o.fps > 0)
             std::this_thread::sleep_until(start + std::chrono::duration<double>(double(f) / o.fps));
+        App::Batch batch;
         for (Window& w : app.windows)
-            for (int attempt = 0; attempt < 10 && !app.frame(w, f); ++attempt) {
+            for (int attempt = 0; attempt < 10 && !app.frame(w, f, o.one_present ? &batch : nullptr);
+                 ++attempt) {
             }
+        if (o.one_present) app.present_batch(batch);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf(
