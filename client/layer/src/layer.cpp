@@ -276,7 +276,6 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateSwapchainKHR(VkDevice device, const VkSwapc
                                                   const VkAllocationCallbacks* alloc, VkSwapchainKHR* out) {
     DeviceData* d = device_of(device);
     if (Swapchain* old = ci->oldSwapchain ? swapchain_of(ci->oldSwapchain) : nullptr) old->drain();
-    const LayerConfig cfg = current_config();
     VkSurfaceCapabilitiesKHR caps{};
     const VkImageUsageFlags need = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     bool managed = pixel_kind(ci->imageFormat) != PixelKind::unsupported && ci->imageArrayLayers == 1 &&
@@ -300,7 +299,6 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateSwapchainKHR(VkDevice device, const VkSwapc
     }
     if (r != VK_SUCCESS) return r;
     auto* sc = new Swapchain(*d, *out, ci->imageFormat, ci->imageExtent, managed);
-    (void)cfg;
     std::lock_guard l(g().mutex);
     g().swapchains[*out] = sc;
     g().swapchain_device[*out] = d;
