@@ -76,6 +76,23 @@
 #define DENOISE_NOISE 2    // DENOISE_WORDS uints: histogram, level, dispatch (zeroed by the host)
 #define DENOISE_COUNT 3
 
+// Motion estimation from colour (luma.h, match.h, flow.h).
+#define LUMA_COLOR 0   // the frame's colour (pack_color), level 0
+#define LUMA_PYRAMID 1 // the frame's pyramid (floats, every level)
+#define LUMA_COUNT 2
+
+#define MATCH_SRC 0   // pyramid of the frame whose blocks are matched
+#define MATCH_DST 1   // pyramid of the frame searched
+#define MATCH_FIELD 2 // block vectors of every level and both directions (vec4: v.xy, cost, 0)
+#define MATCH_COUNT 3
+
+#define FLOW_CUR 0   // pyramid of the current frame (level 0 read)
+#define FLOW_PREV 1  // pyramid of the previous frame
+#define FLOW_FIELD 2 // the block field
+#define FLOW_MV 3    // the current frame's vectors (vec2, internal convention)
+#define FLOW_DEPTH 4 // the current frame's depth (written only as a proxy)
+#define FLOW_COUNT 5
+
 // classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current
 // vectors, GEN_DEPTH1 = current depth, GEN_DEPTH0 = previous depth), then:
 #define CLASSIFY_COLOR0 6

@@ -146,6 +146,53 @@ struct DenoiseParams {
     float pad2;
 };
 
+// Motion estimation from colour (luma.h, match.h, flow.h): a luma pyramid per frame, block
+// matching coarse to fine in both directions, then per-pixel vectors, consistency and depth proxy.
+#define MOTION_BLOCK 8u       // block side in pixels of its pyramid level
+#define MOTION_MAX_LEVELS 6u  // pyramid levels, the finest (full resolution) included
+#define MOTION_MIN_SIDE 16u   // a coarser level is added while its smaller side stays >= this
+
+struct LumaParams {
+    uint src_width; // level 0: the frame; else the finer level
+    uint src_height;
+    uint dst_width;
+    uint dst_height;
+    uint src_offset; // floats into the pyramid buffer (level 0: unused)
+    uint dst_offset;
+    uint level;      // 0: luma of the frame's colour; k > 0: 2x2 mean of level k - 1
+    uint pad0;
+};
+
+struct MatchParams {
+    uint width;  // the level's size in pixels
+    uint height;
+    uint blocks_x; // its block grid (MOTION_BLOCK pixels)
+    uint blocks_y;
+    uint src_offset;   // the level in the pyramid whose blocks are matched
+    uint dst_offset;   // the level in the pyramid searched
+    uint field_offset; // this level's blocks in the field buffer (vec4 each)
+    uint coarse_offset;   // the coarser level's blocks (same direction)
+    uint coarse_blocks_x; // 0: the coarsest level, no prediction
+    uint coarse_blocks_y;
+    int radius;   // integer search window around the best candidate
+    float lambda; // cost per pixel of distance from the coarse prediction (luma units)
+};
+
+struct FlowParams {
+    uint width;
+    uint height;
+    uint blocks_x; // level-0 block grid
+    uint blocks_y;
+    uint back_offset; // level-0 blocks of the current -> previous field
+    uint fwd_offset;  // level-0 blocks of the previous -> current field
+    float global_x;   // dominant motion, pixels, current -> previous
+    float global_y;
+    float fb_tolerance; // forward-backward mismatch (pixels) beyond which a pixel is occluded
+    float depth_scale;  // motion difference from the dominant one (pixels) that halves the proxy
+    uint write_depth;   // 1: write the depth proxy (the session has no depth)
+    uint pad0;
+};
+
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
 // (uvec2: packHalf2x16(r, g), packHalf2x16(b, a)). Ingest clamps channels to [0, 65504], so packing
 // never overflows; the half rounding (relative error <= 2^-11) is far below what the metrics see,
@@ -175,6 +222,8 @@ static_assert(sizeof(IngestParams) == 52 && sizeof(GenParams) == 48 && sizeof(Sr
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
+static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 48 && sizeof(FlowParams) == 48,
+              "motion push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

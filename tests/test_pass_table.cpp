@@ -16,7 +16,7 @@ TEST(PassTable, ProtocolAndEngineAgree) {
         EXPECT_EQ(std::string(fgsr_pass_name(i)), std::string(pass_name(PassId(i)))) << "pass " << i;
         EXPECT_NE(std::string(fgsr_pass_name(i)), "unknown") << "pass " << i;
     }
-    for (uint32_t i : {uint32_t(FGSR_PASS_COUNT_), 12u, 0xffffffffu}) {
+    for (uint32_t i : {uint32_t(FGSR_PASS_COUNT_), 64u, 0xffffffffu}) {
         EXPECT_STREQ(fgsr_pass_name(i), "unknown");
         EXPECT_EQ(pass_name(PassId(i)), "unknown");
     }
@@ -41,9 +41,12 @@ TEST(PassTable, PublicNumberingIsFixed) {
         {FGSR_PASS_GENERATE_SR, PassId::generate_sr, 8, "generate_sr"},
         {FGSR_PASS_CLASSIFY, PassId::classify, 9, "classify"},
         {FGSR_PASS_DENOISE, PassId::denoise, 10, "denoise"},
+        {FGSR_PASS_LUMA, PassId::luma, 11, "luma"},
+        {FGSR_PASS_MATCH, PassId::match, 12, "match"},
+        {FGSR_PASS_FLOW, PassId::flow, 13, "flow"},
     };
     ASSERT_EQ(std::size(known), size_t(FGSR_PASS_COUNT_));
-    EXPECT_EQ(uint32_t(FGSR_PASS_COUNT_), 11u);
+    EXPECT_EQ(uint32_t(FGSR_PASS_COUNT_), 14u);
     for (const Known& k : known) {
         EXPECT_EQ(k.protocol, k.value) << k.name;
         EXPECT_EQ(uint32_t(k.engine), k.value) << k.name;

@@ -322,7 +322,10 @@ TEST(ProtocolAbi, EnumValues) {
     EXPECT_EQ(int64_t(FGSR_PASS_GENERATE_SR), int64_t(8));
     EXPECT_EQ(int64_t(FGSR_PASS_CLASSIFY), int64_t(9));
     EXPECT_EQ(int64_t(FGSR_PASS_DENOISE), int64_t(10));
-    EXPECT_EQ(int64_t(FGSR_PASS_COUNT_), int64_t(11));
+    EXPECT_EQ(int64_t(FGSR_PASS_LUMA), int64_t(11));
+    EXPECT_EQ(int64_t(FGSR_PASS_MATCH), int64_t(12));
+    EXPECT_EQ(int64_t(FGSR_PASS_FLOW), int64_t(13));
+    EXPECT_EQ(int64_t(FGSR_PASS_COUNT_), int64_t(14));
 }
 
 TEST(ProtocolAbi, DefineValues) {
@@ -363,6 +366,9 @@ TEST(ProtocolAbi, PassNames) {
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_GENERATE_SR)), "generate_sr");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_CLASSIFY)), "classify");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_DENOISE)), "denoise");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_LUMA)), "luma");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_MATCH)), "match");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_FLOW)), "flow");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_COUNT_)), "unknown");
 }
 

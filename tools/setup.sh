@@ -9,12 +9,16 @@ cd "$(dirname "$0")/.."
 packages=(build-essential cmake pkg-config git glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers
           vulkan-validationlayers libopenexr-dev libpng-dev libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
           libgtest-dev libusb-1.0-0-dev gnuplot-nox
-          # the Vulkan layer (client/layer) and its tests: TOML, XCB, Xvfb, vkcube
-          libtomlplusplus-dev libxcb1-dev xvfb vulkan-tools)
+          # the Vulkan layer (client/layer) and its test application: TOML, XCB
+          libtomlplusplus-dev libxcb1-dev)
+# Only the test suite needs these: python3-opencv runs the DIS reference (tools/reference/dis_vectors.py)
+# in its test; xvfb and vulkan-tools (vkcube) run the Vulkan layer's end-to-end tests. Blender
+# (tools/render) is needed by no test and is not installed here.
+test_packages=(python3-opencv xvfb vulkan-tools)
 
 install_missing() {
     local missing=()
-    for p in "${packages[@]}"; do
+    for p in "${packages[@]}" "$@"; do
         dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
     done
     if [ ${#missing[@]} -eq 0 ]; then return; fi
@@ -56,7 +60,7 @@ demo)
         --telemetry out/extrap/telemetry.csv
     ;;
 test)
-    install_missing
+    install_missing "${test_packages[@]}"
     build ci
     ctest --preset ci -j"$(nproc)"
     ;;

@@ -9,6 +9,7 @@
 #include <fgsr/cli/stress.hpp>
 
 #include <fgsr/capture/capture.hpp>
+#include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/engine/engine.hpp>
 #include <fgsr/engine/lut.hpp>
@@ -17,6 +18,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 namespace {
@@ -148,6 +150,12 @@ int main(int argc, char** argv) {
     convert->add_option("--capture", conv_in, "Input capture directory or 'builtin'")->required();
     convert->add_option("--out", conv_out, "Output directory")->required();
     convert->add_flag("--lr", conv_lr, "Mob-FGSR captures: use LR_Inputs");
+    bool conv_colour_png = false;
+    convert->add_flag("--colour-png", conv_colour_png,
+                      "Instead of a conversion, write the colour of each input frame of fgsr eval as an "
+                      "8-bit sRGB PNG OUT/NNNN.png (NNNN: the input's index from 0000; alpha dropped; "
+                      "captures of consecutive frames at half rate: frames 0, 2, 4, ...), for external "
+                      "tools such as tools/reference/dis_vectors.py");
 
     // fgsr lut-train
     fgsr::cli::LutTrainOptions lut_opts;
@@ -251,6 +259,28 @@ int main(int argc, char** argv) {
     if (*convert) {
         auto c = fgsr::cli::load_capture_spec(conv_in, conv_lr);
         if (!c) return fail(c.error());
+        if (conv_colour_png) {
+            // The inputs fgsr eval feeds the engine: every frame of a halfway capture, the even
+            // frames of a consecutive one (make_half_rate's inputs). The displayed colour: decoded to
+            // linear as the engine's ingest does, then sRGB-encoded and rounded by write_png
+            // (rgba8_srgb inputs give back their bytes).
+            const size_t stride = c->ground_truth_kind == fgsr::capture::GroundTruth::consecutive ? 2 : 1;
+            std::error_code ec;
+            std::filesystem::create_directories(conv_out, ec);
+            if (ec)
+                return fail(fgsr::make_error(fgsr::Errc::io, conv_out + ": cannot create: " + ec.message()));
+            size_t written = 0;
+            for (size_t k = 0; k < c->inputs.size(); k += stride, ++written) {
+                char name[32];
+                std::snprintf(name, sizeof name, "%04zu.png", written);
+                auto w = fgsr::capture::write_png(std::filesystem::path(conv_out) / name,
+                                                  fgsr::capture::decode_color(c->format, c->inputs[k]));
+                if (!w) return fail(w.error());
+            }
+            std::printf("wrote %zu colour PNGs of '%s'%s to %s\n", written, c->name.c_str(),
+                        stride == 2 ? " (half rate: frames 0, 2, 4, ...)" : "", conv_out.c_str());
+            return 0;
+        }
         auto w = fgsr::capture::save_fgsr(*c, conv_out);
         if (!w) return fail(w.error());
         std::printf("wrote %zu frames of '%s' to %s\n", c->inputs.size(), c->name.c_str(), conv_out.c_str());

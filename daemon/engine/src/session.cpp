@@ -52,6 +52,7 @@ Result<void> Session::Impl::init() {
         FGSR_TRY(make(denoiser.scratch, px * 8, false));
         FGSR_TRY(make(denoiser.noise, DENOISE_WORDS * 4, true));
     }
+    if (estimates_motion()) FGSR_TRY(init_motion());
     return {};
 }
 
@@ -185,7 +186,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         return make_error(Errc::invalid_argument, "jitter (" + std::to_string(frame.jitter_x) + ", " +
                                                       std::to_string(frame.jitter_y) +
                                                       ") is outside [-1, 1] pixels");
-    const bool restart = frame.reset || s.submitted == 0;
+    bool restart = frame.reset || s.submitted == 0;
     const int slot = 1 - s.newest;
     GpuFrame& f = s.frames[size_t(slot)];
     const GpuFrame& prev = s.frames[size_t(s.newest)];
@@ -214,6 +215,43 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     FGSR_TRY(s.rec.dispatch_pixels(ingest, b, &p, groups(s.format.width, span), s.format.height));
     s.rec.barrier();
     s.rec.timestamp(q++);
+    // Without vectors (motion.cpp): the pyramid, then against the previous frame matching in a
+    // first command buffer, the host's summary (dominant motion, scene cut), and the per-pixel
+    // vectors at the start of the second one. Timings gathered per command buffer.
+    std::vector<PassTiming> first_times;
+    bool frame_has_mv = has_mv;
+    s.estimator.timings.clear();
+    s.estimator.last_cut = false;
+    if (s.estimates_motion()) {
+        FGSR_TRY(s.record_luma(slot));
+        s.rec.barrier();
+        s.rec.timestamp(q++);
+        if (!restart) {
+            FGSR_TRY(s.record_match(slot, s.newest));
+            s.rec.timestamp(q++);
+        }
+        FGSR_TRY(s.rec.finish(true));
+        auto t1 = s.rec.read_times(0, q - 1);
+        if (!t1) return t1.error();
+        first_times = std::move(*t1);
+        s.estimator.timings.push_back(timing_of(PassId::luma, first_times[1]));
+        if (!restart) {
+            s.estimator.timings.push_back(timing_of(PassId::match, first_times[2]));
+            const ref::MotionSummary summary = s.summarise_motion();
+            s.estimator.last_cut = summary.cut;
+            s.estimator.global = summary.global;
+            restart = summary.cut;
+        }
+        FGSR_TRY(s.rec.begin());
+        q = 0;
+        s.rec.timestamp(q++);
+        if (!restart) {
+            FGSR_TRY(s.record_flow(slot, s.newest, s.estimator.global));
+            s.rec.barrier();
+            s.rec.timestamp(q++);
+        }
+        frame_has_mv = !restart;
+    }
     if (denoise) {
         FGSR_TRY(s.record_denoise(f.color));
         s.rec.barrier();
@@ -221,8 +259,9 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     }
     bool sr_tiled = false;
     if (s.sr()) {
-        const gpu::SrParams sp = params::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x,
-                                                   frame.jitter_y, !restart && s.sr_history.valid && has_mv);
+        const gpu::SrParams sp =
+            params::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x, frame.jitter_y,
+                              !restart && s.sr_history.valid && frame_has_mv);
         auto tiled = s.record_sr(sp, f, prev, q);
         if (!tiled) return tiled.error();
         sr_tiled = *tiled;
@@ -231,7 +270,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     auto t = s.rec.read_times(0, q - 1);
     if (!t) return t.error();
     size_t ti = 0;
-    s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
+    if (s.estimates_motion()) {
+        s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
+        if (!restart) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
+    } else {
+        s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
+    }
     s.denoiser.estimate = NoiseEstimate{};
     if (denoise) {
         s.denoiser.timing = timing_of(PassId::denoise, (*t)[ti++]);
@@ -240,7 +284,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     s.tiles.last_sr_tiled = sr_tiled;
     s.tiles.classify_sr_timing = timing_of(PassId::classify, sr_tiled ? (*t)[ti++] : PassTiming{});
     if (sr_tiled) s.count_sr_tiles();
-    f.has_mv = has_mv;
+    f.has_mv = frame_has_mv;
     s.newest = slot;
     s.jitter_x = frame.jitter_x;
     s.jitter_y = frame.jitter_y;

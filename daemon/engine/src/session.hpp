@@ -6,6 +6,7 @@
 #pragma once
 
 #include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/reference.hpp>
 
 #include "context.hpp"
 #include "recorder.hpp"
@@ -83,6 +84,16 @@ struct Session::Impl {
     bool last_separate = false;
     size_t last_output = 0;
 
+    // Motion estimation from colour (motion.cpp): sessions without vectors.
+    struct Motion {
+        std::vector<ref::MotionLevel> levels;
+        std::array<vk::Buffer, 2> pyramid; // luma pyramid of frames[i]
+        vk::Buffer field;                  // host-visible block vectors, both directions
+        std::vector<PassTiming> timings;   // of the last submit: luma, match, flow (those run)
+        bool last_cut = false;
+        glm::vec2 global{0.f};
+    } estimator;
+
     // Tile skipping (tiles.cpp, shaders/classify.h).
     struct TileSet {
         vk::Buffer flags, work, generate, statics;
@@ -108,6 +119,14 @@ struct Session::Impl {
     Result<void> submit(const FrameView& frame, const HostMemory* memory);
     bool sr() const { return out_w != format.width || out_h != format.height; }
     bool denoise() const { return sr() && params.denoise; }
+
+    // motion.cpp
+    bool estimates_motion() const { return !format.has_vectors; }
+    Result<void> init_motion();
+    Result<void> record_luma(int slot);
+    Result<void> record_match(int cur, int prev);
+    ref::MotionSummary summarise_motion() const;
+    Result<void> record_flow(int cur, int prev, glm::vec2 global);
 
     // generate.cpp
     // The bindings (GEN_*) of frame 1, frame 0 and the splat keys and motion that splat, refine,

@@ -80,6 +80,12 @@ constexpr uint32_t pass_bindings(PassId p) {
         return CLASSIFY_COUNT;
     case PassId::denoise:
         return DENOISE_COUNT;
+    case PassId::luma:
+        return LUMA_COUNT;
+    case PassId::match:
+        return MATCH_COUNT;
+    case PassId::flow:
+        return FLOW_COUNT;
     case PassId::count:
         break;
     }
@@ -106,6 +112,12 @@ constexpr uint32_t pass_push(PassId p) {
         return sizeof(gpu::ClassifyParams);
     case PassId::denoise:
         return sizeof(gpu::DenoiseParams);
+    case PassId::luma:
+        return sizeof(gpu::LumaParams);
+    case PassId::match:
+        return sizeof(gpu::MatchParams);
+    case PassId::flow:
+        return sizeof(gpu::FlowParams);
     case PassId::count:
         break;
     }

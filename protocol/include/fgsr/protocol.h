@@ -228,7 +228,7 @@ typedef enum fgsr_frame_type {
 } fgsr_frame_type;
 
 /* Pass ids and names follow from the pass table (fgsr/passes.h): INGEST 0 .. CLASSIFY 9,
- * DENOISE 10 (minor 1). */
+ * DENOISE 10 (minor 1), LUMA 11, MATCH 12, FLOW 13 (minor 2: motion estimation from colour). */
 #include <fgsr/passes.h>
 typedef enum fgsr_pass_id {
 #define FGSR_PASS_ID_(ID, name, value) FGSR_PASS_##ID = value,
@@ -236,9 +236,9 @@ typedef enum fgsr_pass_id {
 #undef FGSR_PASS_ID_
     FGSR_PASS_COUNT_
 } fgsr_pass_id;
-FGSR_STATIC_ASSERT(FGSR_PASS_COUNT_ == 11, "the pass table's values are 0..10 in order");
+FGSR_STATIC_ASSERT(FGSR_PASS_COUNT_ == 14, "the pass table's values are 0..13 in order");
 
-/* The engine's name of a pass ("ingest", ..., "denoise"; "unknown" for values out of range). */
+/* The engine's name of a pass ("ingest", ..., "flow"; "unknown" for values out of range). */
 const char* fgsr_pass_name(uint32_t pass);
 
 typedef struct fgsr_pass_record {

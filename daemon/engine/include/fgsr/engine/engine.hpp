@@ -209,6 +209,12 @@ class Session {
     double last_ingest_ms() const;
     // Timing of the last submit's ingest pass (with CLOCK_MONOTONIC begin/end).
     PassTiming last_ingest_timing() const;
+    // Sessions without vectors (FrameFormat::has_vectors false): the timings of the last submit's
+    // motion passes (luma, then match and flow when there was a previous frame; empty otherwise),
+    // and whether that submit was found to be a scene cut (then it started afresh, as with
+    // FrameView::reset: frames before it are not interpolated from).
+    std::vector<PassTiming> last_motion_timings() const;
+    bool last_scene_cut() const;
     // The last submit's noise estimate (Params::denoise; zeros without it).
     NoiseEstimate last_noise_estimate() const;
     // TILE_* flags of the last submit's super-resolution classification (empty when it was not

@@ -4,23 +4,27 @@
 // push constants the passes take, and the checks of frames, come from fgsr/engine/params.hpp.
 #pragma once
 
-#include <fgsr/engine/engine.hpp>
-#include <fgsr/engine/params.hpp>
 #include <fgsr/core/result.hpp>
 #include <fgsr/core/types.hpp>
+#include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/params.hpp>
 
 #include "common.h" // shaders/: GenParams, IngestParams
 
 #include <glm/glm.hpp>
 
+#include <span>
 #include <vector>
 
 namespace fgsr::ref {
 
 using gpu::ClassifyParams;
 using gpu::DenoiseParams;
+using gpu::FlowParams;
 using gpu::GenParams;
 using gpu::IngestParams;
+using gpu::LumaParams;
+using gpu::MatchParams;
 using gpu::SrParams;
 
 // One frame in the engine's internal convention (see types.hpp).
@@ -102,6 +106,60 @@ std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1
 std::vector<uint32_t> classify(const InternalFrame& f0, const InternalFrame& f1, const ClassifyParams& c);
 // The copy-through value generate mode gives a pixel of a static tile that splat left alone.
 glm::vec4 copy_through(const InternalFrame& f0, const InternalFrame& f1, glm::ivec2 p, const GenParams& g);
+
+// ---- Motion estimation from colour (shaders/luma.h, match.h, flow.h; docs/MOTION.md) ----
+// The engine uses these same functions for its level layout, push constants and field summary.
+
+inline constexpr int kMotionRadiusCoarsest = 8; // integer search of the coarsest level (+-8 of its pixels)
+inline constexpr int kMotionRadiusMiddle = 3;   // around the best candidate, levels between
+inline constexpr int kMotionRadiusFine = 1;     // around the best candidate, level 0
+// Cost per pixel away from the coarse prediction; on the coarsest level, which has none, away from
+// zero (it settles the near-ties of flat regions, which would otherwise drift to the window's edge).
+inline constexpr float kMotionLambda = 0.004f;
+inline constexpr float kMotionLambdaCoarsest = 0.001f;
+inline constexpr float kMotionFbTolerance = 1.0f; // forward-backward mismatch (pixels) of occlusion
+inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) halving the proxy depth
+inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for the same dominant motion
+// Scene cut: more than kCutShare of the level-0 blocks find no match: their best SAD (mean
+// absolute luma difference, display-referred [0, 1]) exceeds both kCutSad and kCutContrast times
+// the block's own contrast (its mean absolute deviation), so that a textured block is judged
+// against its texture and a flat one against an absolute step.
+inline constexpr float kCutSad = 0.04f;
+inline constexpr float kCutContrast = 0.6f;
+inline constexpr float kCutShare = 0.3f;
+
+// One pyramid level: size, block grid, where its pixels start in a pyramid buffer (floats) and
+// its blocks in the field (vec4s; the previous -> current direction follows all current ->
+// previous levels, motion_field_blocks later).
+struct MotionLevel {
+    uint32_t width = 0, height = 0, blocks_x = 0, blocks_y = 0, offset = 0, field_offset = 0;
+};
+std::vector<MotionLevel> motion_levels(uint32_t width, uint32_t height);
+uint32_t motion_field_blocks(const std::vector<MotionLevel>& levels); // blocks of one direction
+// Push constants of level k (forward: previous -> current) and of the flow pass.
+MatchParams match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward);
+FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth);
+
+// What the host reads from the level-0 current -> previous blocks between the match and flow
+// passes: the dominant motion (mean of the vectors within kMotionModeRadius of the most common
+// one) and whether the frame is a scene cut.
+struct MotionSummary {
+    glm::vec2 global{0.f};
+    float mismatch_share = 0; // level-0 blocks that found no match (kCutSad, kCutContrast)
+    bool cut = false;
+};
+MotionSummary summarise_motion(std::span<const glm::vec4> blocks);
+
+// The passes on the CPU: the pyramid of a frame; one level of matching into `field` (both
+// directions share it, as on the GPU); the flow pass writing f.mv (and f.depth with write_depth).
+std::vector<float> luma_pyramid(const InternalFrame& f, const std::vector<MotionLevel>& levels);
+void match_level(const std::vector<float>& src, const std::vector<float>& dst, std::vector<glm::vec4>& field,
+                 const MatchParams& p);
+void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
+          const FlowParams& p, InternalFrame& f);
+// The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
+// cut f1 keeps its input (has_mv false).
+MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth);
 
 // Resamples `src` (w x h) at every pixel centre + shift (pixels, x right, y down), with the
 // engine's resampling (shaders/resample.h): out(x, y) = resample(src, (x + 0.5, y + 0.5) + shift).

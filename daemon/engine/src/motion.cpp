@@ -1,0 +1,185 @@
+// Motion estimation from colour for sessions without vectors (FrameFormat::has_vectors false):
+// the luma pyramid of each submitted frame, block matching coarse to fine in both directions, the
+// field's summary on the host (dominant motion, scene cut), then the per-pixel vectors and depth
+// proxy (shaders/luma.h, match.h, flow.h; docs/MOTION.md).
+#include <fgsr/engine/params.hpp>
+#include <fgsr/engine/reference.hpp>
+
+#include "session.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace fgsr {
+
+std::vector<ref::MotionLevel> ref::motion_levels(uint32_t width, uint32_t height) {
+    std::vector<MotionLevel> levels;
+    uint32_t w = width, h = height, offset = 0, blocks = 0;
+    for (uint32_t k = 0; k < MOTION_MAX_LEVELS; ++k) {
+        if (k > 0 && std::min(w, h) < MOTION_MIN_SIDE) break;
+        MotionLevel l;
+        l.width = w;
+        l.height = h;
+        l.blocks_x = (w + MOTION_BLOCK - 1) / MOTION_BLOCK;
+        l.blocks_y = (h + MOTION_BLOCK - 1) / MOTION_BLOCK;
+        l.offset = offset;
+        l.field_offset = blocks;
+        offset += w * h;
+        blocks += l.blocks_x * l.blocks_y;
+        levels.push_back(l);
+        w = (w + 1) / 2;
+        h = (h + 1) / 2;
+    }
+    return levels;
+}
+
+uint32_t ref::motion_field_blocks(const std::vector<MotionLevel>& levels) {
+    return levels.empty() ? 0 : levels.back().field_offset + levels.back().blocks_x * levels.back().blocks_y;
+}
+
+gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward) {
+    const MotionLevel& l = levels[k];
+    const uint32_t half = motion_field_blocks(levels);
+    gpu::MatchParams m{};
+    m.width = l.width;
+    m.height = l.height;
+    m.blocks_x = l.blocks_x;
+    m.blocks_y = l.blocks_y;
+    m.src_offset = l.offset;
+    m.dst_offset = l.offset;
+    m.field_offset = l.field_offset + (forward ? half : 0);
+    if (k + 1 < levels.size()) {
+        m.coarse_offset = levels[k + 1].field_offset + (forward ? half : 0);
+        m.coarse_blocks_x = levels[k + 1].blocks_x;
+        m.coarse_blocks_y = levels[k + 1].blocks_y;
+        m.radius = k == 0 ? kMotionRadiusFine : kMotionRadiusMiddle;
+        m.lambda = kMotionLambda;
+    } else {
+        m.radius = kMotionRadiusCoarsest;
+        m.lambda = kMotionLambdaCoarsest;
+    }
+    return m;
+}
+
+gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth) {
+    gpu::FlowParams f{};
+    f.width = levels[0].width;
+    f.height = levels[0].height;
+    f.blocks_x = levels[0].blocks_x;
+    f.blocks_y = levels[0].blocks_y;
+    f.back_offset = 0;
+    f.fwd_offset = motion_field_blocks(levels);
+    f.global_x = global.x;
+    f.global_y = global.y;
+    f.fb_tolerance = kMotionFbTolerance;
+    f.depth_scale = kMotionDepthScale;
+    f.write_depth = write_depth ? 1u : 0u;
+    return f;
+}
+
+ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks) {
+    MotionSummary s;
+    if (blocks.empty()) return s;
+    // Dominant motion: the block vector with the most others within kMotionModeRadius, over at most
+    // 256 candidates and 4096 voters (strided samples), then the mean of its voters.
+    const size_t n = blocks.size();
+    const size_t cand_step = std::max<size_t>(1, n / 256), vote_step = std::max<size_t>(1, n / 4096);
+    const float r2 = kMotionModeRadius * kMotionModeRadius;
+    size_t best_votes = 0;
+    glm::vec2 mode(0.f);
+    for (size_t i = 0; i < n; i += cand_step) {
+        const glm::vec2 c(blocks[i].x, blocks[i].y);
+        size_t votes = 0;
+        for (size_t j = 0; j < n; j += vote_step) {
+            const glm::vec2 d = glm::vec2(blocks[j].x, blocks[j].y) - c;
+            votes += glm::dot(d, d) <= r2 ? 1 : 0;
+        }
+        if (votes > best_votes) best_votes = votes, mode = c;
+    }
+    glm::vec2 sum(0.f);
+    size_t count = 0, high = 0;
+    for (const glm::vec4& b : blocks) {
+        const glm::vec2 d = glm::vec2(b.x, b.y) - mode;
+        if (glm::dot(d, d) <= r2) sum += glm::vec2(b.x, b.y), ++count;
+        high += (b.z > kCutSad && b.z > kCutContrast * b.w) ? 1 : 0;
+    }
+    s.global = count ? sum / float(count) : mode;
+    s.mismatch_share = float(high) / float(n);
+    s.cut = s.mismatch_share > kCutShare;
+    return s;
+}
+
+Result<void> Session::Impl::init_motion() {
+    estimator.levels = ref::motion_levels(format.width, format.height);
+    const uint32_t floats =
+        estimator.levels.back().offset + estimator.levels.back().width * estimator.levels.back().height;
+    for (vk::Buffer& b : estimator.pyramid) {
+        auto r = vk::Buffer::create(*ctx, VkDeviceSize(floats) * 4, false);
+        if (!r) return r.error();
+        b = std::move(*r);
+    }
+    // Host-visible: the host summarises the level-0 current -> previous blocks between the two
+    // command buffers of a submit (a few hundred KB at 1080p).
+    auto f =
+        vk::Buffer::create(*ctx, VkDeviceSize(ref::motion_field_blocks(estimator.levels)) * 2 * 16, true);
+    if (!f) return f.error();
+    estimator.field = std::move(*f);
+    return {};
+}
+
+Result<void> Session::Impl::record_luma(int slot) {
+    const vk::Buffer& pyr = estimator.pyramid[size_t(slot)];
+    const auto b =
+        make_slots<PassId::luma>(at<LUMA_COLOR>(frames[size_t(slot)].color), at<LUMA_PYRAMID>(pyr));
+    for (size_t k = 0; k < estimator.levels.size(); ++k) {
+        const ref::MotionLevel& l = estimator.levels[k];
+        const ref::MotionLevel& src = estimator.levels[k == 0 ? 0 : k - 1];
+        gpu::LumaParams p{src.width, src.height, l.width, l.height, src.offset, l.offset, uint32_t(k), 0u};
+        if (k > 0) rec.barrier();
+        FGSR_TRY(rec.dispatch_pixels(Variant::luma, b, &p, l.width, l.height));
+    }
+    return {};
+}
+
+Result<void> Session::Impl::record_match(int cur, int prev) {
+    const vk::Buffer& a = estimator.pyramid[size_t(cur)];
+    const vk::Buffer& b = estimator.pyramid[size_t(prev)];
+    const auto back =
+        make_slots<PassId::match>(at<MATCH_SRC>(a), at<MATCH_DST>(b), at<MATCH_FIELD>(estimator.field));
+    const auto fwd =
+        make_slots<PassId::match>(at<MATCH_SRC>(b), at<MATCH_DST>(a), at<MATCH_FIELD>(estimator.field));
+    for (size_t k = estimator.levels.size(); k-- > 0;) {
+        const ref::MotionLevel& l = estimator.levels[k];
+        const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false);
+        const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true);
+        FGSR_TRY(rec.dispatch_pixels(Variant::match, back, &pb, l.blocks_x, l.blocks_y));
+        FGSR_TRY(rec.dispatch_pixels(Variant::match, fwd, &pf, l.blocks_x, l.blocks_y));
+        rec.barrier();
+    }
+    return {};
+}
+
+ref::MotionSummary Session::Impl::summarise_motion() const {
+    const ref::MotionLevel& l = estimator.levels[0];
+    const auto* blocks = static_cast<const glm::vec4*>(estimator.field.mapped());
+    return ref::summarise_motion({blocks, size_t(l.blocks_x) * l.blocks_y});
+}
+
+Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global) {
+    const GpuFrame& f = frames[size_t(cur)];
+    const auto b = make_slots<PassId::flow>(
+        at<FLOW_CUR>(estimator.pyramid[size_t(cur)]), at<FLOW_PREV>(estimator.pyramid[size_t(prev)]),
+        at<FLOW_FIELD>(estimator.field), at<FLOW_MV>(f.mv), at<FLOW_DEPTH>(f.depth));
+    const gpu::FlowParams p = ref::flow_params(estimator.levels, global, !format.has_depth);
+    return rec.dispatch_pixels(Variant::flow, b, &p, format.width, format.height);
+}
+
+std::vector<PassTiming> Session::last_motion_timings() const {
+    return impl_->estimator.timings;
+}
+
+bool Session::last_scene_cut() const {
+    return impl_->estimator.last_cut;
+}
+
+} // namespace fgsr

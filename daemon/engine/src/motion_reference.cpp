@@ -1,0 +1,95 @@
+// CPU reference of motion estimation from colour: shaders/luma.h, match.h and flow.h compiled as
+// C++ members of structs whose load_/store_ functions read and write host vectors.
+#include <fgsr/engine/reference.hpp>
+
+#include <cstring>
+
+// clang-format off
+namespace fgsr::gpu {
+namespace {
+
+struct LumaCpu {
+    const ref::InternalFrame* f;
+    std::vector<float>* pyr;
+    vec4 load_color(uint i) const { return f->color[i]; }
+    float load_level(uint i) const { return (*pyr)[i]; }
+    void store_level(uint i, float v) { (*pyr)[i] = v; }
+#include "luma.h"
+};
+
+struct MatchCpu {
+    const std::vector<float>* src;
+    const std::vector<float>* dst;
+    std::vector<vec4>* field;
+    float load_src(uint i) const { return (*src)[i]; }
+    float load_dst(uint i) const { return (*dst)[i]; }
+    vec4 load_field(uint i) const { return (*field)[i]; }
+    void store_field(uint i, vec4 v) { (*field)[i] = v; }
+#include "match.h"
+};
+
+struct FlowCpu {
+    const std::vector<float>* cur_luma;
+    const std::vector<float>* prev_luma;
+    const std::vector<vec4>* blocks;
+    ref::InternalFrame* out;
+    float load_cur(uint i) const { return (*cur_luma)[i]; }
+    float load_prev(uint i) const { return (*prev_luma)[i]; }
+    vec4 load_field(uint i) const { return (*blocks)[i]; }
+    void store_flow(uint i, vec2 m, float d, bool write_depth) {
+        out->mv[i] = m;
+        if (write_depth) out->depth[i] = d;
+    }
+#include "flow.h"
+};
+
+} // namespace
+} // namespace fgsr::gpu
+// clang-format on
+
+namespace fgsr::ref {
+
+std::vector<float> luma_pyramid(const InternalFrame& f, const std::vector<MotionLevel>& levels) {
+    const MotionLevel& last = levels.back();
+    std::vector<float> pyr(size_t(last.offset) + size_t(last.width) * last.height);
+    gpu::LumaCpu cpu{&f, &pyr};
+    for (size_t k = 0; k < levels.size(); ++k) {
+        const MotionLevel& l = levels[k];
+        const MotionLevel& src = levels[k == 0 ? 0 : k - 1];
+        const LumaParams p{src.width, src.height, l.width, l.height, src.offset, l.offset, uint32_t(k), 0u};
+        for (uint32_t y = 0; y < l.height; ++y)
+            for (uint32_t x = 0; x < l.width; ++x) cpu.luma_pixel(glm::uvec2(x, y), p);
+    }
+    return pyr;
+}
+
+void match_level(const std::vector<float>& src, const std::vector<float>& dst, std::vector<glm::vec4>& field,
+                 const MatchParams& p) {
+    gpu::MatchCpu cpu{&src, &dst, &field};
+    for (uint32_t y = 0; y < p.blocks_y; ++y)
+        for (uint32_t x = 0; x < p.blocks_x; ++x) cpu.match_block(glm::uvec2(x, y), p);
+}
+
+void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
+          const FlowParams& p, InternalFrame& f) {
+    gpu::FlowCpu cpu{&cur, &prev, &field, &f};
+    for (uint32_t y = 0; y < p.height; ++y)
+        for (uint32_t x = 0; x < p.width; ++x) cpu.flow_pixel(glm::uvec2(x, y), p);
+}
+
+MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
+    const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
+    const std::vector<float> p0 = luma_pyramid(f0, levels), p1 = luma_pyramid(f1, levels);
+    std::vector<glm::vec4> field(size_t(motion_field_blocks(levels)) * 2);
+    for (size_t k = levels.size(); k-- > 0;) {
+        match_level(p1, p0, field, match_params(levels, k, false));
+        match_level(p0, p1, field, match_params(levels, k, true));
+    }
+    const MotionSummary s = summarise_motion({field.data(), size_t(levels[0].blocks_x) * levels[0].blocks_y});
+    if (s.cut) return s;
+    flow(p1, p0, field, flow_params(levels, s.global, write_depth), f1);
+    f1.has_mv = true;
+    return s;
+}
+
+} // namespace fgsr::ref

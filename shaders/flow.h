@@ -1,0 +1,89 @@
+// Pass `flow`: per-pixel vectors of the current frame from the level-0 block fields, their
+// forward-backward consistency, and (sessions without depth) a depth proxy. One invocation per
+// pixel; writes the frame's vectors in the internal convention (pixels, y down, current ->
+// previous), which the splat / refine / disocc / warp / blend passes and the SR history then use
+// exactly as client vectors.
+//
+// 1. Densification: candidates are the vectors of the four blocks around the pixel and their
+//    bilinear blend; each costs the mean absolute luma difference over the pixel's 3x3
+//    neighbourhood against the previous frame at the nearest displaced pixel, and the blend wins
+//    ties (FLOW_SMOOTH_BIAS): inside a block's motion the field stays smooth, at a motion boundary
+//    each pixel takes the side it matches.
+// 2. Consistency: the previous -> current field at the pixel's previous position should point
+//    back at it. Where |v + forward(p + v)| exceeds fb_tolerance + 10 % of |v|, the pixel is
+//    occluded in the previous frame (background the motion uncovered): its own match is
+//    unreliable, so it takes, of its candidates, the one nearest the dominant motion.
+// 3. Depth proxy (write_depth): the splat orders surfaces by depth, and where there is none the
+//    proxy says that what moves unlike the dominant motion (the camera's, for most content) is in
+//    front: depth = 1 / (1 + max(|v - global| - 1, 0) / depth_scale). Motion within a pixel of the
+//    dominant one is background at depth 1; occluded pixels are background too. Why this and not
+//    ordering from boundaries: objects that move over a still or panning background are in front
+//    of it in the content this serves, and the rule needs no neighbourhood reasoning that would
+//    fail on thin or textureless objects; it fails where the background is what moves (a
+//    background scrolling behind a still overlay), where the overlay still wins as the foreground
+//    because the dominant motion is the background's.
+//
+// Entry provides:
+//   float load_cur(uint pixel)   level-0 luma of the current frame
+//   float load_prev(uint pixel)  level-0 luma of the previous frame
+//   vec4  load_field(uint index) the block field
+//   void  store_flow(uint pixel, vec2 mv, float depth, bool write_depth)
+
+#define FLOW_SMOOTH_BIAS 0.9f // cost factor of the bilinear candidate
+
+FGSR_INLINE vec2 flow_block(ivec2 b, uint offset, FlowParams p) {
+    b = clamp(b, ivec2(0), ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1));
+    vec4 f = load_field(offset + uint(b.y) * p.blocks_x + uint(b.x));
+    return vec2(f.x, f.y);
+}
+
+// The field at a position in pixels, bilinear between block centres.
+FGSR_INLINE vec2 flow_bilinear(vec2 pos, uint offset, FlowParams p) {
+    vec2 b = pos * (1.0f / float(MOTION_BLOCK)) - 0.5f;
+    vec2 i = floor(b);
+    vec2 f = b - i;
+    ivec2 c = ivec2(i);
+    vec2 top = mix(flow_block(c, offset, p), flow_block(c + ivec2(1, 0), offset, p), f.x);
+    vec2 bottom = mix(flow_block(c + ivec2(0, 1), offset, p), flow_block(c + ivec2(1, 1), offset, p), f.x);
+    return mix(top, bottom, f.y);
+}
+
+FGSR_INLINE float flow_luma(ivec2 q, bool prev, FlowParams p) {
+    q = clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+    uint i = uint(q.y) * p.width + uint(q.x);
+    return prev ? load_prev(i) : load_cur(i);
+}
+
+FGSR_INLINE float flow_cost(ivec2 q, vec2 v, FlowParams p) {
+    ivec2 d = ivec2(floor(v + 0.5f));
+    float s = 0.0f;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) s += abs(flow_luma(q + ivec2(x, y), false, p) - flow_luma(q + ivec2(x, y) + d, true, p));
+    return s * (1.0f / 9.0f);
+}
+
+FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
+    if (u.x >= p.width || u.y >= p.height) return;
+    ivec2 q = ivec2(u);
+    vec2 pos = vec2(q) + 0.5f;
+    vec2 g = vec2(p.global_x, p.global_y);
+    vec2 b = pos * (1.0f / float(MOTION_BLOCK)) - 0.5f;
+    ivec2 c = ivec2(floor(b));
+    vec2 best = flow_bilinear(pos, p.back_offset, p);
+    float best_cost = FLOW_SMOOTH_BIAS * flow_cost(q, best, p);
+    vec2 nearest_g = best;
+    for (int k = 0; k < 4; ++k) {
+        vec2 v = flow_block(c + ivec2(k & 1, k >> 1), p.back_offset, p);
+        float cost = flow_cost(q, v, p);
+        if (cost < best_cost) {
+            best_cost = cost;
+            best = v;
+        }
+        if (length(v - g) < length(nearest_g - g)) nearest_g = v;
+    }
+    vec2 back = flow_bilinear(pos + best, p.fwd_offset, p);
+    bool occluded = length(best + back) > p.fb_tolerance + 0.1f * length(best);
+    vec2 v = occluded ? nearest_g : best;
+    float m = occluded ? 0.0f : max(length(v - g) - 1.0f, 0.0f);
+    store_flow(u.y * p.width + u.x, v, 1.0f / (1.0f + m / p.depth_scale), p.write_depth != 0u);
+}

@@ -1,0 +1,18 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.h"
+#include "bindings.h"
+layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
+layout(push_constant) uniform Push { MatchParams p; } pc;
+layout(std430, binding = MATCH_SRC) readonly buffer Src { float src[]; };
+layout(std430, binding = MATCH_DST) readonly buffer Dst { float dst[]; };
+layout(std430, binding = MATCH_FIELD) buffer Field { vec4 field[]; };
+
+float load_src(uint i) { return src[i]; }
+float load_dst(uint i) { return dst[i]; }
+vec4 load_field(uint i) { return field[i]; }
+void store_field(uint i, vec4 v) { field[i] = v; }
+
+#include "match.h"
+
+void main() { match_block(gl_GlobalInvocationID.xy, pc.p); }

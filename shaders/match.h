@@ -1,0 +1,106 @@
+// Pass `match`: block matching on one pyramid level, one invocation per block of MOTION_BLOCK x
+// MOTION_BLOCK pixels of the source frame, searching the destination frame (the host runs it
+// coarse to fine, once per level and direction: current -> previous gives the vectors, previous ->
+// current the field flow.h checks them against).
+//
+// The design follows hierarchical block matching as in FidelityFX optical flow (8x8 blocks on a
+// luminance pyramid, each level seeded from the coarser one):
+//   1. candidates: the zero vector and, below the coarsest level, twice the vectors of the parent
+//      block and of its three neighbours on this block's side (so a block at a motion boundary can
+//      take the motion of either side);
+//   2. cost of a displacement d: mean absolute luma difference over the block (SAD / 64) plus
+//      lambda x |d - prediction| (the parent's vector), which keeps flat regions, where every
+//      displacement costs the same, on the coarse motion;
+//   3. a full integer search of +-radius around the best candidate (the coarsest level searches
+//      widely, the finer ones +-1);
+//   4. sub-pixel refinement by equiangular (V-shaped) line fits through the SAD at the best
+//      position and its four neighbours, the fit suited to SAD (a parabola under-shoots it).
+// Pixels outside the level are read at the nearest edge pixel. The field stores vec4(v, SAD,
+// contrast): v in pixels of this level, from a source pixel to its position in the destination;
+// SAD of the match; the block's mean absolute deviation from its mean.
+//
+// Entry provides:
+//   float load_src(uint index)   the source pyramid
+//   float load_dst(uint index)   the destination pyramid
+//   vec4  load_field(uint index) the block field (coarser level)
+//   void  store_field(uint index, vec4 value)
+
+FGSR_INLINE float match_dst(ivec2 q, MatchParams p) {
+    q = clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+    return load_dst(p.dst_offset + uint(q.y) * p.width + uint(q.x));
+}
+
+// Mean absolute difference of the block (its luma in blk) against the destination at origin + d.
+FGSR_INLINE float match_sad(float blk[64], ivec2 origin, ivec2 d, MatchParams p) {
+    float s = 0.0f;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) s += abs(blk[y * 8 + x] - match_dst(origin + ivec2(x, y) + d, p));
+    return s * (1.0f / 64.0f);
+}
+
+FGSR_INLINE vec2 match_coarse(ivec2 c, MatchParams p) {
+    c = clamp(c, ivec2(0), ivec2(int(p.coarse_blocks_x) - 1, int(p.coarse_blocks_y) - 1));
+    vec4 f = load_field(p.coarse_offset + uint(c.y) * p.coarse_blocks_x + uint(c.x));
+    return 2.0f * vec2(f.x, f.y);
+}
+
+// Offset in (-0.5, 0.5) of the minimum of a V through (-1, cm), (0, c0), (1, cp), c0 the smallest.
+FGSR_INLINE float match_subpixel(float cm, float c0, float cp) {
+    float slope = max(cm, cp) - c0;
+    return slope > 1.0e-7f ? clamp(0.5f * (cm - cp) / slope, -0.5f, 0.5f) : 0.0f;
+}
+
+FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
+    if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
+    ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
+    ivec2 last = ivec2(int(p.width) - 1, int(p.height) - 1);
+    float blk[64];
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            ivec2 q = min(origin + ivec2(x, y), last);
+            blk[y * 8 + x] = load_src(p.src_offset + uint(q.y) * p.width + uint(q.x));
+        }
+    vec2 pred = vec2(0.0f);
+    ivec2 best = ivec2(0);
+    float best_cost = match_sad(blk, origin, best, p);
+    if (p.coarse_blocks_x > 0u) {
+        ivec2 parent = ivec2(b) / 2;
+        ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
+        pred = match_coarse(parent, p);
+        best_cost += p.lambda * length(pred);
+        for (int k = 0; k < 4; ++k) {
+            ivec2 c = parent + ivec2((k & 1) != 0 ? side.x : 0, (k & 2) != 0 ? side.y : 0);
+            vec2 v = match_coarse(c, p);
+            ivec2 d = ivec2(floor(v + 0.5f));
+            float cost = match_sad(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+            if (cost < best_cost) {
+                best_cost = cost;
+                best = d;
+            }
+        }
+    }
+    ivec2 centre = best;
+    for (int dy = -p.radius; dy <= p.radius; ++dy)
+        for (int dx = -p.radius; dx <= p.radius; ++dx) {
+            if (dx == 0 && dy == 0) continue;
+            ivec2 d = centre + ivec2(dx, dy);
+            float cost = match_sad(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+            if (cost < best_cost) {
+                best_cost = cost;
+                best = d;
+            }
+        }
+    // The block's contrast (mean absolute deviation): what a cut's mismatch is measured against.
+    float mean = 0.0f;
+    for (int k = 0; k < 64; ++k) mean += blk[k];
+    mean *= 1.0f / 64.0f;
+    float contrast = 0.0f;
+    for (int k = 0; k < 64; ++k) contrast += abs(blk[k] - mean);
+    contrast *= 1.0f / 64.0f;
+    float c0 = match_sad(blk, origin, best, p);
+    float sx = match_subpixel(match_sad(blk, origin, best - ivec2(1, 0), p), c0,
+                              match_sad(blk, origin, best + ivec2(1, 0), p));
+    float sy = match_subpixel(match_sad(blk, origin, best - ivec2(0, 1), p), c0,
+                              match_sad(blk, origin, best + ivec2(0, 1), p));
+    store_field(p.field_offset + b.y * p.blocks_x + b.x, vec4(float(best.x) + sx, float(best.y) + sy, c0, contrast));
+}

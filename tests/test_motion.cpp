@@ -1,0 +1,290 @@
+// Motion estimation from colour (colour-only sessions, shaders/luma.h, match.h, flow.h): the GPU
+// passes against their CPU reference, and the estimate against analytic motion: exact sub-pixel
+// translations of a continuous texture, a square moving over a still background (vectors,
+// occlusion, depth proxy), flat colour, a scene cut, and interpolation against the exact frame.
+#include "engine_fixture.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace fgsr::test {
+namespace {
+
+// Value noise: a continuous function of the plane, so that sampling it shifted gives an exact
+// translation at any sub-pixel offset. Non-periodic, so block matching has one right answer.
+float lattice(int x, int y, uint32_t seed) {
+    uint32_t h = uint32_t(x) * 374761393u + uint32_t(y) * 668265263u + seed * 2246822519u;
+    h = (h ^ (h >> 13)) * 1274126177u;
+    return float((h ^ (h >> 16)) & 0xffffu) / 65535.f;
+}
+float value_noise(float x, float y, float scale, uint32_t seed) {
+    const float fx = x / scale, fy = y / scale;
+    const int ix = int(std::floor(fx)), iy = int(std::floor(fy));
+    float tx = fx - float(ix), ty = fy - float(iy);
+    tx = tx * tx * (3 - 2 * tx);
+    ty = ty * ty * (3 - 2 * ty);
+    const float a = lattice(ix, iy, seed), b = lattice(ix + 1, iy, seed), c = lattice(ix, iy + 1, seed),
+                d = lattice(ix + 1, iy + 1, seed);
+    return (a + (b - a) * tx) + ((c + (d - c) * tx) - (a + (b - a) * tx)) * ty;
+}
+glm::vec4 texture(glm::vec2 p, uint32_t seed) {
+    const float n = 0.35f * value_noise(p.x, p.y, 3.f, seed) + 0.25f * value_noise(p.x, p.y, 7.f, seed + 1) +
+                    0.2f * value_noise(p.x, p.y, 19.f, seed + 2) +
+                    0.2f * value_noise(p.x, p.y, 61.f, seed + 3);
+    return glm::vec4(n, 0.8f * n + 0.1f, 1.f - n, 1.f);
+}
+
+// A frame whose pixel (x, y) shows colour(x + 0.5, y + 0.5) (linear RGBA32F, no depth, no vectors).
+RawFrame render(uint32_t w, uint32_t h, const std::function<glm::vec4(glm::vec2)>& colour) {
+    std::vector<glm::vec4> c(size_t(w) * h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) c[size_t(y) * w + x] = colour(glm::vec2(x + 0.5f, y + 0.5f));
+    return RawFrame{bytes_of(c), {}, {}};
+}
+
+FrameFormat colour_only(uint32_t w, uint32_t h) {
+    FrameFormat f = internal_format(w, h);
+    f.has_vectors = false;
+    f.has_depth = false;
+    return f;
+}
+
+std::unique_ptr<Session> session_of(const FrameFormat& f, Params p = {}) {
+    auto s = engine().create_session(f, p);
+    if (!s) ADD_FAILURE() << s.error().message;
+    return s ? std::move(*s) : nullptr;
+}
+
+// The scene of a square of side `side` moving by `step` pixels per frame over a still textured
+// background; frame time t (a real number: in between frames too).
+glm::vec4 square_scene(glm::vec2 p, float t, glm::vec2 start, glm::vec2 step, float side) {
+    const glm::vec2 corner = start + t * step;
+    const glm::vec2 local = p - corner;
+    if (local.x >= 0 && local.y >= 0 && local.x < side && local.y < side) return texture(local + 500.f, 9);
+    return texture(p, 3);
+}
+
+double psnr(const std::vector<float>& a, const std::vector<glm::vec4>& b) {
+    double se = 0;
+    for (size_t i = 0; i < b.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            const double d = double(a[4 * i + size_t(k)]) - double(b[i][k]);
+            se += d * d;
+        }
+    return 10.0 * std::log10(1.0 / std::max(se / double(b.size() * 3), 1e-12));
+}
+
+TEST(Motion, GpuPassesMatchTheCpuReference) {
+    const uint32_t w = 150, h = 94; // not multiples of the block size: edge blocks are clamped
+    auto s = session_of(colour_only(w, h));
+    ASSERT_TRUE(s);
+    const RawFrame f0 = render(w, h, [](glm::vec2 p) { return texture(p, 1); });
+    const RawFrame f1 = render(w, h, [](glm::vec2 p) { return texture(p + glm::vec2(4.3f, -2.6f), 1); });
+    ASSERT_TRUE(s->submit(f0.view()));
+    ASSERT_TRUE(s->submit(f1.view()));
+    auto gpu = s->read_frame(1);
+    ASSERT_TRUE(gpu);
+    ASSERT_TRUE(gpu->has_mv);
+    EXPECT_FALSE(s->last_scene_cut());
+    ASSERT_EQ(s->last_motion_timings().size(), 3u);
+    EXPECT_EQ(s->last_motion_timings()[0].pass, PassId::luma);
+    EXPECT_EQ(s->last_motion_timings()[2].pass, PassId::flow);
+
+    auto r0 = s->read_frame(0);
+    ASSERT_TRUE(r0);
+    ref::InternalFrame c0 = to_internal(*r0, w, h), c1 = to_internal(*gpu, w, h);
+    c1.has_mv = false;
+    const ref::MotionSummary summary = ref::estimate_motion(c0, c1, true);
+    EXPECT_FALSE(summary.cut);
+    ASSERT_TRUE(c1.has_mv);
+    size_t differ = 0;
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+        ASSERT_TRUE(std::isfinite(gpu->mv[2 * i]) && std::isfinite(gpu->mv[2 * i + 1])) << i;
+        const float d = std::abs(gpu->mv[2 * i] - c1.mv[i].x) + std::abs(gpu->mv[2 * i + 1] - c1.mv[i].y) +
+                        std::abs(gpu->depth[i] - c1.depth[i]);
+        differ += d > 1e-3f ? 1 : 0;
+    }
+    // Float rounding may flip a tie between two candidates of equal cost in a handful of pixels.
+    EXPECT_LE(differ, size_t(w) * h / 500) << "pixels where GPU and CPU differ";
+    expect_no_validation_errors();
+}
+
+struct Errors {
+    double median = 0, p90 = 0;
+};
+Errors end_point_errors(const std::vector<float>& mv, uint32_t w, uint32_t h, uint32_t margin,
+                        const std::function<glm::vec2(glm::ivec2)>& truth) {
+    std::vector<double> e;
+    for (uint32_t y = margin; y + margin < h; ++y)
+        for (uint32_t x = margin; x + margin < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            e.push_back(glm::length(glm::vec2(mv[2 * i], mv[2 * i + 1]) - truth(glm::ivec2(int(x), int(y)))));
+        }
+    std::sort(e.begin(), e.end());
+    return Errors{e[e.size() / 2], e[e.size() * 9 / 10]};
+}
+
+TEST(Motion, SubPixelAndLargeTranslationsAreRecovered) {
+    const uint32_t w = 256, h = 160;
+    // Small, sub-pixel, and larger than a level-0 search could reach (the pyramid finds it).
+    for (glm::vec2 shift : {glm::vec2(0.5f, 0.25f), glm::vec2(3.3f, -1.6f), glm::vec2(-37.4f, 12.7f)}) {
+        auto s = session_of(colour_only(w, h));
+        ASSERT_TRUE(s);
+        // Frame 1 shows at p what frame 0 showed at p + shift: the vector to the previous frame is +shift.
+        const RawFrame f0 = render(w, h, [](glm::vec2 p) { return texture(p, 5); });
+        const RawFrame f1 = render(w, h, [&](glm::vec2 p) { return texture(p + shift, 5); });
+        ASSERT_TRUE(s->submit(f0.view()));
+        ASSERT_TRUE(s->submit(f1.view()));
+        auto f = s->read_frame(1);
+        ASSERT_TRUE(f);
+        const uint32_t margin = uint32_t(std::ceil(std::max(std::abs(shift.x), std::abs(shift.y)))) + 8;
+        const Errors e = end_point_errors(f->mv, w, h, margin, [&](glm::ivec2) { return shift; });
+        EXPECT_LT(e.median, 0.2) << "shift " << shift.x << ", " << shift.y;
+        EXPECT_LT(e.p90, 0.5) << "shift " << shift.x << ", " << shift.y;
+        // One dominant motion: every pixel is background at depth 1 (give or take the proxy's dead zone).
+        size_t near = 0, interior = 0;
+        for (uint32_t y = margin; y + margin < h; ++y)
+            for (uint32_t x = margin; x + margin < w; ++x, ++interior)
+                near += f->depth[size_t(y) * w + x] < 0.99f ? 1 : 0;
+        EXPECT_LT(near, interior / 20);
+    }
+}
+
+TEST(Motion, MovingSquareIsInFrontAndItsVectorsAreItsMotion) {
+    const uint32_t w = 192, h = 128;
+    const glm::vec2 start(40.f, 30.f), step(9.f, 4.f);
+    const float side = 48.f;
+    auto s = session_of(colour_only(w, h));
+    ASSERT_TRUE(s);
+    const RawFrame f0 = render(w, h, [&](glm::vec2 p) { return square_scene(p, 0.f, start, step, side); });
+    const RawFrame f1 = render(w, h, [&](glm::vec2 p) { return square_scene(p, 1.f, start, step, side); });
+    ASSERT_TRUE(s->submit(f0.view()));
+    ASSERT_TRUE(s->submit(f1.view()));
+    auto f = s->read_frame(1);
+    ASSERT_TRUE(f);
+    // Inside the square (away from its edges) the vector is -step; the background far from it is 0.
+    std::vector<double> in_err, out_err, in_depth, out_depth;
+    const glm::vec2 corner = start + step;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const glm::vec2 p(x + 0.5f, y + 0.5f), local = p - corner;
+            const size_t i = size_t(y) * w + x;
+            const glm::vec2 v(f->mv[2 * i], f->mv[2 * i + 1]);
+            if (local.x >= 6 && local.y >= 6 && local.x < side - 6 && local.y < side - 6) {
+                in_err.push_back(glm::length(v + step));
+                in_depth.push_back(f->depth[i]);
+            } else if (local.x < -24 || local.y < -24 || local.x > side + 24 || local.y > side + 24) {
+                out_err.push_back(glm::length(v));
+                out_depth.push_back(f->depth[i]);
+            }
+        }
+    auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+    };
+    EXPECT_LT(median(in_err), 0.25);
+    EXPECT_LT(median(out_err), 0.25);
+    // The depth proxy puts the square in front of the still background.
+    EXPECT_LT(median(in_depth), 0.8 * median(out_depth));
+    EXPECT_NEAR(median(out_depth), 1.0, 1e-3);
+}
+
+TEST(Motion, ColourOnlyInterpolationBeatsBlendAgainstTheExactFrame) {
+    const uint32_t w = 192, h = 128;
+    const glm::vec2 start(30.f, 40.f), step(10.f, -5.f);
+    const float side = 40.f;
+    auto colour = session_of(colour_only(w, h));
+    ASSERT_TRUE(colour);
+    auto scene = [&](float t) {
+        return render(w, h, [&](glm::vec2 p) { return square_scene(p, t, start, step, side); });
+    };
+    // Three frames, so that frame 0 has vectors too (the quadratic model uses them).
+    for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(colour->submit(scene(t).view()));
+    const float alpha = 0.5f;
+    auto out = colour->interpolate(std::span<const float>(&alpha, 1));
+    ASSERT_TRUE(out) << out.error().message;
+    const RawFrame truth_raw = scene(1.5f), a = scene(1.f), b = scene(2.f);
+    std::vector<glm::vec4> truth(size_t(w) * h), blend(size_t(w) * h);
+    std::memcpy(truth.data(), truth_raw.color.data(), truth_raw.color.size());
+    for (size_t i = 0; i < blend.size(); ++i) {
+        glm::vec4 ca, cb;
+        std::memcpy(&ca, a.color.data() + 16 * i, 16);
+        std::memcpy(&cb, b.color.data() + 16 * i, 16);
+        blend[i] = 0.5f * (ca + cb);
+    }
+    std::vector<float> blend_flat(blend.size() * 4);
+    std::memcpy(blend_flat.data(), blend.data(), blend_flat.size() * 4);
+    for (float v : (*out)[0].color.rgba) ASSERT_TRUE(std::isfinite(v));
+    const double p_colour = psnr((*out)[0].color.rgba, truth), p_blend = psnr(blend_flat, truth);
+    std::printf("colour-only interpolation %.2f dB, blend %.2f dB\n", p_colour, p_blend);
+    if (std::getenv("FGSR_MOTION_DEBUG")) {
+        // The same frames with the true vectors and no depth, then with linear motion.
+        for (int mode = 0; mode < 3; ++mode) {
+            FrameFormat ff = colour_only(w, h);
+            Params pp;
+            if (mode == 0) ff.has_vectors = true;
+            if (mode == 2) pp.motion = MotionModel::linear;
+            auto s2 = session_of(ff, pp);
+            for (float t : {0.f, 1.f, 2.f}) {
+                RawFrame fr = scene(t);
+                std::vector<glm::vec2> mv(size_t(w) * h);
+                for (uint32_t y = 0; y < h; ++y)
+                    for (uint32_t x = 0; x < w; ++x) {
+                        const glm::vec2 lp = glm::vec2(x + 0.5f, y + 0.5f) - (start + t * step);
+                        mv[size_t(y) * w + x] =
+                            (lp.x >= 0 && lp.y >= 0 && lp.x < side && lp.y < side) ? -step : glm::vec2(0.f);
+                    }
+                fr.mv = bytes_of(mv);
+                ASSERT_TRUE(s2->submit(fr.view()));
+            }
+            auto o2 = s2->interpolate(std::span<const float>(&alpha, 1));
+            std::printf("mode %d: %.2f dB\n", mode, psnr((*o2)[0].color.rgba, truth));
+        }
+    }
+    EXPECT_GT(p_colour, p_blend + 3.0);
+    expect_no_validation_errors();
+}
+
+TEST(Motion, FlatColourGivesFiniteZeroMotion) {
+    const uint32_t w = 96, h = 64;
+    auto s = session_of(colour_only(w, h));
+    ASSERT_TRUE(s);
+    const RawFrame f = render(w, h, [](glm::vec2) { return glm::vec4(0.3f, 0.3f, 0.3f, 1.f); });
+    ASSERT_TRUE(s->submit(f.view()));
+    ASSERT_TRUE(s->submit(f.view()));
+    EXPECT_FALSE(s->last_scene_cut());
+    auto r = s->read_frame(1);
+    ASSERT_TRUE(r);
+    for (float v : r->mv) EXPECT_EQ(v, 0.f);
+    for (float d : r->depth) EXPECT_EQ(d, 1.f);
+    const float alpha = 0.5f;
+    auto out = s->interpolate(std::span<const float>(&alpha, 1));
+    ASSERT_TRUE(out);
+    for (float v : (*out)[0].color.rgba) ASSERT_TRUE(std::isfinite(v));
+}
+
+TEST(Motion, SceneCutResetsInsteadOfWarping) {
+    const uint32_t w = 128, h = 96;
+    auto s = session_of(colour_only(w, h));
+    ASSERT_TRUE(s);
+    const RawFrame a = render(w, h, [](glm::vec2 p) { return texture(p, 11); });
+    const RawFrame a2 = render(w, h, [](glm::vec2 p) { return texture(p + glm::vec2(2.f, 1.f), 11); });
+    const RawFrame b = render(w, h, [](glm::vec2 p) { return glm::vec4(1.f) - texture(p * 0.7f, 77); });
+    ASSERT_TRUE(s->submit(a.view()));
+    ASSERT_TRUE(s->submit(a2.view()));
+    EXPECT_FALSE(s->last_scene_cut());
+    EXPECT_EQ(s->frames_submitted(), 2u);
+    ASSERT_TRUE(s->submit(b.view()));
+    EXPECT_TRUE(s->last_scene_cut());
+    EXPECT_EQ(s->frames_submitted(), 1u) << "a cut starts the session afresh";
+    const float alpha = 0.5f;
+    auto out = s->interpolate(std::span<const float>(&alpha, 1));
+    EXPECT_FALSE(out) << "no frame is generated across a cut";
+    auto r = s->read_frame(1);
+    ASSERT_TRUE(r);
+    EXPECT_FALSE(r->has_mv);
+}
+
+} // namespace
+} // namespace fgsr::test
