@@ -6,7 +6,8 @@
 //                  [--format bgra8|rgba8|bgra8-srgb|rgba8-srgb|rgba16f|a2b10g10r10]
 //                  [--present-mode fifo|mailbox|immediate] [--resize-at K:WxH] [--windows 1|2]
 //                  [--no-destroy] [--one-present]
-//   fgsr_layer_app --score DIR [--dt 0.0333]     (no Vulkan: scores DIR's gen_*.json/.rgba)
+//   fgsr_layer_app --score DIR [--dt 0.0333] [--write-exact]
+//                  (no Vulkan: scores DIR's gen_*.json/.rgba; --write-exact writes gen_*.exact.rgba)
 //
 // Prints one JSON line: run: {"frames", "seconds", "fps", "format", "extent", "recreations"}; score:
 // {"generated", "psnr_generated", "psnr_blend", "psnr_repeat", "psnr_generated_min"} (mean PSNR in dB
@@ -44,6 +45,7 @@ struct Options {
     uint32_t resize_w = 0, resize_h = 0;
     bool destroy = true;
     bool one_present = false; // all windows in one vkQueuePresentKHR
+    bool write_exact = false; // --score: also write DIR/gen_*.exact.rgba
 };
 
 #define CHECK(expr)                                                                                          \
@@ -181,6 +183,11 @@ int score(const Options& o) {
         scene.render_rgba8(float(interp ? (double(k) - 1.0) * o.dt : double(k) * o.dt), w, h, a.data());
         scene.render_rgba8(float(double(k) * o.dt), w, h, b.data());
         for (size_t i = 0; i < gen.size(); ++i) blend[i] = uint8_t((unsigned(a[i]) + unsigned(b[i]) + 1) / 2);
+        if (o.write_exact) { // for looking at: the exact frame beside each dumped one
+            std::ofstream(o.score_dir + "/" + name.substr(0, name.size() - 5) + ".exact.rgba",
+                          std::ios::binary)
+                .write(reinterpret_cast<const char*>(exact.data()), std::streamsize(exact.size()));
+        }
         const double pg = psnr(gen.data(), exact.data(), size_t(w) * h);
         // What a daemon without motion estimation returns: the neighbours mixed at alpha in linear
         // light. A generated frame within 40 dB of it is that blend.
@@ -244,6 +251,8 @@ int main(int argc, char** argv) {
             o.destroy = false;
         else if (a == "--one-present")
             o.one_present = true;
+        else if (a == "--write-exact")
+            o.write_exact = true;
         else if (a == "--score")
             o.score_dir = next();
         else if (a == "--resize-at") {

@@ -13,16 +13,31 @@ namespace fgsr::layer_app {
 
 class Scene {
   public:
-    Scene() : tex_(kTex * kTex * 3) {
-        // Two periodic (seamless) textures of a few sine waves with integer frequencies.
-        for (int y = 0; y < kTex; ++y)
-            for (int x = 0; x < kTex; ++x) {
-                const float u = 2.0f * float(M_PI) * float(x) / kTex,
-                            v = 2.0f * float(M_PI) * float(y) / kTex;
-                float* p = &tex_[size_t(y * kTex + x) * 3];
-                p[0] = 0.5f + 0.25f * std::sin(7 * u + 3 * v) + 0.2f * std::sin(13 * u - 5 * v + 1.0f);
-                p[1] = 0.5f + 0.25f * std::sin(4 * u - 9 * v + 2.0f) + 0.2f * std::cos(11 * v + 3 * u);
-                p[2] = 0.5f + 0.3f * std::sin(6 * u + 6 * v + 0.5f) * std::cos(3 * u - 8 * v);
+    Scene() : tex_(kTex * kTex * 3, 0.0f) {
+        // A periodic (seamless) value-noise texture per channel: two octaves of random grids,
+        // smoothly interpolated. No repeating pattern, so that motion is unambiguous.
+        uint32_t state = 12345u;
+        auto random = [&] {
+            state = state * 1664525u + 1013904223u;
+            return float(state >> 8) / float(1u << 24);
+        };
+        for (int c = 0; c < 3; ++c)
+            for (int octave = 0; octave < 2; ++octave) {
+                const int cells = octave == 0 ? 16 : 64;
+                const float amplitude = octave == 0 ? 0.7f : 0.3f;
+                std::vector<float> grid(size_t(cells * cells));
+                for (float& g : grid) g = random();
+                auto at = [&](int gx, int gy) { return grid[size_t((gy % cells) * cells + gx % cells)]; };
+                for (int y = 0; y < kTex; ++y)
+                    for (int x = 0; x < kTex; ++x) {
+                        const float gx = float(x * cells) / kTex, gy = float(y * cells) / kTex;
+                        const int x0 = int(gx), y0 = int(gy);
+                        const float ax = gx - float(x0), ay = gy - float(y0);
+                        const float sx = ax * ax * (3 - 2 * ax), sy = ay * ay * (3 - 2 * ay); // smoothstep
+                        const float v = (at(x0, y0) * (1 - sx) + at(x0 + 1, y0) * sx) * (1 - sy) +
+                                        (at(x0, y0 + 1) * (1 - sx) + at(x0 + 1, y0 + 1) * sx) * sy;
+                        tex_[size_t(y * kTex + x) * 3 + size_t(c)] += amplitude * v;
+                    }
             }
     }
 
@@ -39,15 +54,14 @@ class Scene {
             sample((px - rx) / s, (py - ry) / s + 97.0f, 0.6f, rgb);
             rgb[0] = 0.3f + 0.7f * rgb[0];
         }
-        // Disc: circular path, rotating texture.
+        // Disc: circular path (its texture travels with it).
         const float a = 1.3f * t;
         const float cx = (0.62f + 0.14f * std::cos(a)) * float(w),
                     cy = (0.50f + 0.22f * std::sin(a)) * float(h);
         const float r = 0.14f * float(h);
         const float dx = px - cx, dy = py - cy;
         if (dx * dx + dy * dy < r * r) {
-            const float c = std::cos(a), sn = std::sin(a);
-            sample((c * dx + sn * dy) / s + 31.0f, (-sn * dx + c * dy) / s + 55.0f, 1.7f, rgb);
+            sample(dx / s + 31.0f, dy / s + 55.0f, 1.3f, rgb);
             rgb[2] = 0.2f + 0.8f * rgb[2];
         }
     }

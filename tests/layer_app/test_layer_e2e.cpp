@@ -200,18 +200,20 @@ double median_pacing_error(const std::vector<PresentRow>& rows, double m) {
 TEST_F(LayerE2E, VkcubePresentsDoubleWithValidationClean) {
     if (!have("vkcube")) GTEST_SKIP() << "vkcube is not installed (tools/setup.sh installs vulkan-tools)";
     start_daemon();
-    // 90 frames: 180 presents within 2 % leaves room for the first frame (no predecessor) and 2 more.
-    const AppRun r = run("vkcube --c 90", {"FGSR_FPS_LIMIT=15", "FGSR_MULTIPLIER=2"});
+    // 80 frames: 160 presents within 2 % leaves room for the first frame (no predecessor) and 2 more.
+    // 256x256 at 10 fps: fgsrd (motion estimation included) keeps up on two shared cores.
+    const AppRun r =
+        run("vkcube --c 80 --width 256 --height 256", {"FGSR_FPS_LIMIT=10", "FGSR_MULTIPLIER=2"});
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     EXPECT_NE(r.log.find("connected to fgsrd"), std::string::npos) << r.log;
-    expect_multiplied(r, 2, 90);
+    expect_multiplied(r, 2, 80);
 }
 
 TEST_F(LayerE2E, AppInterpolatesThreeTimesWithValidationClean) {
     start_daemon();
     const std::string presents = (dir_ / "presents.csv").string();
-    const AppRun r = run(app() + " --frames 75 --width 320 --height 180 --fps 15",
+    const AppRun r = run(app() + " --frames 75 --width 192 --height 108 --fps 10",
                          {"FGSR_MULTIPLIER=3", "FGSR_LAYER_PRESENTS=" + presents});
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
@@ -233,7 +235,7 @@ TEST_F(LayerE2E, AppInterpolatesThreeTimesWithValidationClean) {
 TEST_F(LayerE2E, AppExtrapolatesWithValidationClean) {
     start_daemon();
     const std::string presents = (dir_ / "presents.csv").string();
-    const AppRun r = run(app() + " --frames 75 --width 320 --height 180 --fps 15",
+    const AppRun r = run(app() + " --frames 75 --width 192 --height 108 --fps 10",
                          {"FGSR_MODE=extrapolate", "FGSR_LAYER_PRESENTS=" + presents});
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
@@ -252,7 +254,7 @@ TEST_F(LayerE2E, AppExtrapolatesWithValidationClean) {
 }
 
 TEST_F(LayerE2E, NoDaemonTheAppKeepsAllItsFrames) {
-    const AppRun r = run(app() + " --frames 30 --width 320 --height 180 --fps 30");
+    const AppRun r = run(app() + " --frames 30 --width 192 --height 108 --fps 30");
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(json_number(r.stats, "app_presents"), 30);
     EXPECT_EQ(json_number(r.stats, "presents"), 30);
@@ -267,7 +269,7 @@ TEST_F(LayerE2E, DaemonKilledMidRunTheAppKeepsAllItsFrames) {
         std::this_thread::sleep_for(std::chrono::milliseconds(2500));
         daemon_->kill9();
     });
-    const AppRun r = run(app() + " --frames 60 --width 320 --height 180 --fps 10");
+    const AppRun r = run(app() + " --frames 60 --width 192 --height 108 --fps 10");
     killer.join();
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(json_number(r.stats, "app_presents"), 60);
@@ -286,7 +288,7 @@ TEST_F(LayerE2E, DaemonStartedLaterIsConnectedTo) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1500));
         late = FgsrdProcess::spawn({FGSR_BIN_DIR "/fgsrd", "--socket", socket}, (dir_ / "late.log").string());
     });
-    const AppRun r = run(app() + " --frames 60 --width 256 --height 144 --fps 10", {"FGSR_SOCKET=" + socket});
+    const AppRun r = run(app() + " --frames 60 --width 192 --height 108 --fps 10", {"FGSR_SOCKET=" + socket});
     starter.join();
     if (late > 0) {
         kill(late, SIGTERM);
@@ -302,20 +304,20 @@ TEST_F(LayerE2E, DaemonStartedLaterIsConnectedTo) {
 
 TEST_F(LayerE2E, ResizeRecreatesTheSwapchainAndGoesOn) {
     start_daemon();
-    const AppRun r = run(app() + " --frames 40 --width 320 --height 180 --fps 10 --resize-at 20:256x144");
+    const AppRun r = run(app() + " --frames 40 --width 192 --height 108 --fps 10 --resize-at 20:160x90");
     ASSERT_EQ(r.status, 0) << r.log;
-    EXPECT_NE(r.json.find("\"extent\": \"256x144\""), std::string::npos) << r.json;
+    EXPECT_NE(r.json.find("\"extent\": \"160x90\""), std::string::npos) << r.json;
     EXPECT_GE(json_number(r.json, "recreations"), 1);
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     // Each swapchain's first frame has no predecessor: one more drop than without the resize.
     EXPECT_EQ(json_number(r.stats, "app_presents"), 40);
     EXPECT_GE(json_number(r.stats, "generated"), 36);
-    EXPECT_NE(daemon_->stderr_text().find("256x144"), std::string::npos) << "a session of the new size";
+    EXPECT_NE(daemon_->stderr_text().find("160x90"), std::string::npos) << "a session of the new size";
 }
 
 TEST_F(LayerE2E, TwoSwapchainsEachGetTheirFrames) {
     start_daemon();
-    const AppRun r = run(app() + " --frames 30 --width 256 --height 144 --fps 10 --windows 2");
+    const AppRun r = run(app() + " --frames 30 --width 192 --height 108 --fps 10 --windows 2");
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     EXPECT_EQ(json_number(r.stats, "app_presents"), 60);
@@ -324,7 +326,7 @@ TEST_F(LayerE2E, TwoSwapchainsEachGetTheirFrames) {
 
 TEST_F(LayerE2E, TwoSwapchainsInOnePresentPassThrough) {
     start_daemon();
-    const AppRun r = run(app() + " --frames 20 --width 256 --height 144 --fps 10 --windows 2 --one-present");
+    const AppRun r = run(app() + " --frames 20 --width 192 --height 108 --fps 10 --windows 2 --one-present");
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     // One call for both (their semaphores are waited once): presented as the application asked.
@@ -335,7 +337,7 @@ TEST_F(LayerE2E, TwoSwapchainsInOnePresentPassThrough) {
 
 TEST_F(LayerE2E, ExitWithoutDestroyingTheSwapchainStillWritesStats) {
     start_daemon();
-    const AppRun r = run(app() + " --frames 20 --width 256 --height 144 --fps 10 --no-destroy", {}, false);
+    const AppRun r = run(app() + " --frames 20 --width 192 --height 108 --fps 10 --no-destroy", {}, false);
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(json_number(r.stats, "app_presents"), 20) << r.log;
     EXPECT_GT(json_number(r.stats, "generated"), 10);
@@ -345,18 +347,18 @@ TEST_F(LayerE2E, ProfileMatchesTheExecutableAndEnvOverridesIt) {
     start_daemon();
     std::ofstream(dir_ / "fgsr.toml")
         << "[global]\nmultiplier = 2\n\n[[profile]]\nactive_in = [\"fgsr_layer_app\"]\n"
-           "multiplier = 3\nfps_limit = 15\n\n[[profile]]\nactive_in = [\"vkcube\"]\n"
+           "multiplier = 3\nfps_limit = 10\n\n[[profile]]\nactive_in = [\"vkcube\"]\n"
            "multiplier = 4\n";
     const std::string config = "FGSR_CONFIG=" + (dir_ / "fgsr.toml").string();
     // 50 frames: the first has no predecessor (2 of 150 presents missing, 1.3 %).
     // 75 frames: the first has no predecessor (2 of 225 presents missing, 0.9 %).
-    const AppRun profiled = run(app() + " --frames 75 --width 256 --height 144", {config}, false);
+    const AppRun profiled = run(app() + " --frames 75 --width 192 --height 108", {config}, false);
     ASSERT_EQ(profiled.status, 0) << profiled.log;
     EXPECT_EQ(json_number(profiled.stats, "multiplier"), 3);
     EXPECT_NE(profiled.log.find("profile fgsr_layer_app"), std::string::npos) << profiled.log;
     expect_multiplied(profiled, 3, 75);
     const AppRun overridden =
-        run(app() + " --frames 75 --width 256 --height 144", {config, "FGSR_MULTIPLIER=2"}, false);
+        run(app() + " --frames 75 --width 192 --height 108", {config, "FGSR_MULTIPLIER=2"}, false);
     ASSERT_EQ(overridden.status, 0) << overridden.log;
     EXPECT_EQ(json_number(overridden.stats, "multiplier"), 2);
     expect_multiplied(overridden, 2, 75);
@@ -366,7 +368,7 @@ TEST_F(LayerE2E, MailboxAndImmediatePresentModes) {
     start_daemon();
     for (const char* mode : {"mailbox", "immediate"}) {
         const AppRun r =
-            run(app() + " --frames 30 --width 256 --height 144 --fps 10 --present-mode " + std::string(mode));
+            run(app() + " --frames 30 --width 192 --height 108 --fps 10 --present-mode " + std::string(mode));
         ASSERT_EQ(r.status, 0) << mode << ": " << r.log;
         EXPECT_EQ(count(r.log, "Validation Error"), 0u) << mode << ": " << r.log;
         EXPECT_EQ(json_number(r.stats, "app_presents"), 30) << mode;
@@ -383,7 +385,7 @@ TEST_F(LayerE2E, ConfigChangesArePickedUpWhileRunning) {
         std::ofstream(config) << "[global]\nmultiplier = 3\n";
     });
     const AppRun r =
-        run(app() + " --frames 60 --width 256 --height 144 --fps 10", {"FGSR_CONFIG=" + config.string()});
+        run(app() + " --frames 60 --width 192 --height 108 --fps 10", {"FGSR_CONFIG=" + config.string()});
     editor.join();
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "configuration reloaded"), 1u) << r.log;
@@ -397,7 +399,7 @@ TEST_F(LayerE2E, ConfigChangesArePickedUpWhileRunning) {
 TEST_F(LayerE2E, ConfigErrorLogsOnceAndPassesThrough) {
     start_daemon();
     std::ofstream(dir_ / "fgsr.toml") << "[global]\nmultiplier = 7\n";
-    const AppRun r = run(app() + " --frames 20 --width 256 --height 144 --fps 30",
+    const AppRun r = run(app() + " --frames 20 --width 192 --height 108 --fps 30",
                          {"FGSR_CONFIG=" + (dir_ / "fgsr.toml").string()});
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "configuration error"), 1u) << r.log;
@@ -409,7 +411,7 @@ TEST_F(LayerE2E, ConfigErrorLogsOnceAndPassesThrough) {
 }
 
 TEST_F(LayerE2E, DisableEnvironmentUnloadsTheLayer) {
-    const AppRun r = run(app() + " --frames 5 --width 256 --height 144", {"FGSR_DISABLE=1"}, false);
+    const AppRun r = run(app() + " --frames 5 --width 192 --height 108", {"FGSR_DISABLE=1"}, false);
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_TRUE(r.stats.empty()) << "the layer wrote stats though disabled: " << r.stats;
     EXPECT_EQ(r.log.find("fgsr layer:"), std::string::npos) << r.log;
@@ -419,8 +421,9 @@ TEST_F(LayerE2E, GeneratedFramesScoreAgainstExactIntermediateFrames) {
     start_daemon();
     const std::string dump = (dir_ / "dump").string();
     std::filesystem::create_directories(dump);
+    // 480x270 at 3 frames a second: fgsrd's motion estimation keeps up on two shared cores.
     const AppRun r =
-        run(app() + " --frames 24 --width 640 --height 360 --fps 5", {"FGSR_LAYER_DUMP=" + dump}, false);
+        run(app() + " --frames 18 --width 480 --height 270 --fps 3", {"FGSR_LAYER_DUMP=" + dump}, false);
     ASSERT_EQ(r.status, 0) << r.log;
     AppRun score;
     {
@@ -430,7 +433,7 @@ TEST_F(LayerE2E, GeneratedFramesScoreAgainstExactIntermediateFrames) {
     }
     ASSERT_EQ(score.status, 0) << score.log;
     std::printf("[ score    ] %s", score.log.c_str());
-    EXPECT_GE(json_number(score.log, "generated"), 20);
+    EXPECT_GE(json_number(score.log, "generated"), 14);
     const double gen = json_number(score.log, "psnr_generated"), blend = json_number(score.log, "psnr_blend");
     EXPECT_GT(gen, 15.0) << "generated frames are images of the scene";
     const double repeat = json_number(score.log, "psnr_repeat");

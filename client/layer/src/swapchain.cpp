@@ -269,10 +269,10 @@ void Swapchain::thread_main() {
     }
 }
 
-bool Swapchain::sleep_until(uint64_t t_ns) {
+bool Swapchain::sleep_until(uint64_t t_ns, size_t max_waiting) {
     std::unique_lock l(mutex_);
     for (;;) {
-        if (!queue_.empty() || stop_) return false;
+        if (queue_.size() > max_waiting || stop_) return false;
         const uint64_t now = monotonic_ns();
         if (now >= t_ns) return true;
         cv_.wait_for(l, std::chrono::nanoseconds(t_ns - now));
@@ -286,14 +286,18 @@ void Swapchain::process(Item& item) {
     const uint32_t m = item.cfg.multiplier;
     const uint64_t P = item.interval_ns;
     const bool even = item.cfg.pacing == Pacing::even && P != 0;
+    // Interpolation runs about one interval behind the application, so one newer frame waiting is
+    // normal there; extrapolation presents every real frame at once, so any newer frame means it
+    // is late.
+    const size_t max_waiting = item.cfg.mode == Mode::interpolate ? 1 : 0;
     bool behind;
     {
         std::lock_guard l(mutex_);
-        behind = !queue_.empty();
+        behind = queue_.size() > max_waiting;
     }
     // How long the daemon may take: two intervals after the application's present (the present
-    // thread holds at most three frames, so the application does not wait); no time at all when a
-    // newer frame already waits (the frame is still sent: it is the next one's previous frame).
+    // thread holds at most kSlots frames, so the application does not wait); no time at all when
+    // the present thread is behind (the frame is still sent: it is the next one's previous frame).
     const uint64_t budget = behind ? 0 : std::clamp<uint64_t>(2 * P, 20'000'000, 500'000'000);
     if (item.cfg.mode == Mode::interpolate) {
         // Generated frames between the previous real frame and this one, then this one.
@@ -309,7 +313,8 @@ void Swapchain::process(Item& item) {
         uint32_t shown = 0;
         for (const Generated& g : gens) {
             const uint64_t intended = even && R ? base + g.index * P / m : monotonic_ns();
-            if (on_time && even && R) on_time = sleep_until(std::min(intended, monotonic_ns() + P));
+            if (on_time && even && R)
+                on_time = sleep_until(std::min(intended, monotonic_ns() + P), max_waiting);
             if (!on_time) { // a newer frame waits: drop the rest
                 release(g);
                 continue;
@@ -319,7 +324,7 @@ void Swapchain::process(Item& item) {
         Report::get().dropped(m - 1 - shown);
         const uint64_t now = monotonic_ns();
         uint64_t intended = even && R && shown ? std::max(base + P, now) : now;
-        if (on_time && intended > now) on_time = sleep_until(std::min(intended, now + P));
+        if (on_time && intended > now) on_time = sleep_until(std::min(intended, now + P), max_waiting);
         present_real(item, intended);
     } else {
         // This frame at once, then the frames after it.
@@ -330,7 +335,7 @@ void Swapchain::process(Item& item) {
         uint32_t shown = 0;
         for (const Generated& g : gens) {
             const uint64_t intended = even ? R + g.index * P / m : monotonic_ns();
-            if (on_time && even) on_time = sleep_until(std::min(intended, monotonic_ns() + P));
+            if (on_time && even) on_time = sleep_until(std::min(intended, monotonic_ns() + P), max_waiting);
             if (!on_time) {
                 release(g);
                 continue;

@@ -7,15 +7,17 @@
 // Pacing (LayerConfig::pacing even): with P the application's present interval (moving average of
 // the times between its vkQueuePresentKHR calls) and R the time the previous real frame was
 // presented, generated frame j of m - 1 is presented at R + j P / m (interpolate: then the real
-// frame at R + P; extrapolate: the real frame at once, R = now). When a newer frame is already
-// waiting, nothing waits: late frames are dropped, so the application's present never waits for
-// the daemon longer than about one interval. Present modes: FIFO queues every present behind
+// frame at R + P; extrapolate: the real frame at once, R = now); when the generated frames come
+// after R + P / m the whole schedule moves later (interpolation latency: what the daemon needs plus
+// (m - 1) / m intervals). When the present thread falls behind (interpolate: two newer frames
+// waiting; extrapolate: one), nothing waits: late frames are dropped, so the application's present
+// never waits for the daemon. Present modes: FIFO queues every present behind
 // vblank (the generated frames count against the display's rate, as they should); MAILBOX may
 // replace a generated frame by the next present when they fall into the same vblank; IMMEDIATE
 // shows each at its paced time (tearing as the application asked for).
 //
-// The swapchain is created with 3 more images than asked for (the present thread holds one real
-// frame and one generated frame at a time) and TRANSFER_SRC|TRANSFER_DST usage. Errors of the
+// The swapchain is created with kExtraImages more images than asked for (the present thread holds
+// up to three real frames and one generated frame) and TRANSFER_SRC|TRANSFER_DST usage. Errors of the
 // presents the layer makes (OUT_OF_DATE, SUBOPTIMAL, SURFACE_LOST) are returned by the
 // application's next vkQueuePresentKHR.
 //
@@ -38,7 +40,8 @@
 
 namespace fgsr::layer {
 
-constexpr uint32_t kExtraImages = 3;
+constexpr uint32_t kSlots = 4;       // frames between the application and the present thread
+constexpr uint32_t kExtraImages = 4; // held there at most: 3 waiting or in work, 1 generated
 constexpr uint32_t kMaxMultiplier = 4;
 
 class Swapchain {
@@ -95,8 +98,9 @@ class Swapchain {
     void release(const Generated& g);
     bool present_generated(const Item& item, const Generated& g, uint64_t intended_ns);
     void present_real(const Item& item, uint64_t intended_ns);
-    // Sleeps until t (monotonic ns) unless a newer frame arrives first; false when one did.
-    bool sleep_until(uint64_t t_ns);
+    // Sleeps until t (monotonic ns) unless more than `max_waiting` newer frames wait first; false
+    // when they do.
+    bool sleep_until(uint64_t t_ns, size_t max_waiting);
     void note_result(VkResult r);
 
     DeviceData& dev_;
@@ -111,7 +115,7 @@ class Swapchain {
     uint32_t family_ = UINT32_MAX;
     CommandPool app_pool_;    // recorded on the application's thread
     CommandPool thread_pool_; // recorded on the present thread
-    Slot slots_[3];
+    Slot slots_[kSlots];
     Slot uploads_[kMaxMultiplier - 1];
     bool upload_pending_[kMaxMultiplier - 1] = {};
     uint32_t next_upload_ = 0;
@@ -128,7 +132,7 @@ class Swapchain {
     std::mutex mutex_;
     std::condition_variable cv_;
     std::deque<Item> queue_;
-    uint32_t free_slots_ = 0x7; // bit per slot
+    uint32_t free_slots_ = (1u << kSlots) - 1; // bit per slot
     bool busy_ = false, stop_ = false;
     std::atomic<VkResult> pending_result_{VK_SUCCESS};
     std::thread thread_;
