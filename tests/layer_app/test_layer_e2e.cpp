@@ -281,6 +281,28 @@ TEST_F(LayerE2E, DaemonKilledMidRunTheAppKeepsAllItsFrames) {
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
 }
 
+TEST_F(LayerE2E, StalledDaemonDoesNotSlowTheApplication) {
+    start_daemon();
+    std::thread staller([&] { // fgsrd frozen for 2 s in the middle of the run
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        daemon_->signal(SIGSTOP);
+        std::this_thread::sleep_for(std::chrono::milliseconds(2000));
+        daemon_->signal(SIGCONT);
+    });
+    const AppRun r = run(app() + " --frames 50 --width 192 --height 108 --fps 10");
+    staller.join();
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 50);
+    // The application kept its 10 frames a second (5 s for 50 frames), its presents never waiting
+    // for the frozen daemon; the frames of those 2 s went without generated ones.
+    EXPECT_LT(json_number(r.json, "seconds"), 5.5) << r.json;
+    const double generated = json_number(r.stats, "generated");
+    EXPECT_GT(generated, 20) << r.stats;
+    EXPECT_LT(generated, 45) << r.stats;
+    EXPECT_EQ(json_number(r.stats, "presents"), 50 + generated);
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+}
+
 TEST_F(LayerE2E, DaemonStartedLaterIsConnectedTo) {
     const std::string socket = (dir_ / "late.sock").string();
     pid_t late = -1;
