@@ -175,8 +175,11 @@ struct MatchParams {
     uint coarse_blocks_x; // 0: the coarsest level, no prediction
     uint coarse_blocks_y;
     int radius;   // integer search window around the best candidate
-    float lambda; // cost per pixel of distance from the coarse prediction (luma units)
+    float lambda; // cost per pixel of distance from the prediction (luma units)
+    uint same_offset;     // MOTION_NONE, or this level's blocks of a first pass: propagation
+    uint temporal_offset; // MOTION_NONE, or this level's blocks of the previous submit
 };
+#define MOTION_NONE 0xffffffffu
 
 struct FlowParams {
     uint width;
@@ -222,7 +225,7 @@ static_assert(sizeof(IngestParams) == 52 && sizeof(GenParams) == 48 && sizeof(Sr
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
-static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 48 && sizeof(FlowParams) == 48,
+static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 56 && sizeof(FlowParams) == 48,
               "motion push constants");
 } // namespace fgsr::gpu
 #endif

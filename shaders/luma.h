@@ -2,7 +2,7 @@
 // only sessions, FrameFormat::has_vectors false). Level 0 is the display-referred luma of the
 // frame (the square root of linear luminance clamped to [0, 1], as blend.h's brightness: about
 // perceptually even steps, so that a matching cost means the same in dark and bright regions);
-// level k is the 2x2 mean of level k - 1, of size ceil(size / 2). Every level lives in one float
+// level k is level k - 1 low-passed and decimated by 2, of size ceil(size / 2). Every level lives in one float
 // buffer per frame at offsets the host computes. One invocation per pixel of the level written.
 //
 // Entry provides:
@@ -20,10 +20,19 @@ FGSR_INLINE void luma_pixel(uvec2 q, LumaParams p) {
     if (p.level == 0u) {
         v = motion_luma(load_color(q.y * p.src_width + q.x));
     } else {
-        uvec2 a = 2u * q;
-        uvec2 b = min(a + 1u, uvec2(p.src_width - 1u, p.src_height - 1u));
-        v = 0.25f * (load_level(p.src_offset + a.y * p.src_width + a.x) + load_level(p.src_offset + a.y * p.src_width + b.x) +
-                     load_level(p.src_offset + b.y * p.src_width + a.x) + load_level(p.src_offset + b.y * p.src_width + b.x));
+        // Separable [1 3 3 1] / 8 over source pixels 2q - 1 .. 2q + 2 (edges clamped): a low-pass
+        // before the decimation, so that fine periodic texture (checkers, bricks) fades on the
+        // coarse levels instead of aliasing into false structure that block matching would lock on.
+        v = 0.0f;
+        for (int j = 0; j < 4; ++j) {
+            int y = clamp(2 * int(q.y) - 1 + j, 0, int(p.src_height) - 1);
+            float wy = (j == 0 || j == 3) ? 0.125f : 0.375f;
+            for (int i = 0; i < 4; ++i) {
+                int x = clamp(2 * int(q.x) - 1 + i, 0, int(p.src_width) - 1);
+                float wx = (i == 0 || i == 3) ? 0.125f : 0.375f;
+                v += wx * wy * load_level(p.src_offset + uint(y) * p.src_width + uint(x));
+            }
+        }
     }
     store_level(p.dst_offset + q.y * p.dst_width + q.x, v);
 }

@@ -15,4 +15,8 @@ void store_field(uint i, vec4 v) { field[i] = v; }
 
 #include "match.h"
 
+#ifdef FGSR_MATCH_FILL
+void main() { fill_block(gl_GlobalInvocationID.xy, pc.p); }
+#else
 void main() { match_block(gl_GlobalInvocationID.xy, pc.p); }
+#endif

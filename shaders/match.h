@@ -5,9 +5,12 @@
 //
 // The design follows hierarchical block matching as in FidelityFX optical flow (8x8 blocks on a
 // luminance pyramid, each level seeded from the coarser one):
-//   1. candidates: the zero vector and, below the coarsest level, twice the vectors of the parent
-//      block and of its three neighbours on this block's side (so a block at a motion boundary can
-//      take the motion of either side);
+//   1. candidates: the zero vector; the previous submit's vector of the block (motion is coherent
+//      in time); below the coarsest level, twice the vectors of the parent block and of its three
+//      neighbours on this block's side (so a block at a motion boundary can take the motion of
+//      either side). Each level is then matched a second time (propagation): the candidates are
+//      the first pass's vectors of the block and its four neighbours, so that a good match
+//      spreads along structures (poles, floors) that single blocks miss;
 //   2. cost of a displacement d: mean absolute luma difference over the block (SAD / 64) plus
 //      lambda x |d - prediction| (the parent's vector), which keeps flat regions, where every
 //      displacement costs the same, on the coarse motion;
@@ -38,6 +41,12 @@ FGSR_INLINE float match_sad(float blk[64], ivec2 origin, ivec2 d, MatchParams p)
     return s * (1.0f / 64.0f);
 }
 
+FGSR_INLINE vec2 match_same(ivec2 c, uint offset, MatchParams p) {
+    c = clamp(c, ivec2(0), ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1));
+    vec4 f = load_field(offset + uint(c.y) * p.blocks_x + uint(c.x));
+    return vec2(f.x, f.y);
+}
+
 FGSR_INLINE vec2 match_coarse(ivec2 c, MatchParams p) {
     c = clamp(c, ivec2(0), ivec2(int(p.coarse_blocks_x) - 1, int(p.coarse_blocks_y) - 1));
     vec4 f = load_field(p.coarse_offset + uint(c.y) * p.coarse_blocks_x + uint(c.x));
@@ -61,13 +70,38 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
             blk[y * 8 + x] = load_src(p.src_offset + uint(q.y) * p.width + uint(q.x));
         }
     vec2 pred = vec2(0.0f);
+    if (p.same_offset != MOTION_NONE) pred = match_same(ivec2(b), p.same_offset, p);
     ivec2 best = ivec2(0);
-    float best_cost = match_sad(blk, origin, best, p);
+    float best_cost = match_sad(blk, origin, best, p) + p.lambda * length(pred);
+    if (p.same_offset != MOTION_NONE) {
+        // Propagation: this block's own first-pass vector and its four neighbours', so that a
+        // good match spreads along a structure (a pole, a floor) that single blocks miss.
+        for (int k = 0; k < 5; ++k) {
+            ivec2 c = ivec2(b) + (k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1)))));
+            vec2 v = match_same(c, p.same_offset, p);
+            ivec2 d = ivec2(floor(v + 0.5f));
+            float cost = match_sad(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+            if (cost < best_cost) {
+                best_cost = cost;
+                best = d;
+            }
+        }
+    }
+    if (p.temporal_offset != MOTION_NONE) {
+        // The previous submit's vector of this block: motion is coherent in time.
+        vec2 v = match_same(ivec2(b), p.temporal_offset, p);
+        ivec2 d = ivec2(floor(v + 0.5f));
+        float cost = match_sad(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+        if (cost < best_cost) {
+            best_cost = cost;
+            best = d;
+        }
+    }
     if (p.coarse_blocks_x > 0u) {
         ivec2 parent = ivec2(b) / 2;
         ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
         pred = match_coarse(parent, p);
-        best_cost += p.lambda * length(pred);
+        best_cost = match_sad(blk, origin, best, p) + p.lambda * length(vec2(best) - pred);
         for (int k = 0; k < 4; ++k) {
             ivec2 c = parent + ivec2((k & 1) != 0 ? side.x : 0, (k & 2) != 0 ? side.y : 0);
             vec2 v = match_coarse(c, p);
@@ -103,4 +137,33 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     float sy = match_subpixel(match_sad(blk, origin, best - ivec2(0, 1), p), c0,
                               match_sad(blk, origin, best + ivec2(0, 1), p));
     store_field(p.field_offset + b.y * p.blocks_x + b.x, vec4(float(best.x) + sx, float(best.y) + sy, c0, contrast));
+}
+
+// Stage fill (the match_fill build, after level 0): blocks without texture (contrast below
+// MOTION_FILL_CONTRAST: flat walls, sky, the inside of checker squares) match every displacement
+// about equally, so their vectors are noise. They take the mean of the vectors of the textured
+// blocks within MOTION_FILL_RADIUS blocks, weighted by (contrast - MOTION_FILL_CONTRAST)^2; with
+// none, they keep their own. Reads the level's final blocks (same_offset), writes field_offset.
+#define MOTION_FILL_CONTRAST 0.01f
+#define MOTION_FILL_RADIUS 3
+
+FGSR_INLINE void fill_block(uvec2 b, MatchParams p) {
+    if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
+    vec4 own = load_field(p.same_offset + b.y * p.blocks_x + b.x);
+    vec4 result = own;
+    if (own.w < MOTION_FILL_CONTRAST) {
+        vec2 sum = vec2(0.0f);
+        float weight = 0.0f;
+        for (int y = -MOTION_FILL_RADIUS; y <= MOTION_FILL_RADIUS; ++y)
+            for (int x = -MOTION_FILL_RADIUS; x <= MOTION_FILL_RADIUS; ++x) {
+                ivec2 c = ivec2(b) + ivec2(x, y);
+                if (c.x < 0 || c.y < 0 || c.x >= int(p.blocks_x) || c.y >= int(p.blocks_y)) continue;
+                vec4 f = load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x));
+                float t = max(f.w - MOTION_FILL_CONTRAST, 0.0f);
+                sum += t * t * vec2(f.x, f.y);
+                weight += t * t;
+            }
+        if (weight > 1.0e-8f) result = vec4(sum / weight, own.z, own.w);
+    }
+    store_field(p.field_offset + b.y * p.blocks_x + b.x, result);
 }

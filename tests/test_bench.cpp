@@ -202,10 +202,12 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
         std::string(FGSR_BIN_DIR) + "/fgsr bench --quick --no-plots --out " + out.string());
     ASSERT_EQ(r.status, 0) << r.out;
     const auto rows = read_csv(out / "bench.csv");
-    // builtin: interp (3 presets + 5 switches that act on it), extrap (no blend switch).
+    // builtin: interp (3 presets + 5 switches that act on it), extrap (no blend switch), and each
+    // on colour alone (balanced+colour).
     std::set<std::string> got, expected;
-    for (const char* c : {"performance", "balanced", "quality", "balanced+motion=linear",
-                          "balanced+fill_gaps=off", "balanced+fill_holes=off", "balanced+passes=separate"}) {
+    for (const char* c :
+         {"performance", "balanced", "quality", "balanced+motion=linear", "balanced+fill_gaps=off",
+          "balanced+fill_holes=off", "balanced+passes=separate", "balanced+colour"}) {
         expected.insert(std::string("interp ") + c);
         expected.insert(std::string("extrap ") + c);
     }
@@ -221,6 +223,17 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
         EXPECT_LE(std::stod(row.at("ssim")), 1.0);
         EXPECT_GT(std::stod(row.at("psnr")), 15.0); // generated frames resemble the ground truth
         pareto += row.at("pareto") == "yes";
+        // Colour-only rows: the EPE of the estimated vectors and the motion passes' time (0 until
+        // the engine times them); the others have neither.
+        if (row.at("config") == "balanced+colour") {
+            EXPECT_EQ(row.at("switch"), "input=colour");
+            const double epe = std::stod(row.at("epe"));
+            EXPECT_TRUE(std::isfinite(epe) && epe > 0) << row.at("epe"); // the scene moves
+            EXPECT_GE(std::stod(row.at("motion_ms")), 0.0);
+        } else {
+            EXPECT_EQ(row.at("epe"), "") << row.at("config");
+            EXPECT_EQ(row.at("motion_ms"), "") << row.at("config");
+        }
     }
     EXPECT_EQ(got, expected);
     EXPECT_EQ(rows.size(), expected.size());
@@ -267,7 +280,8 @@ TEST(Bench, StillOnlyRunsJustStillAgainstMoving) {
         // Every sample adds a positive ingest time to its call, so each median grows.
         EXPECT_GT(frame[size_t(k)], call[size_t(k)]) << (k ? "moving" : "still");
     }
-    EXPECT_NEAR(call[2], call[0] / call[1], 0.006); // printed with 2 decimals
+    EXPECT_NE(md.find("## Colour only (180p"), std::string::npos) << md; // motion estimation timed too
+    EXPECT_NEAR(call[2], call[0] / call[1], 0.006);                      // printed with 2 decimals
     EXPECT_NEAR(frame[2], frame[0] / frame[1], 0.006);
     std::filesystem::remove_all(out);
 }

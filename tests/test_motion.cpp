@@ -185,8 +185,10 @@ TEST(Motion, MovingSquareIsInFrontAndItsVectorsAreItsMotion) {
     };
     EXPECT_LT(median(in_err), 0.25);
     EXPECT_LT(median(out_err), 0.25);
-    // The depth proxy puts the square in front of the still background.
-    EXPECT_LT(median(in_depth), 0.8 * median(out_depth));
+    // The depth proxy puts the square in front of the still background, by less than the relative
+    // depth threshold (it orders the splat without marking a discontinuity, shaders/flow.h).
+    EXPECT_LT(median(in_depth), median(out_depth) - 0.01);
+    EXPECT_GT(median(in_depth), 1.0 - 0.045);
     EXPECT_NEAR(median(out_depth), 1.0, 1e-3);
 }
 

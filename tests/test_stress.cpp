@@ -6,6 +6,7 @@
 #include <fgsr/capture/stress.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <set>
 
 namespace fgsr::test {
@@ -17,6 +18,9 @@ std::vector<stress::Case> reduced_cases() {
     o.sr_frames = 300;
     return stress::make_cases(o);
 }
+
+// The colour-only scene cut (also run here) has its own test naming the invariant.
+constexpr const char* kColourCut = "colour-only/scene-cut";
 
 TEST(Stress, EveryCasePasses) {
     const std::vector<stress::Case> cases = reduced_cases();
@@ -62,8 +66,113 @@ TEST(Stress, TableCoversTheIssue) {
                                  "reject/alpha/interpolate",
                                  "reject/session/scale-5",
                                  "reject/session/lut-nan",
-                                 "sr-long/static-loop"})
+                                 "sr-long/static-loop",
+                                 "colour-only/flat",
+                                 "colour-only/noise/sr",
+                                 "colour-only/scene-cut",
+                                 "colour-only/pan-216px",
+                                 "colour-only/pan-diagonal-quarter"})
         EXPECT_TRUE(names.count(expected)) << "missing case " << expected;
+}
+
+// Colour-only cases withhold vectors and depth (format and every frame), and the pans are what the
+// issue asks for: at 480x270, 200+ px per frame and more than a quarter of the frame.
+TEST(Stress, ColourOnlyCasesWithholdVectorsAndDepth) {
+    size_t colour_cases = 0;
+    for (const stress::Case& c : reduced_cases()) {
+        if (c.name.rfind("colour-only/", 0) != 0) continue;
+        ++colour_cases;
+        EXPECT_FALSE(c.format.has_vectors) << c.name;
+        EXPECT_FALSE(c.format.has_depth) << c.name;
+        EXPECT_GT(c.max_seconds, 0.0) << c.name << ": bounded in time";
+        std::vector<std::vector<std::byte>> colours;
+        for (size_t i = 0; i < c.step_count; ++i) {
+            const stress::Step st = c.step(i);
+            if (st.op != stress::Op::submit) continue;
+            EXPECT_TRUE(st.frame.mv.empty()) << c.name << " step " << i;
+            EXPECT_TRUE(st.frame.depth.empty()) << c.name << " step " << i;
+            EXPECT_FALSE(st.frame.reset) << c.name << ": cuts are not flagged";
+            colours.push_back(st.frame.color);
+        }
+        if (c.name.rfind("colour-only/pan", 0) == 0) {
+            ASSERT_EQ(c.format.width, 480u);
+            ASSERT_EQ(c.format.height, 270u);
+            ASSERT_GE(colours.size(), 2u);
+            // The content moves: frame 1 is frame 0 shifted by the pan (rgba16f: 8 bytes per pixel).
+            const size_t row = size_t(c.format.width) * 8;
+            const bool diagonal = c.name.find("diagonal") != std::string::npos;
+            const size_t dx = diagonal ? 130 : 216, dy = diagonal ? 72 : 0;
+            EXPECT_GT(dx, c.format.width / 4) << c.name;
+            if (diagonal) {
+                EXPECT_GT(dy, c.format.height / 4) << c.name;
+            } else {
+                EXPECT_GE(dx, 200u) << c.name;
+            }
+            // Pan (dx, dy) to the right/left: frame1(x, y) = frame0(x + dx, y) for 216 px right;
+            // (x - 130, y + 72) for the diagonal one.
+            const uint32_t x1 = diagonal ? 200 : 10, y1 = diagonal ? 10 : 100;
+            const uint32_t x0 = diagonal ? x1 - 130 : x1 + 216, y0 = y1 + uint32_t(dy);
+            EXPECT_EQ(std::memcmp(colours[1].data() + y1 * row + x1 * 8,
+                                  colours[0].data() + y0 * row + x0 * 8, 64 * 8),
+                      0)
+                << c.name;
+        }
+    }
+    EXPECT_EQ(colour_cases, 9u);
+}
+
+// The check across a cut (Step::across_cut) holds the engine to "no warp across a cut": a session
+// given two unrelated scenes with zero vectors and no reset blends them, which must fail; the same
+// with the second frame flagged as a cut is refused with the reset's reason, which passes.
+TEST(Stress, AcrossCutCheckDetectsBlends) {
+    auto frame = [](uint32_t seed, bool reset) {
+        RawFrame f = random_frame(24, 16, seed, 0.f);
+        std::vector<float> zero(24 * 16 * 2, 0.f);
+        f.mv = bytes_of(zero);
+        stress::Frame fr{f.color, f.depth, f.mv};
+        fr.reset = reset;
+        return fr;
+    };
+    for (bool reset : {false, true}) {
+        stress::Case c;
+        c.name = reset ? "across-cut/flagged" : "across-cut/unflagged";
+        c.format = internal_format(24, 16);
+        c.cpu_reference = false;
+        c.step_count = 3;
+        c.step = [=](size_t i) {
+            stress::Step s;
+            if (i < 2) {
+                s.frame = frame(uint32_t(100 + 7 * i), reset && i == 1);
+                return s;
+            }
+            s.op = stress::Op::interpolate;
+            s.alphas = {0.5f};
+            s.across_cut = true;
+            return s;
+        };
+        const stress::CaseResult r = stress::run_on_engine(engine(), c);
+        if (reset) {
+            EXPECT_TRUE(r.pass) << r.failure;
+            ASSERT_EQ(r.rejections.size(), 1u);
+            EXPECT_NE(r.rejections[0].find("needs two submitted frames"), std::string::npos)
+                << r.rejections[0];
+        } else {
+            EXPECT_FALSE(r.pass);
+            EXPECT_NE(r.failure.find("neither frame"), std::string::npos) << r.failure;
+        }
+    }
+}
+
+// Across an unflagged cut a colour-only session must not warp or blend the two scenes (issue 12:
+// the engine detects the cut from colour and restarts, as after FrameView::reset).
+TEST(Stress, ColourOnlyCutIsNotWarpedAcross) {
+    for (const stress::Case& c : reduced_cases()) {
+        if (c.name != kColourCut) continue;
+        const stress::CaseResult r = stress::run_on_engine(engine(), c);
+        EXPECT_TRUE(r.pass) << c.name << ": " << r.failure;
+        return;
+    }
+    FAIL() << kColourCut << " is not in the table";
 }
 
 // The feeder reports what it finds: a case whose expected rejection is not met fails, and one

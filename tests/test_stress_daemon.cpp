@@ -22,7 +22,8 @@ stress::DaemonTarget target_of(FgsrdProcess& d) {
     return t;
 }
 
-// The whole reduced table (186 cases; the long SR run at 300 frames): a few seconds on lavapipe.
+// The whole reduced table (195 cases, the colour-only ones with their NO_MVS / NO_DEPTH sessions; the long SR
+// run at 300 frames): a few seconds on lavapipe.
 TEST(StressDaemon, EveryCasePassesThroughFgsrd) {
     setenv("FGSR_CLIENT_QUIET", "1", 1);
     auto d = FgsrdProcess::start();

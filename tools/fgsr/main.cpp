@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
 
     // fgsr eval
     fgsr::cli::EvalOptions eo;
-    std::string mode = "interp", methods = "fgsr,linear,blend,repeat", out_dir;
+    std::string mode = "interp", methods = "fgsr,fgsr-colour,linear,blend,repeat", out_dir, vectors_from;
     auto* eval = app.add_subcommand(
         "eval", "Score generated frames against ground truth, side by side with baselines");
     eval->add_option(
@@ -50,8 +50,15 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     eval->add_option("--alpha", eo.alpha, "Generated instant: alpha (interp) or 1+alpha (extrap)")
         ->capture_default_str();
-    eval->add_option("--methods", methods, "Comma-separated: fgsr, linear, blend, repeat")
+    eval->add_option("--methods", methods,
+                     "Comma-separated: fgsr, fgsr-colour (vectors and depth withheld: motion from colour), "
+                     "linear, blend, repeat; sr, isr, esr: fgsr, fgsr-colour, fgsr-bilinear, fgsr-bicubic, "
+                     "bilinear, bicubic")
         ->capture_default_str();
+    eval->add_option("--vectors-from", vectors_from,
+                     "interp, extrap: read input k's vectors from FLOWDIR/%04d.flo (Middlebury .flo, pixels, "
+                     "y down, to input k-1) instead of the capture's, withhold the depth, and report the EPE "
+                     "of those vectors against the capture's");
     eval->add_option("--out", out_dir, "Write generated frames (EXR and PNG) and metrics.json here");
     eval->add_flag("--json", eo.json, "Print one JSON object on stdout");
     eval->add_flag("--lr", eo.prefer_lr, "Mob-FGSR captures: use LR_Inputs (960x540) instead of HR_Inputs");
@@ -184,8 +191,9 @@ int main(int argc, char** argv) {
         eo.methods = split_list(methods);
         if (eo.mode != fgsr::cli::EvalMode::interp && eo.mode != fgsr::cli::EvalMode::extrap &&
             !eval->count("--methods"))
-            eo.methods = {"fgsr", "fgsr-bilinear", "fgsr-bicubic", "bilinear", "bicubic"};
+            eo.methods = {"fgsr", "fgsr-colour", "fgsr-bilinear", "fgsr-bicubic", "bilinear", "bicubic"};
         if (!out_dir.empty()) eo.out = out_dir;
+        if (!vectors_from.empty()) eo.vectors_from = vectors_from;
         if (!preset.empty()) {
             // The preset, then every option that was given on the command line.
             fgsr::Params p = *fgsr::preset_params(preset);

@@ -37,9 +37,11 @@ uint32_t ref::motion_field_blocks(const std::vector<MotionLevel>& levels) {
     return levels.empty() ? 0 : levels.back().field_offset + levels.back().blocks_x * levels.back().blocks_y;
 }
 
-gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward) {
+gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward,
+                                   bool propagate, bool temporal) {
     const MotionLevel& l = levels[k];
     const uint32_t half = motion_field_blocks(levels);
+    const uint32_t dir = forward ? half : 0, first_pass = 2 * half + dir;
     gpu::MatchParams m{};
     m.width = l.width;
     m.height = l.height;
@@ -47,9 +49,19 @@ gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_
     m.blocks_y = l.blocks_y;
     m.src_offset = l.offset;
     m.dst_offset = l.offset;
-    m.field_offset = l.field_offset + (forward ? half : 0);
+    m.same_offset = MOTION_NONE;
+    m.temporal_offset = MOTION_NONE;
+    if (propagate) {
+        m.field_offset = l.field_offset + dir;
+        m.same_offset = l.field_offset + first_pass;
+        m.radius = kMotionRadiusFine;
+        m.lambda = kMotionLambda;
+        return m;
+    }
+    m.field_offset = l.field_offset + first_pass;
+    if (temporal && !forward) m.temporal_offset = 4 * half + l.field_offset;
     if (k + 1 < levels.size()) {
-        m.coarse_offset = levels[k + 1].field_offset + (forward ? half : 0);
+        m.coarse_offset = levels[k + 1].field_offset + dir;
         m.coarse_blocks_x = levels[k + 1].blocks_x;
         m.coarse_blocks_y = levels[k + 1].blocks_y;
         m.radius = k == 0 ? kMotionRadiusFine : kMotionRadiusMiddle;
@@ -61,14 +73,21 @@ gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_
     return m;
 }
 
+gpu::MatchParams ref::fill_params(const std::vector<MotionLevel>& levels, bool forward) {
+    gpu::MatchParams m = match_params(levels, 0, forward, true, false);
+    std::swap(m.field_offset, m.same_offset); // final blocks in, first-pass region out
+    return m;
+}
+
 gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth) {
     gpu::FlowParams f{};
     f.width = levels[0].width;
     f.height = levels[0].height;
     f.blocks_x = levels[0].blocks_x;
     f.blocks_y = levels[0].blocks_y;
-    f.back_offset = 0;
-    f.fwd_offset = motion_field_blocks(levels);
+    // The filled level-0 blocks (fill_params): the first-pass regions, free after propagation.
+    f.back_offset = 2 * motion_field_blocks(levels);
+    f.fwd_offset = 3 * motion_field_blocks(levels);
     f.global_x = global.x;
     f.global_y = global.y;
     f.fb_tolerance = kMotionFbTolerance;
@@ -120,8 +139,8 @@ Result<void> Session::Impl::init_motion() {
     }
     // Host-visible: the host summarises the level-0 current -> previous blocks between the two
     // command buffers of a submit (a few hundred KB at 1080p).
-    auto f =
-        vk::Buffer::create(*ctx, VkDeviceSize(ref::motion_field_blocks(estimator.levels)) * 2 * 16, true);
+    auto f = vk::Buffer::create(
+        *ctx, VkDeviceSize(ref::motion_field_blocks(estimator.levels)) * ref::kFieldRegions * 16, true);
     if (!f) return f.error();
     estimator.field = std::move(*f);
     return {};
@@ -148,14 +167,30 @@ Result<void> Session::Impl::record_match(int cur, int prev) {
         make_slots<PassId::match>(at<MATCH_SRC>(a), at<MATCH_DST>(b), at<MATCH_FIELD>(estimator.field));
     const auto fwd =
         make_slots<PassId::match>(at<MATCH_SRC>(b), at<MATCH_DST>(a), at<MATCH_FIELD>(estimator.field));
-    for (size_t k = estimator.levels.size(); k-- > 0;) {
-        const ref::MotionLevel& l = estimator.levels[k];
-        const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false);
-        const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true);
-        FGSR_TRY(rec.dispatch_pixels(Variant::match, back, &pb, l.blocks_x, l.blocks_y));
-        FGSR_TRY(rec.dispatch_pixels(Variant::match, fwd, &pf, l.blocks_x, l.blocks_y));
+    // The previous submit's current -> previous levels become this one's temporal candidates.
+    const bool temporal = estimator.field_valid;
+    if (temporal) {
+        const VkDeviceSize half = VkDeviceSize(ref::motion_field_blocks(estimator.levels)) * 16;
+        const VkBufferCopy region{0, 4 * half, half};
+        vkCmdCopyBuffer(rec.cmd(), estimator.field.handle(), estimator.field.handle(), 1, &region);
         rec.barrier();
     }
+    for (size_t k = estimator.levels.size(); k-- > 0;) {
+        const ref::MotionLevel& l = estimator.levels[k];
+        for (bool propagate : {false, true}) {
+            const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false, propagate, temporal);
+            const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true, propagate, temporal);
+            FGSR_TRY(rec.dispatch_pixels(Variant::match, back, &pb, l.blocks_x, l.blocks_y));
+            FGSR_TRY(rec.dispatch_pixels(Variant::match, fwd, &pf, l.blocks_x, l.blocks_y));
+            rec.barrier();
+        }
+    }
+    const gpu::MatchParams fb = ref::fill_params(estimator.levels, false),
+                           ff = ref::fill_params(estimator.levels, true);
+    const ref::MotionLevel& l0 = estimator.levels[0];
+    FGSR_TRY(rec.dispatch_pixels(Variant::match_fill, back, &fb, l0.blocks_x, l0.blocks_y));
+    FGSR_TRY(rec.dispatch_pixels(Variant::match_fill, fwd, &ff, l0.blocks_x, l0.blocks_y));
+    rec.barrier();
     return {};
 }
 

@@ -2,6 +2,7 @@
 // C++ members of structs whose load_/store_ functions read and write host vectors.
 #include <fgsr/engine/reference.hpp>
 
+#include <algorithm>
 #include <cstring>
 
 // clang-format off
@@ -70,6 +71,12 @@ void match_level(const std::vector<float>& src, const std::vector<float>& dst, s
         for (uint32_t x = 0; x < p.blocks_x; ++x) cpu.match_block(glm::uvec2(x, y), p);
 }
 
+void fill_level(std::vector<glm::vec4>& field, const MatchParams& p) {
+    gpu::MatchCpu cpu{nullptr, nullptr, &field};
+    for (uint32_t y = 0; y < p.blocks_y; ++y)
+        for (uint32_t x = 0; x < p.blocks_x; ++x) cpu.fill_block(glm::uvec2(x, y), p);
+}
+
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
           const FlowParams& p, InternalFrame& f) {
     gpu::FlowCpu cpu{&cur, &prev, &field, &f};
@@ -77,16 +84,28 @@ void flow(const std::vector<float>& cur, const std::vector<float>& prev, const s
         for (uint32_t x = 0; x < p.width; ++x) cpu.flow_pixel(glm::uvec2(x, y), p);
 }
 
-MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
+MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
+                              std::vector<glm::vec4>& field) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
     const std::vector<float> p0 = luma_pyramid(f0, levels), p1 = luma_pyramid(f1, levels);
-    std::vector<glm::vec4> field(size_t(motion_field_blocks(levels)) * 2);
-    for (size_t k = levels.size(); k-- > 0;) {
-        match_level(p1, p0, field, match_params(levels, k, false));
-        match_level(p0, p1, field, match_params(levels, k, true));
-    }
+    const size_t half = motion_field_blocks(levels);
+    const bool temporal = field.size() == half * kFieldRegions;
+    field.resize(half * kFieldRegions);
+    if (temporal)
+        std::copy(field.begin(), field.begin() + std::ptrdiff_t(half),
+                  field.begin() + std::ptrdiff_t(4 * half));
+    for (size_t k = levels.size(); k-- > 0;)
+        for (bool propagate : {false, true}) {
+            match_level(p1, p0, field, match_params(levels, k, false, propagate, temporal));
+            match_level(p0, p1, field, match_params(levels, k, true, propagate, temporal));
+        }
     const MotionSummary s = summarise_motion({field.data(), size_t(levels[0].blocks_x) * levels[0].blocks_y});
-    if (s.cut) return s;
+    if (s.cut) {
+        field.clear();
+        return s;
+    }
+    fill_level(field, fill_params(levels, false));
+    fill_level(field, fill_params(levels, true));
     flow(p1, p0, field, flow_params(levels, s.global, write_depth), f1);
     f1.has_mv = true;
     return s;

@@ -125,7 +125,10 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     g.height = format.height;
     g.alpha = alpha;
     g.extrapolate = extrapolate ? 1u : 0u;
-    g.quadratic = params.motion == MotionModel::quadratic ? 1u : 0u;
+    // Vectors estimated from colour give no usable acceleration (the difference of two estimates
+    // is mostly their error): uniform velocity, which measured better on every capture
+    // (docs/MOTION.md).
+    g.quadratic = params.motion == MotionModel::quadratic && format.has_vectors ? 1u : 0u;
     g.frame0_has_mv = frame0_has_mv ? 1u : 0u;
     g.frame1_has_mv = frame1_has_mv ? 1u : 0u;
     g.t_depth = params.t_depth;

@@ -251,6 +251,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             s.rec.timestamp(q++);
         }
         frame_has_mv = !restart;
+        s.estimator.field_valid = !restart;
     }
     if (denoise) {
         FGSR_TRY(s.record_denoise(f.color));

@@ -91,6 +91,7 @@ struct Session::Impl {
         vk::Buffer field;                  // host-visible block vectors, both directions
         std::vector<PassTiming> timings;   // of the last submit: luma, match, flow (those run)
         bool last_cut = false;
+        bool field_valid = false; // the field holds the previous submit's vectors (temporal candidates)
         glm::vec2 global{0.f};
     } estimator;
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -269,6 +270,79 @@ double TemporalStd::mean_std() const {
         total += std::sqrt(std::max(sum_sq_[i] / k - mean * mean, 0.0));
     }
     return total / double(sum_.size());
+}
+
+namespace {
+
+Result<void> check_field(std::span<const float> v, size_t per_pixel, size_t n, const char* what) {
+    if (v.size() != per_pixel * n)
+        return make_error(Errc::size_mismatch, std::string(what) + " holds " + std::to_string(v.size()) +
+                                                   " floats, expected " + std::to_string(per_pixel * n));
+    return {};
+}
+
+} // namespace
+
+Result<std::vector<uint8_t>> visible_in_both(std::span<const float> reference_mv,
+                                             std::span<const float> depth,
+                                             std::span<const float> previous_depth, uint32_t width,
+                                             uint32_t height, float depth_tolerance,
+                                             std::span<const uint8_t> known) {
+    const size_t n = size_t(width) * height;
+    if (n == 0)
+        return make_error(Errc::empty_input, "visible_in_both: empty frame " + std::to_string(width) + "x" +
+                                                 std::to_string(height));
+    FGSR_TRY(check_field(reference_mv, 2, n, "visible_in_both: reference vector field"));
+    FGSR_TRY(check_field(depth, 1, n, "visible_in_both: depth"));
+    FGSR_TRY(check_field(previous_depth, 1, n, "visible_in_both: previous depth"));
+    if (!known.empty() && known.size() != n)
+        return make_error(Errc::size_mismatch, "visible_in_both: known-vector mask holds " +
+                                                   std::to_string(known.size()) + " bytes, expected " +
+                                                   std::to_string(n));
+    if (!std::isfinite(depth_tolerance) || depth_tolerance < 0.f)
+        return make_error(Errc::invalid_argument, "visible_in_both: depth tolerance " +
+                                                      std::to_string(depth_tolerance) +
+                                                      " is not a finite value >= 0");
+    std::vector<uint8_t> mask(n, 0);
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            const size_t i = size_t(y) * width + x;
+            if (!known.empty() && known[i] == 0) continue;
+            const double vx = reference_mv[2 * i], vy = reference_mv[2 * i + 1];
+            if (!std::isfinite(vx) || !std::isfinite(vy)) continue;
+            const double qx = double(x) + 0.5 + vx, qy = double(y) + 0.5 + vy;
+            if (!(qx >= 0.0 && qx < double(width) && qy >= 0.0 && qy < double(height))) continue;
+            const size_t j = size_t(qy) * width + size_t(qx); // floor: both are >= 0
+            const double d = depth[i], dp = previous_depth[j];
+            if (!std::isfinite(d) || !std::isfinite(dp) || d <= 0.0 || dp <= 0.0) continue;
+            mask[i] = std::abs(dp - d) / std::min(dp, d) <= double(depth_tolerance) ? 1 : 0;
+        }
+    return mask;
+}
+
+Result<double> end_point_error(std::span<const float> estimated_mv, std::span<const float> reference_mv,
+                               std::span<const uint8_t> mask, uint32_t width, uint32_t height) {
+    const size_t n = size_t(width) * height;
+    if (n == 0)
+        return make_error(Errc::empty_input, "end_point_error: empty frame " + std::to_string(width) + "x" +
+                                                 std::to_string(height));
+    FGSR_TRY(check_field(estimated_mv, 2, n, "end_point_error: estimated vector field"));
+    FGSR_TRY(check_field(reference_mv, 2, n, "end_point_error: reference vector field"));
+    if (mask.size() != n)
+        return make_error(Errc::size_mismatch, "end_point_error: mask holds " + std::to_string(mask.size()) +
+                                                   " bytes, expected " + std::to_string(n));
+    double sum = 0.0;
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (mask[i] == 0) continue;
+        const double dx = double(estimated_mv[2 * i]) - double(reference_mv[2 * i]);
+        const double dy = double(estimated_mv[2 * i + 1]) - double(reference_mv[2 * i + 1]);
+        const double e = std::sqrt(dx * dx + dy * dy);
+        sum += std::isfinite(e) ? e : std::numeric_limits<double>::infinity();
+        ++count;
+    }
+    if (count == 0) return make_error(Errc::empty_input, "end_point_error: the mask selects no pixel");
+    return sum / double(count);
 }
 
 } // namespace fgsr::capture

@@ -1,6 +1,7 @@
 // The table of numerical stress cases (make_cases, fgsr/capture/stress.hpp): colour, depth, vector,
-// alpha, combined, resolution, scene-cut and rejection cases, and the long SR drift run. Frames and
-// poisons come from stress_internal.hpp.
+// alpha, combined, resolution, scene-cut and rejection cases, and the long SR drift run; the
+// colour-only cases are stress_colour.cpp's. Frames, poisons and the step builders come from
+// stress_internal.hpp.
 #include "stress_internal.hpp"
 
 #include <fgsr/core/halton.hpp>
@@ -18,31 +19,6 @@ namespace fgsr::stress {
 namespace {
 
 using namespace detail;
-
-// ---------------------------------------------------------------------------------------------
-// Case builders
-
-using StepFn = std::function<Step()>;
-
-std::function<Step(size_t)> sequence(std::vector<StepFn> steps) {
-    auto list = std::make_shared<std::vector<StepFn>>(std::move(steps));
-    return [list](size_t i) { return (*list)[i](); };
-}
-
-Step submit(Frame f, std::string reject = {}) {
-    Step s;
-    s.op = Op::submit;
-    s.frame = std::move(f);
-    s.reject = std::move(reject);
-    return s;
-}
-Step request(Op op, std::vector<float> alphas, std::string reject = {}) {
-    Step s;
-    s.op = op;
-    s.alphas = std::move(alphas);
-    s.reject = std::move(reject);
-    return s;
-}
 
 const std::vector<float> kInterpAlphas = {1e-6f, 0.5f, 1.f - 1e-6f};
 const std::vector<float> kExtrapAlphas = {1e-6f, 0.5f, 1.f};
@@ -664,6 +640,7 @@ std::vector<Case> make_cases(const CaseOptions& o) {
     add_combined_cases(out);
     add_resolution_cases(out, o.reduced);
     add_scene_cut_cases(out);
+    add_colour_only_cases(out);
     add_rejection_cases(out);
     out.push_back(long_sr_case(o.sr_frames));
     return out;

@@ -22,6 +22,9 @@ namespace {
 
 using namespace detail;
 
+// Why generation is refused after a reset (Session::interpolate / extrapolate).
+constexpr const char* kResetReason = "needs two submitted frames";
+
 struct CpuState {
     ref::InternalFrame f0, f1;
     size_t frames = 0; // submitted since the last reset
@@ -115,6 +118,10 @@ class Runner {
                 break;
             }
             }
+            if (st.across_cut) {
+                if (!check_across_cut(s, err, images, where)) return false;
+                continue;
+            }
             if (!st.reject.empty()) {
                 if (!err)
                     return fail(where + " was accepted; expected a rejection mentioning '" + st.reject + "'");
@@ -124,6 +131,12 @@ class Runner {
                                 st.reject + "'");
                 continue;
             }
+            if (err && st.cut_allowed &&
+                (contains_nocase(err->message, kResetReason) || s.frames_submitted() == 1)) {
+                r_.rejections.push_back(std::string(errc_name(err->code)) + ": " + err->message +
+                                        " (content taken for a scene cut)");
+                continue;
+            }
             if (err) return fail(where + " failed: " + errc_name(err->code) + ": " + err->message);
             for (size_t k = 0; k < images.size(); ++k)
                 if (!check_image(images[k], where + " output " + std::to_string(k))) return false;
@@ -131,11 +144,72 @@ class Runner {
             if (!checks_.check_repeat_and_drift(st, images, where)) return false;
 
             if (st.op == Op::submit && cpu && !step_cpu_submit(s, st.frame, sr, lut, where)) return false;
+            // Colour-only sessions: the estimated vectors and depth proxy of every frame are finite.
+            if (st.op == Op::submit && !cpu && (!f.has_vectors || !f.has_depth) && !check_ingested(s, where))
+                return false;
             if ((st.op == Op::interpolate || st.op == Op::extrapolate) && cpu &&
                 !step_cpu_generate(s, st, images, sr, lut, where))
                 return false;
         }
         return checks_.check_min_drift(c_.min_drift_db);
+    }
+
+    // Step::across_cut: refused as after a reset, or every output is one of the stored frames.
+    bool check_across_cut(Session& s, const std::optional<Error>& err, const std::vector<ImageRGBA>& images,
+                          const std::string& where) {
+        constexpr const char* kReset = kResetReason;
+        if (err) {
+            r_.rejections.push_back(std::string(errc_name(err->code)) + ": " + err->message);
+            // Refused because the session restarted at the cut: the reset's reason, or a session
+            // that counts the frame after the cut as its first.
+            if (!contains_nocase(err->message, kReset) && s.frames_submitted() != 1)
+                return fail(where + " across the scene cut failed: " + err->message + " with " +
+                            std::to_string(s.frames_submitted()) + " frames submitted (expected success, '" +
+                            kReset + "' or a restart at the cut)");
+            return true;
+        }
+        std::vector<Session::InternalFrameData> frames;
+        for (int which : {0, 1}) {
+            auto fr = s.read_frame(which);
+            if (!fr) return fail(where + ": read_frame: " + fr.error().message);
+            frames.push_back(std::move(*fr));
+        }
+        for (size_t k = 0; k < images.size(); ++k) {
+            if (!check_image(images[k], where + " output " + std::to_string(k))) return false;
+            double worst[2] = {0, 0};
+            for (int which : {0, 1}) {
+                const std::vector<float>& ref = frames[size_t(which)].color;
+                if (ref.size() != images[k].rgba.size()) {
+                    worst[which] = INFINITY;
+                    continue;
+                }
+                for (size_t i = 0; i < ref.size(); i += 4)
+                    for (size_t ch = 0; ch < 3; ++ch)
+                        worst[which] =
+                            std::max(worst[which], std::abs(double(images[k].rgba[i + ch]) - ref[i + ch]) /
+                                                       std::max(1.0, std::abs(double(ref[i + ch]))));
+            }
+            if (std::min(worst[0], worst[1]) > 1e-3)
+                return fail(where + " output " + std::to_string(k) +
+                            " across the scene cut is neither frame (largest relative difference " +
+                            std::to_string(worst[0]) + " to frame 0, " + std::to_string(worst[1]) +
+                            " to frame 1): a warp or blend across the cut, and no reset");
+        }
+        return true;
+    }
+
+    // The newest ingested frame (with a colour-only session's estimated vectors and depth proxy) is
+    // finite, its depth positive.
+    bool check_ingested(Session& s, const std::string& where) {
+        auto in = s.read_frame(1);
+        if (!in) return fail(where + ": read_frame: " + in.error().message);
+        if (!check_values(in->color, where + " ingested colour") ||
+            !check_values(in->depth, where + " ingested depth") ||
+            !check_values(in->mv, where + " ingested vectors"))
+            return false;
+        for (float d : in->depth)
+            if (!(d > 0.f)) return fail(where + ": ingested depth " + std::to_string(d) + " is not positive");
+        return true;
     }
 
     // The ingested frame (GPU) is finite with positive depth; the CPU reference runs ingest and
@@ -254,6 +328,11 @@ CaseResult run_on_engine(Engine& engine, const Case& c, const RunOptions& option
         r.pass = false;
         r.failure = "GPU output and CPU reference differ by " + std::to_string(*r.max_cpu_difference) +
                     " (relative), above " + std::to_string(kCpuTolerance);
+    }
+    if (c.max_seconds > 0 && r.pass && r.seconds > c.max_seconds) {
+        r.pass = false;
+        r.failure = "the case took " + std::to_string(r.seconds) + " s, more than its bound of " +
+                    std::to_string(c.max_seconds) + " s";
     }
     const uint64_t validation = engine.validation_errors() - validation_before;
     if (validation && r.pass) {

@@ -9,8 +9,11 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace fgsr::stress::detail {
@@ -60,5 +63,34 @@ void apply(Frame& fr, const FrameFormat& f, const Poison& p);
 FrameFormat format_of(uint32_t w, uint32_t h, ColorFormat cf = ColorFormat::rgba16f_linear,
                       MvFormat mf = MvFormat::rg32f, Conventions conv = {});
 Params params_of(float scale);
+
+// ---------------------------------------------------------------------------------------------
+// Case builders: steps made lazily, in order.
+
+using StepFn = std::function<Step()>;
+
+inline std::function<Step(size_t)> sequence(std::vector<StepFn> steps) {
+    auto list = std::make_shared<std::vector<StepFn>>(std::move(steps));
+    return [list](size_t i) { return (*list)[i](); };
+}
+
+inline Step submit(Frame f, std::string reject = {}) {
+    Step s;
+    s.op = Op::submit;
+    s.frame = std::move(f);
+    s.reject = std::move(reject);
+    return s;
+}
+
+inline Step request(Op op, std::vector<float> alphas, std::string reject = {}) {
+    Step s;
+    s.op = op;
+    s.alphas = std::move(alphas);
+    s.reject = std::move(reject);
+    return s;
+}
+
+// The colour-only cases (stress_colour.cpp): sessions without vectors and depth.
+void add_colour_only_cases(std::vector<Case>& out);
 
 } // namespace fgsr::stress::detail

@@ -7,6 +7,7 @@
 
 #include <fgsr/cli/capture_spec.hpp>
 #include <fgsr/cli/cli_util.hpp>
+#include <fgsr/cli/eval_motion.hpp>
 
 #include <fgsr/capture/synthetic.hpp>
 
@@ -87,7 +88,12 @@ bool switch_applies(const std::string& key, const std::string& mode) {
 struct Config {
     std::string name, preset, toggle;
     Params params;
+    bool colour_only = false; // vectors and depth withheld (eval's fgsr-colour)
 };
+
+// The colour-only configuration's name, and its `switch` column.
+constexpr const char* kColourConfig = "balanced+colour";
+constexpr const char* kColourToggle = "input=colour";
 
 Result<std::vector<Config>> configs_for(const BenchOptions& o, const std::string& mode) {
     std::vector<Config> out;
@@ -96,14 +102,15 @@ Result<std::vector<Config>> configs_for(const BenchOptions& o, const std::string
         if (!params) return params.error();
         out.push_back({p, p, "", *params});
     }
-    if (!o.toggles) return out;
     const Params base = preset_params(Preset::balanced);
-    for (const std::string& t : switch_toggles(base)) {
-        if (!switch_applies(t.substr(0, t.find('=')), mode)) continue;
-        Params p = base;
-        FGSR_TRY(apply_switch(p, t));
-        out.push_back({"balanced+" + t, "balanced", t, p});
-    }
+    if (o.toggles)
+        for (const std::string& t : switch_toggles(base)) {
+            if (!switch_applies(t.substr(0, t.find('=')), mode)) continue;
+            Params p = base;
+            FGSR_TRY(apply_switch(p, t));
+            out.push_back({"balanced+" + t, "balanced", t, p});
+        }
+    if (o.colour) out.push_back({kColourConfig, "balanced", kColourToggle, base, true});
     return out;
 }
 
@@ -142,6 +149,7 @@ capture::SceneOptions timing_scene(const Resolution& r, float speed) {
 struct Samples {
     std::vector<double> ms;
     std::map<std::string, std::vector<double>> passes;
+    std::vector<double> motion; // colour-only: the motion passes of the newest input's submit
     void add(const GeneratedFrame& f) {
         ms.push_back(f.gpu_ms);
         for (const PassTiming& p : f.passes) passes[p.name].push_back(p.ms);
@@ -158,23 +166,32 @@ Result<std::vector<Samples>> time_configs(const BenchOptions& o, Engine& engine,
     for (const Config& c : configs) {
         Params p = c.params;
         if (mode == "sr" || mode == "isr" || mode == "esr") p.scale = scale;
-        auto s = engine.create_session(cap.format, p);
+        auto s = engine.create_session(c.colour_only ? colour_only(cap.format) : cap.format, p);
         if (!s) return s.error();
         sessions.push_back(std::move(*s));
     }
     std::vector<Samples> out(configs.size());
+    // A colour-only frame costs the motion estimation of the newest input too.
+    auto add = [&](size_t c, const GeneratedFrame& f) {
+        if (!configs[c].colour_only) return out[c].add(f);
+        const std::vector<PassTiming> motion = sessions[c]->last_motion_timings();
+        double ms = 0;
+        for (const PassTiming& p : motion) ms += p.ms;
+        out[c].motion.push_back(ms);
+        out[c].add(with_motion_timings(f, motion));
+    };
     const int reps = std::max(o.repeats, 1);
     if (mode == "sr") { // the history is temporal: replay the frames from a reset, `repeats` times
         const size_t frames = std::min(cap.inputs.size(), size_t(o.frames));
         for (int r = 0; r < reps; ++r)
             for (size_t k = 0; k < frames; ++k)
                 for (size_t c = 0; c < sessions.size(); ++c) {
-                    FrameView v = cap.inputs[k].view();
+                    FrameView v = session_view(sessions[c]->format(), cap.inputs[k].view());
                     v.reset = k == 0;
                     FGSR_TRY(sessions[c]->submit(v));
                     auto f = sessions[c]->super_resolved();
                     if (!f) return f.error();
-                    out[c].add(*f);
+                    add(c, *f);
                 }
         return out;
     }
@@ -186,12 +203,14 @@ Result<std::vector<Samples>> time_configs(const BenchOptions& o, Engine& engine,
     for (size_t t : targets) {
         const size_t newest = extrap ? t : t + 1;
         for (; next_input <= newest; ++next_input)
-            for (auto& s : sessions) FGSR_TRY(s->submit(cap.inputs[next_input].view()));
+            for (auto& s : sessions)
+                FGSR_TRY(s->submit(session_view(s->format(), cap.inputs[next_input].view())));
         for (int r = 0; r < reps; ++r)
             for (size_t c = 0; c < sessions.size(); ++c) {
                 auto f = extrap ? sessions[c]->extrapolate(alpha) : sessions[c]->interpolate(alpha);
+                if (!f && restarted_at_cut(*sessions[c])) continue; // nothing generated, nothing timed
                 if (!f) return f.error();
-                out[c].add((*f)[0]);
+                add(c, (*f)[0]);
             }
     }
     return out;
@@ -238,7 +257,8 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 const Config& c = (*configs)[ci];
                 EvalOptions run = eo;
                 run.mode = parse_eval_mode(mode);
-                run.methods = {"fgsr"};
+                const std::string method = c.colour_only ? "fgsr-colour" : "fgsr";
+                run.methods = {method};
                 run.params = c.params;
                 run.max_frames = o.frames;
                 run.skip_targets = mode == "sr" ? 0 : 1; // frame 0 of the first pair has no vectors
@@ -249,7 +269,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 if (!r)
                     return make_error(r.error().code,
                                       label + " " + mode + " " + c.name + ": " + r.error().message);
-                const MethodScore& s = r->methods.at("fgsr");
+                const MethodScore& s = r->methods.at(method);
                 BenchRow row;
                 row.capture = label;
                 row.mode = mode;
@@ -261,6 +281,8 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 row.frames = r->frames;
                 row.psnr = s.mean_psnr;
                 row.ssim = s.mean_ssim;
+                row.colour_only = c.colour_only;
+                if (!s.epe.empty()) row.epe = s.mean_epe;
                 row.bytes = total_bytes(frame_bytes(run.mode, c.params, input->format.width,
                                                     input->format.height, r->width, r->height));
                 rep.device = r->device;
@@ -283,6 +305,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 row.ms_mean = 0;
                 for (double v : sm.ms) row.ms_mean += v / double(sm.ms.size());
                 for (const auto& [pass, v] : sm.passes) row.pass_ms[pass] = median(v);
+                if (row.colour_only) row.motion_ms = sm.motion.empty() ? 0 : median(sm.motion);
                 pts.push_back({row.ms, row.psnr});
                 progress(o, fmt::format("{} {} {}: {:.2f} ms (median of {})", label, mode, row.config, row.ms,
                                         row.samples));
@@ -291,6 +314,40 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
             for (size_t i = 0; i < front.size(); ++i) rep.rows[first_row + i].pareto = front[i];
         }
     }
+    return {};
+}
+
+// BenchReport::colour on `cap` (the moving synthetic scene at the headline resolution).
+Result<void> time_colour_only(const BenchOptions& o, Engine& engine, const capture::Capture& cap,
+                              const Params& params, BenchReport& rep) {
+    auto s = engine.create_session(colour_only(cap.format), params);
+    if (!s) return s.error();
+    for (const capture::Frame& f : cap.inputs) FGSR_TRY((*s)->submit(session_view((*s)->format(), f.view())));
+    std::vector<double> motion, ingest, call;
+    std::map<std::string, std::vector<double>> passes;
+    const std::vector<float> half{0.5f};
+    for (int i = 0; i < std::max(o.repeats, 9); ++i) {
+        FGSR_TRY((*s)->submit(session_view((*s)->format(), cap.inputs[1 + size_t(i) % 2].view())));
+        double m = 0;
+        for (const PassTiming& p : (*s)->last_motion_timings()) {
+            m += p.ms;
+            passes[p.name].push_back(p.ms);
+        }
+        motion.push_back(m);
+        ingest.push_back((*s)->last_ingest_ms());
+        auto c = timed_call(**s, half, nullptr);
+        if (!c && restarted_at_cut(**s)) continue; // taken for a cut: nothing generated
+        if (!c) return c.error();
+        call.push_back(*c);
+    }
+    BenchReport::ColourTiming& t = rep.colour;
+    t.measured = true;
+    t.motion_ms = median(motion);
+    t.ingest_ms = median(ingest);
+    t.call_ms = median(call);
+    for (const auto& [name, v] : passes) t.motion_pass_ms[name] = median(v);
+    progress(o, fmt::format("colour only: motion {:.2f} ms, ingest {:.2f} ms, interpolate call {:.2f} ms",
+                            t.motion_ms, t.ingest_ms, t.call_ms));
     return {};
 }
 
@@ -377,6 +434,7 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             mv.push_back(*b);
             mv_frame.push_back(*b + (*s)->last_ingest_ms());
         }
+        if (o.colour) FGSR_TRY(time_colour_only(o, engine, *cap, balanced, rep));
         rep.still_ms = median(st);
         rep.moving_ms = median(mv);
         rep.still_frame_ms = median(st_frame);
@@ -452,6 +510,8 @@ CLI::App* add_bench_command(CLI::App& app, BenchCli& c) {
     cmd->add_option("--presets", c.presets,
                     "Comma-separated presets (default: performance,balanced,quality)");
     cmd->add_flag("--no-toggles", c.no_toggles, "Do not toggle each single switch from balanced");
+    cmd->add_flag("--no-colour", c.no_colour,
+                  "Leave out balanced+colour (balanced on colour alone: vectors and depth withheld)");
     cmd->add_option(
         "--resolutions", c.resolutions,
         "Comma-separated <H>p or <W>x<H> for scaling and roofline (default: 540p,720p,1080p,2160p); "
@@ -479,6 +539,7 @@ int bench_main(BenchCli& c, CLI::App* cmd) {
     if (!c.presets.empty()) o.presets = split_list(c.presets);
     if (!c.out.empty()) o.out = c.out;
     o.toggles = !c.no_toggles;
+    o.colour = !c.no_colour;
     o.plots = !c.no_plots;
     o.progress = !c.quiet;
     if (o.quick) {

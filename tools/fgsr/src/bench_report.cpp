@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -26,10 +27,11 @@ std::string num(double v, int digits) {
     return fmt::format("{:.{}f}", v, digits);
 }
 
-std::string passes_text(const std::map<std::string, double>& pass_ms) {
+std::string passes_text(const std::map<std::string, double>& pass_ms, double motion_ms = 0) {
     std::string s;
     for (const char* p : kPasses)
         if (pass_ms.count(p)) s += fmt::format("{}{} {:.2f}", s.empty() ? "" : ", ", p, pass_ms.at(p));
+    if (motion_ms > 0) s += fmt::format("{}motion {:.2f}", s.empty() ? "" : ", ", motion_ms);
     return s;
 }
 
@@ -176,15 +178,16 @@ PlotFiles plot_files(const BenchReport& r) {
 std::string bench_csv(const BenchReport& r) {
     std::string s = "capture,mode,config,preset,switch,width,height,frames,samples,ms_median,ms_mean";
     for (const char* p : kPasses) s += std::string(",") + p + "_ms";
-    s += ",bytes_per_frame,psnr,ssim,pareto\n";
+    s += ",motion_ms,bytes_per_frame,psnr,ssim,epe,pareto\n";
     for (const BenchRow& row : r.rows) {
         s += fmt::format("{},{},{},{},{},{},{},{},{},{},{}", row.capture, row.mode, row.config, row.preset,
                          row.toggle, row.width, row.height, row.frames, row.samples, num(row.ms, 4),
                          num(row.ms_mean, 4));
         for (const char* p : kPasses)
             s += "," + (row.pass_ms.count(p) ? num(row.pass_ms.at(p), 4) : std::string());
-        s += fmt::format(",{},{},{},{}\n", row.bytes, num(row.psnr, 4), num(row.ssim, 5),
-                         row.pareto ? "yes" : "no");
+        s += fmt::format(",{},{},{},{},{},{}\n", row.colour_only ? num(row.motion_ms, 4) : std::string(),
+                         row.bytes, num(row.psnr, 4), num(row.ssim, 5),
+                         std::isfinite(row.epe) ? num(row.epe, 4) : std::string(), row.pareto ? "yes" : "no");
     }
     return s;
 }
@@ -197,12 +200,13 @@ std::string bench_markdown(const BenchReport& r) {
         "from a reset {} times); PSNR / SSIM: mean over the same frames. Run took {:.0f} s.\n\n",
         r.device, r.frames, r.repeats, r.repeats, r.seconds);
     s += "## Run time against error\n\n";
-    s += "| capture | mode | config | GPU ms (median) | per pass (ms) | PSNR dB | SSIM | Pareto |\n";
-    s += "|---|---|---|---:|---|---:|---:|:-:|\n";
+    s += "| capture | mode | config | GPU ms (median) | per pass (ms) | PSNR dB | SSIM | EPE px | Pareto |\n";
+    s += "|---|---|---|---:|---|---:|---:|---:|:-:|\n";
     for (const BenchRow& row : r.rows)
-        s += fmt::format("| {} ({}x{}) | {} | {} | {} | {} | {} | {} | {} |\n", row.capture, row.width,
-                         row.height, row.mode, row.config, num(row.ms, 2), passes_text(row.pass_ms),
-                         num(row.psnr, 2), num(row.ssim, 4), row.pareto ? "yes" : "");
+        s += fmt::format("| {} ({}x{}) | {} | {} | {} | {} | {} | {} | {} | {} |\n", row.capture, row.width,
+                         row.height, row.mode, row.config, num(row.ms, 2),
+                         passes_text(row.pass_ms, row.motion_ms), num(row.psnr, 2), num(row.ssim, 4),
+                         std::isfinite(row.epe) ? num(row.epe, 3) : "", row.pareto ? "yes" : "");
     for (const std::string& k : r.skipped) s += "\nSkipped: " + k + "\n";
     if (!r.scaling.empty()) {
         s += "\n## Resolution scaling and roofline (balanced interpolation, synthetic scene)\n\n";
@@ -246,6 +250,20 @@ std::string bench_markdown(const BenchReport& r) {
             r.headline.name, num(r.still_ms, 2), num(r.moving_ms, 2), num(r.still_ms / r.moving_ms, 2),
             num(r.still_frame_ms, 2), num(r.moving_frame_ms, 2),
             num(r.still_frame_ms / r.moving_frame_ms, 2));
+    if (r.colour.measured) {
+        std::string split;
+        for (const auto& [name, ms] : r.colour.motion_pass_ms)
+            split += fmt::format("{}{} {:.2f}", split.empty() ? "" : ", ", name, ms);
+        const double rest = r.colour.ingest_ms + r.colour.call_ms;
+        s += fmt::format(
+            "\n## Colour only ({}, balanced interpolation, vectors and depth withheld)\n\nEach "
+            "sample on a fresh pair: the new input's submit (motion estimation, ingest), then the "
+            "call.\n\n| motion passes | ingest | interpolate call | motion / (ingest + call) | "
+            "motion per pass |\n|---:|---:|---:|---:|---|\n| {} ms | {} ms | {} ms | {} | {} |\n",
+            r.headline.name, num(r.colour.motion_ms, 2), num(r.colour.ingest_ms, 2), num(r.colour.call_ms, 2),
+            num(rest > 0 ? r.colour.motion_ms / rest : 0.0, 2),
+            split.empty() ? "(the engine times no motion pass yet)" : split);
+    }
     return s;
 }
 

@@ -1,6 +1,7 @@
 #include <fgsr/cli/eval.hpp>
 
 #include <fgsr/cli/capture_spec.hpp>
+#include <fgsr/cli/eval_motion.hpp>
 
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/metrics.hpp>
@@ -27,7 +28,18 @@ ImageRGBA lerp(const ImageRGBA& a, const ImageRGBA& b, float t) {
 }
 
 bool is_engine_method(const std::string& m) {
-    return m == "fgsr" || m == "linear";
+    return m == "fgsr" || m == "linear" || is_colour_method(m);
+}
+
+// Pass names of a score: the pipeline order first, then any other (e.g. the motion passes of a
+// colour-only session) in name order.
+std::vector<std::string> pass_names(const MethodScore& s) {
+    std::vector<std::string> out;
+    for (const char* p : kPassOrder)
+        if (s.pass_ms.count(p)) out.push_back(p);
+    for (const auto& [name, ms] : s.pass_ms)
+        if (std::find(out.begin(), out.end(), name) == out.end()) out.push_back(name);
+    return out;
 }
 
 Result<capture::Capture> load_capture(const EvalOptions& o) {
@@ -110,6 +122,7 @@ void finish_means(EvalReport& report) {
         for (double v : s.ssim) s.mean_ssim += v / n;
         if (!s.ms_samples.empty()) s.mean_ms /= double(s.ms_samples.size());
         for (auto& [pass, ms] : s.pass_ms) ms /= double(std::max<size_t>(s.pass_samples[pass].size(), 1));
+        for (double v : s.epe) s.mean_epe += v / double(s.epe.size());
     }
 }
 
@@ -133,7 +146,7 @@ make_sessions(const EvalOptions& o, const FrameFormat& format, const SessionPara
         if (!p) continue;
         auto e = eval_engine(o, engine, report);
         if (!e) return e.error();
-        auto s = (*e)->create_session(format, *p);
+        auto s = (*e)->create_session(is_colour_method(m) ? colour_only(format) : format, *p);
         if (!s) return s.error();
         sessions[m] = std::move(*s);
     }
@@ -141,6 +154,8 @@ make_sessions(const EvalOptions& o, const FrameFormat& format, const SessionPara
 }
 
 Result<EvalReport> run_eval(const EvalOptions& o) {
+    if (o.vectors_from && o.mode != EvalMode::interp && o.mode != EvalMode::extrap)
+        return make_error(Errc::invalid_argument, "--vectors-from applies to --mode interp and extrap only");
     if (o.mode == EvalMode::sr) {
         if (o.progress) std::fprintf(stderr, "[eval] loading %s\n", o.capture.c_str());
         auto loaded = load_capture(o);
@@ -154,9 +169,10 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         return run_eval_joint(o, std::move(*loaded));
     }
     for (const std::string& m : o.methods)
-        if (m != "fgsr" && m != "linear" && m != "blend" && m != "repeat")
+        if (!is_engine_method(m) && m != "blend" && m != "repeat")
             return make_error(Errc::invalid_argument,
-                              "unknown method '" + m + "' (methods: fgsr, linear, blend, repeat)");
+                              "unknown method '" + m +
+                                  "' (methods: fgsr, fgsr-colour, linear, blend, repeat)");
     const bool extrap = o.mode == EvalMode::extrap;
     FGSR_TRY(check_alpha(o.alpha, extrap));
 
@@ -175,6 +191,20 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         halfway_targets(cap.inputs, cap.ground_truth.size(), extrap, 0), o.skip_targets, o.max_frames);
     if (targets.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name + "' has too few frames to evaluate");
+
+    // Submit inputs in order; after input k+1 (interp) or k (extrap) generate the target's frame.
+    const size_t last_input = targets.back() + (extrap ? 0 : 1);
+    std::optional<CaptureVectors> own_vectors; // the capture's, when --vectors-from replaced them
+    if (o.vectors_from) {
+        auto own = replace_vectors_from(cap, *o.vectors_from, last_input);
+        if (!own) return own.error();
+        own_vectors = std::move(*own);
+    }
+    VectorReference reference(own_vectors ? own_vectors->format : cap.format);
+    auto scores_vectors = [&](const std::string& m) {
+        return is_engine_method(m) && (is_colour_method(m) || o.vectors_from);
+    };
+    const bool any_scores_vectors = std::any_of(o.methods.begin(), o.methods.end(), scores_vectors);
 
     EvalReport rep = new_report(cap, extrap ? "extrap" : "interp", o.alpha, targets.size(), cap.format.width,
                                 cap.format.height, o.methods);
@@ -199,16 +229,20 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
     }
 
-    // Submit inputs in order; after input k+1 (interp) or k (extrap) generate the target's frame.
-    const size_t last_input = targets.back() + (extrap ? 0 : 1);
     size_t next_target = 0;
     double ingest_sum = 0;
     size_t ingest_count = 0;
     for (size_t i = 0; i <= last_input; ++i) {
         for (auto& [name, s] : sessions) {
-            FGSR_TRY(s->submit(cap.inputs[i].view()));
+            FGSR_TRY(s->submit(session_view(s->format(), cap.inputs[i].view())));
             ingest_sum += s->last_ingest_ms();
             ++ingest_count;
+        }
+        if (any_scores_vectors) { // the capture's vectors of input i, then each method's against them
+            FGSR_TRY(
+                reference.add_frame(reference_view(cap.inputs[i], own_vectors ? &*own_vectors : nullptr, i)));
+            for (auto& [name, s] : sessions)
+                if (scores_vectors(name)) FGSR_TRY(reference.score(*s, rep.methods[name]));
         }
         if (next_target >= targets.size()) break;
         const size_t k = targets[next_target];
@@ -227,9 +261,18 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
             if (is_engine_method(m)) {
                 const float a[] = {o.alpha};
                 auto out = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
-                if (!out) return out.error();
-                add_timing(score, (*out)[0]);
-                img = std::move((*out)[0].color);
+                if (!out && restarted_at_cut(*sessions[m])) {
+                    ++score.scene_cuts;
+                    img = extrap || o.alpha > 0.5f ? i1 : i0; // as `repeat`
+                } else if (!out) {
+                    return out.error();
+                } else {
+                    // A colour-only frame costs the motion estimation of its newest input too.
+                    add_timing(score, is_colour_method(m)
+                                          ? with_motion_timings((*out)[0], sessions[m]->last_motion_timings())
+                                          : (*out)[0]);
+                    img = std::move((*out)[0].color);
+                }
             } else if (m == "blend") {
                 img = extrap ? i1 : lerp(i0, i1, o.alpha);
             } else { // repeat: the nearest input in time
@@ -293,11 +336,13 @@ std::string report_json(const EvalReport& r, bool per_frame) {
         jm["psnr"] = s.mean_psnr;
         jm["ssim"] = s.mean_ssim;
         jm["ms"] = s.mean_ms;
+        if (s.scores_vectors)
+            jm["epe"] = s.epe.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(s.mean_epe);
+        if (is_colour_method(m)) jm["scene_cuts"] = s.scene_cuts;
         if (s.stability_std >= 0) jm["stability_std"] = s.stability_std;
         if (!s.pass_ms.empty()) {
             nlohmann::ordered_json passes = nlohmann::ordered_json::object();
-            for (const char* p : kPassOrder)
-                if (s.pass_ms.count(p)) passes[p] = s.pass_ms.at(p);
+            for (const std::string& p : pass_names(s)) passes[p] = s.pass_ms.at(p);
             jm["pass_ms"] = passes;
         }
         if (!s.pass_tiles.empty()) { // share of the tiles each pass skipped, over every frame
@@ -310,6 +355,7 @@ std::string report_json(const EvalReport& r, bool per_frame) {
         if (per_frame) {
             jm["psnr_per_frame"] = s.psnr;
             jm["ssim_per_frame"] = s.ssim;
+            if (s.scores_vectors) jm["epe_per_frame"] = s.epe;
         }
         methods[m] = jm;
     }
@@ -322,21 +368,28 @@ std::string report_table(const EvalReport& r) {
         fmt::format("capture {} ({}x{}), mode {}, alpha {}, {} frames{}{}\n", r.capture, r.width, r.height,
                     r.mode, r.alpha, r.frames, r.composed_vectors ? ", composed two-frame vectors" : "",
                     r.device.empty() ? "" : ", device " + r.device);
-    s += fmt::format("{:<8} {:>9} {:>7} {:>9}   per pass (ms)\n", "method", "PSNR dB", "SSIM", "GPU ms");
+    s += fmt::format("{:<13} {:>9} {:>7} {:>9} {:>8}   per pass (ms)\n", "method", "PSNR dB", "SSIM",
+                     "GPU ms", "EPE px");
     for (const std::string& m : r.method_order) {
         const MethodScore& ms = r.methods.at(m);
         std::string passes;
-        for (const char* p : kPassOrder)
-            if (ms.pass_ms.count(p)) passes += fmt::format("{} {:.2f}  ", p, ms.pass_ms.at(p));
-        s += fmt::format("{:<8} {:>9.2f} {:>7.4f} {:>9.2f}   {}\n", m, ms.mean_psnr, ms.mean_ssim, ms.mean_ms,
-                         passes);
+        for (const std::string& p : pass_names(ms)) passes += fmt::format("{} {:.2f}  ", p, ms.pass_ms.at(p));
+        const std::string epe = !ms.scores_vectors ? ""
+                                : ms.epe.empty()   ? "-"
+                                                   : fmt::format("{:.3f}", ms.mean_epe);
+        s += fmt::format("{:<13} {:>9.2f} {:>7.4f} {:>9.2f} {:>8}   {}\n", m, ms.mean_psnr, ms.mean_ssim,
+                         ms.mean_ms, epe, passes);
         std::string skipped;
         for (const char* p : kPassOrder)
             if (ms.pass_tiles.count(p) && p != std::string("classify"))
                 skipped += fmt::format("{} {:.1f}%  ", p,
                                        100.0 * double(ms.pass_tiles.at(p).first) /
                                            double(ms.pass_tiles.at(p).second));
-        if (!skipped.empty()) s += fmt::format("{:<8} skipped tiles: {}\n", "", skipped);
+        if (!skipped.empty()) s += fmt::format("{:<13} skipped tiles: {}\n", "", skipped);
+        if (ms.scene_cuts > 0)
+            s += fmt::format(
+                "{:<13} scene cuts detected before {} of the {} frames (the nearest input shown)\n", "",
+                ms.scene_cuts, ms.psnr.size());
     }
     if (r.ingest_ms > 0) s += fmt::format("ingest: {:.2f} ms per input frame\n", r.ingest_ms);
     if (r.static_frames > 0) {

@@ -1,6 +1,7 @@
 // `fgsr eval --mode sr`: super resolution of every input frame, scored against the capture's
 // high-resolution reference of the same instant, side by side with spatial upscaling.
 #include <fgsr/cli/eval.hpp>
+#include <fgsr/cli/eval_motion.hpp>
 
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/metrics.hpp>
@@ -19,7 +20,27 @@ namespace fgsr::cli {
 namespace {
 
 bool is_engine_sr(const std::string& m) {
-    return m == "fgsr" || m == "fgsr-bilinear" || m == "fgsr-bicubic";
+    return m == "fgsr" || m == "fgsr-bilinear" || m == "fgsr-bicubic" || is_colour_method(m);
+}
+
+constexpr const char* kSrMethods = "fgsr, fgsr-colour, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic";
+
+// A colour-only method's output costs the motion estimation of its newest input too.
+GeneratedFrame timed(const std::string& m, const Session& s, GeneratedFrame f) {
+    return is_colour_method(m) ? with_motion_timings(std::move(f), s.last_motion_timings()) : f;
+}
+
+// After every session took input k: the capture's vectors of it, then each colour-only
+// session's estimate against them (fgsr/cli/eval_motion.hpp).
+Result<void> score_vectors(const capture::Frame& input, VectorReference& reference,
+                           std::map<std::string, std::unique_ptr<Session>>& sessions, EvalReport& rep) {
+    bool any = false;
+    for (const auto& [name, s] : sessions) any = any || is_colour_method(name);
+    if (!any) return {};
+    FGSR_TRY(reference.add_frame(input.view()));
+    for (const auto& [name, s] : sessions)
+        if (is_colour_method(name)) FGSR_TRY(reference.score(*s, rep.methods[name]));
+    return {};
 }
 
 // History resampling of a method; `fgsr` keeps `preset` (EvalOptions::params.resample).
@@ -74,7 +95,7 @@ Result<void> measure_stability(const EvalOptions& o, const capture::Capture& cap
         for (const std::string& m : o.methods) {
             ImageRGBA img;
             if (is_engine_sr(m)) {
-                FGSR_TRY(sessions[m]->submit(view));
+                FGSR_TRY(sessions[m]->submit(session_view(sessions[m]->format(), view)));
                 auto out = sessions[m]->super_resolved();
                 if (!out) return out.error();
                 img = std::move(out->color);
@@ -116,8 +137,7 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
     for (const std::string& m : o.methods)
         if (!is_engine_sr(m) && m != "bilinear" && m != "bicubic")
             return make_error(Errc::invalid_argument,
-                              "unknown method '" + m +
-                                  "' for sr (methods: fgsr, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic)");
+                              "unknown method '" + m + "' for sr (methods: " + kSrMethods + ")");
     if (cap.hr_reference.size() != cap.inputs.size() || cap.hr_reference.empty())
         return make_error(Errc::empty_input, "capture '" + cap.name +
                                                  "' has no high-resolution reference per frame "
@@ -142,6 +162,7 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
         for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
         if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
     }
+    VectorReference reference(cap.format);
     for (size_t k = 0; k < frames; ++k) {
         if (o.progress)
             std::fprintf(stderr, "[eval] %s sr: frame %zu/%zu\n", cap.name.c_str(), k + 1, frames);
@@ -151,10 +172,10 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
             MethodScore& score = rep.methods[m];
             ImageRGBA img;
             if (is_engine_sr(m)) {
-                FGSR_TRY(sessions[m]->submit(view));
+                FGSR_TRY(sessions[m]->submit(session_view(sessions[m]->format(), view)));
                 auto out = sessions[m]->super_resolved();
                 if (!out) return out.error();
-                add_timing(score, *out);
+                add_timing(score, timed(m, *sessions[m], *out));
                 img = std::move(out->color);
             } else {
                 img = spatial_upscale(lr, out_w, out_h, resample_of(m), view.jitter_x, view.jitter_y);
@@ -162,6 +183,7 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
             FGSR_TRY(score_image(score, img, cap.hr_reference[k]));
             if (o.out) FGSR_TRY(capture::write_png(*o.out / m / fmt::format("{:04d}.png", k + 1), img));
         }
+        FGSR_TRY(score_vectors(cap.inputs[k], reference, sessions, rep));
     }
     if (o.static_frames > 0 && frames > 0) FGSR_TRY(measure_stability(o, cap, frames - 1, sessions, rep));
     finish_means(rep);
@@ -179,9 +201,9 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
     const bool extrap = o.mode == EvalMode::esr;
     for (const std::string& m : o.methods)
         if (!is_engine_sr(m) && m != "bilinear" && m != "bicubic")
-            return make_error(Errc::invalid_argument,
-                              "unknown method '" + m + "' for " + (extrap ? "esr" : "isr") +
-                                  " (methods: fgsr, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic)");
+            return make_error(Errc::invalid_argument, "unknown method '" + m + "' for " +
+                                                          (extrap ? "esr" : "isr") +
+                                                          " (methods: " + kSrMethods + ")");
     FGSR_TRY(evaluate_at_half_rate(cap, o.progress));
     if (cap.hr_ground_truth.empty() || cap.hr_reference.size() != cap.inputs.size())
         return make_error(Errc::empty_input, "capture '" + cap.name +
@@ -211,9 +233,11 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
 
     const size_t last_input = targets.back() + (extrap ? 0 : 1);
     size_t next = 0;
+    VectorReference reference(cap.format);
     for (size_t i = 0; i <= last_input && next < targets.size(); ++i) {
-        for (auto& [name, s] : sessions) FGSR_TRY(s->submit(cap.inputs[i].view()));
+        for (auto& [name, s] : sessions) FGSR_TRY(s->submit(session_view(s->format(), cap.inputs[i].view())));
         FGSR_TRY((*lr_session)->submit(cap.inputs[i].view()));
+        FGSR_TRY(score_vectors(cap.inputs[i], reference, sessions, rep));
         const size_t k = targets[next];
         if (i != (extrap ? k : k + 1)) continue;
         ++next;
@@ -227,9 +251,17 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
             ImageRGBA img;
             if (is_engine_sr(m)) {
                 auto out = extrap ? sessions[m]->extrapolate(a) : sessions[m]->interpolate(a);
-                if (!out) return out.error();
-                add_timing(score, (*out)[0]);
-                img = std::move((*out)[0].color);
+                if (!out && restarted_at_cut(*sessions[m])) { // the newest frame, upscaled
+                    ++score.scene_cuts;
+                    auto sr = sessions[m]->super_resolved();
+                    if (!sr) return sr.error();
+                    img = std::move(sr->color);
+                } else if (!out) {
+                    return out.error();
+                } else {
+                    add_timing(score, timed(m, *sessions[m], (*out)[0]));
+                    img = std::move((*out)[0].color);
+                }
             } else {
                 if (!lr_frame) {
                     auto out = extrap ? (*lr_session)->extrapolate(a) : (*lr_session)->interpolate(a);

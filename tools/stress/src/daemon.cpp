@@ -335,6 +335,12 @@ class DaemonRunner {
         for (size_t q = 0; q < reqs.size(); ++q) {
             if (handled[q]) continue;
             const auto& [i, r] = reqs[q];
+            if (r.across_cut) {
+                na(where(i, r), "the check across a scene cut compares outputs with the session's stored "
+                                "frames, which the protocol does not expose (run by the engine feeder)");
+                handled[q] = true;
+                continue;
+            }
             if (!sub.reject.empty()) {
                 na(where(i, r), "rides on a frame that must be refused");
                 handled[q] = true;
@@ -421,7 +427,13 @@ class DaemonRunner {
                 e.seen = true;
                 const auto& [ri, r] = reqs[e.req];
                 const std::string rw = where(ri, r);
-                if (e.reject.empty()) {
+                if (e.reject.empty() && r.cut_allowed && out.status == FGSR_STATUS_NOT_READY) {
+                    // Content the engine took for a scene cut: refused as after a reset.
+                    if (!reason_recorded[e.req]) {
+                        reason_recorded[e.req] = true;
+                        if (!daemon_rejection(rw, out.status, "needs two submitted frames")) return;
+                    }
+                } else if (e.reject.empty()) {
                     if (out.status != FGSR_STATUS_OK || !img) {
                         fail(rw + " failed: " + status_name(out.status) + log_reason_line("session"));
                         return;
@@ -489,6 +501,11 @@ CaseResult run_on_daemon(const DaemonTarget& target, const Case& c, const RunOpt
         runner.run(options);
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (c.max_seconds > 0 && r.pass && r.seconds > c.max_seconds) {
+        r.pass = false;
+        r.failure = "the case took " + std::to_string(r.seconds) +
+                    " s through fgsrd, more than its bound of " + std::to_string(c.max_seconds) + " s";
+    }
     return r;
 }
 

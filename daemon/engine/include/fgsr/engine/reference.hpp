@@ -116,9 +116,9 @@ inline constexpr int kMotionRadiusFine = 1;     // around the best candidate, le
 // Cost per pixel away from the coarse prediction; on the coarsest level, which has none, away from
 // zero (it settles the near-ties of flat regions, which would otherwise drift to the window's edge).
 inline constexpr float kMotionLambda = 0.004f;
-inline constexpr float kMotionLambdaCoarsest = 0.001f;
+inline constexpr float kMotionLambdaCoarsest = 0.004f;
 inline constexpr float kMotionFbTolerance = 1.0f; // forward-backward mismatch (pixels) of occlusion
-inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) halving the proxy depth
+inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) at half the proxy's range
 inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for the same dominant motion
 // Scene cut: more than kCutShare of the level-0 blocks find no match: their best SAD (mean
 // absolute luma difference, display-referred [0, 1]) exceeds both kCutSad and kCutContrast times
@@ -126,19 +126,27 @@ inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for
 // against its texture and a flat one against an absolute step.
 inline constexpr float kCutSad = 0.04f;
 inline constexpr float kCutContrast = 0.6f;
-inline constexpr float kCutShare = 0.3f;
+inline constexpr float kCutShare = 0.22f; // real content measured at most 0.09-0.15 (docs/MOTION.md)
 
 // One pyramid level: size, block grid, where its pixels start in a pyramid buffer (floats) and
-// its blocks in the field (vec4s; the previous -> current direction follows all current ->
-// previous levels, motion_field_blocks later).
+// its blocks in the field (vec4s). The field buffer holds five regions of motion_field_blocks
+// vec4s: the final current -> previous levels, the final previous -> current levels, the first
+// (pre-propagation) pass of each of the two, and the previous submit's final current -> previous
+// levels (the temporal candidates).
 struct MotionLevel {
     uint32_t width = 0, height = 0, blocks_x = 0, blocks_y = 0, offset = 0, field_offset = 0;
 };
 std::vector<MotionLevel> motion_levels(uint32_t width, uint32_t height);
 uint32_t motion_field_blocks(const std::vector<MotionLevel>& levels); // blocks of one direction
-// Push constants of level k (forward: previous -> current) and of the flow pass.
-MatchParams match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward);
+inline constexpr uint32_t kFieldRegions = 5;
+// Push constants of level k's first pass (propagate false) or propagation pass (forward:
+// previous -> current; temporal: the temporal region holds the previous submit's field), and of
+// the flow pass.
+MatchParams match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward, bool propagate,
+                         bool temporal);
 FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth);
+// The fill stage of level 0 (match.h fill_block): final blocks in, first-pass region out.
+MatchParams fill_params(const std::vector<MotionLevel>& levels, bool forward);
 
 // What the host reads from the level-0 current -> previous blocks between the match and flow
 // passes: the dominant motion (mean of the vectors within kMotionModeRadius of the most common
@@ -155,11 +163,18 @@ MotionSummary summarise_motion(std::span<const glm::vec4> blocks);
 std::vector<float> luma_pyramid(const InternalFrame& f, const std::vector<MotionLevel>& levels);
 void match_level(const std::vector<float>& src, const std::vector<float>& dst, std::vector<glm::vec4>& field,
                  const MatchParams& p);
+void fill_level(std::vector<glm::vec4>& field, const MatchParams& p);
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
           const FlowParams& p, InternalFrame& f);
 // The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
-// cut f1 keeps its input (has_mv false).
-MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth);
+// cut f1 keeps its input (has_mv false). `field`: the field buffer carried from the previous call
+// (the engine's temporal candidates), or empty for a first frame; it is resized and updated.
+MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
+                              std::vector<glm::vec4>& field);
+inline MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
+    std::vector<glm::vec4> field;
+    return estimate_motion(f0, f1, write_depth, field);
+}
 
 // Resamples `src` (w x h) at every pixel centre + shift (pixels, x right, y down), with the
 // engine's resampling (shaders/resample.h): out(x, y) = resample(src, (x + 0.5, y + 0.5) + shift).

@@ -53,6 +53,40 @@ Result<double> ssim(const ImageRGBA& a, const ImageRGBA& ref);
 // Errors: size_mismatch, empty_input, invalid_argument for a negative or non-finite gain.
 Result<ImageRGBA> abs_diff_image(const ImageRGBA& a, const ImageRGBA& b, float gain = 1.0f);
 
+// ----- Motion vectors -----
+// Vector fields are in the engine's internal convention (fgsr/core/types.hpp): 2 floats per pixel,
+// row-major, top row first, in pixels, x right, y down, from the pixel centre in the current frame
+// to the position of the same surface point in the previous frame. Depths are linear view depths
+// (larger is farther), one float per pixel.
+
+// Relative depth difference up to which the previous frame's surface at a vector's landing point
+// is taken to be the same surface as the current pixel's (10 %: the half-rate composition's test,
+// docs/CAPTURE_FORMAT.md; well above the depth change of one surface between two frames, well
+// below the gap between an occluder and what it hides in every capture measured).
+inline constexpr float kVisibleDepthTolerance = 0.1f;
+
+// The pixels of the current frame that are visible in both frames: pixel p (centre p + 0.5) is
+// visible when its reference vector v is finite (and known[p] != 0 when `known` is given), the
+// landing point q = p + 0.5 + v lies inside the previous frame ([0, width) x [0, height)), and the
+// previous frame's depth at the nearest pixel to q (floor(q)) agrees with the current depth:
+// |d_prev - d| / min(d_prev, d) <= depth_tolerance, both depths finite and positive.
+// Result: width*height bytes, 1 = visible, 0 = not.
+// Errors: size_mismatch (spans not 2*width*height / width*height floats, known neither empty nor
+// width*height), empty_input (zero pixels), invalid_argument (tolerance negative or not finite).
+Result<std::vector<uint8_t>> visible_in_both(std::span<const float> reference_mv,
+                                             std::span<const float> depth,
+                                             std::span<const float> previous_depth, uint32_t width,
+                                             uint32_t height, float depth_tolerance = kVisibleDepthTolerance,
+                                             std::span<const uint8_t> known = {});
+
+// Mean end-point error in pixels: the mean over the pixels with mask != 0 of the Euclidean length
+// of estimated - reference. A non-finite estimated vector on a masked pixel makes the result
+// +infinity (broken estimates score badly instead of being skipped).
+// Errors: size_mismatch (vector spans not 2*width*height floats, mask not width*height bytes),
+// empty_input (zero pixels, or a mask that selects no pixel).
+Result<double> end_point_error(std::span<const float> estimated_mv, std::span<const float> reference_mv,
+                               std::span<const uint8_t> mask, uint32_t width, uint32_t height);
+
 // Temporal stability (QRISP section 4): the mean over pixels and RGB channels of the standard
 // deviation over frames of the display value (population std, display units in [0,1]; 0 for a
 // perfectly still image). Frames are added one at a time; all must have the first one's size.

@@ -1,8 +1,9 @@
 // The fgsrd session description (fgsr/protocol.h) that asks the service for what an in-process
-// engine session of `format` and `params` does: formats, conventions, scale, motion model, vector
-// dilation and jitter handling, thresholds; fifo queue, rgba32f linear outputs (bit-comparable
-// with the engine's ImageRGBA), default slot counts. Header-only: includers need fgsr/protocol.h
-// on their include path (fgsr_protocol or fgsr_client). Callers adjust the rest (slots, policy).
+// engine session of `format` and `params` does: formats, conventions, colour-only input (no
+// vectors / no depth), scale, motion model, vector dilation and jitter handling, thresholds; fifo queue,
+// rgba32f linear outputs (bit-comparable with the engine's ImageRGBA), default slot counts. Header-only:
+// includers need fgsr/protocol.h on their include path (fgsr_protocol or fgsr_client). Callers adjust the
+// rest (slots, policy).
 #pragma once
 
 #include <fgsr/engine/engine.hpp>
@@ -29,7 +30,8 @@ inline fgsr_session_desc session_desc(const FrameFormat& f, const Params& p, uin
               (p.dilate_mvs ? FGSR_SESSION_DILATE_MVS : 0u) |
               (p.mvs_contain_jitter ? FGSR_SESSION_MVS_CONTAIN_JITTER : 0u) |
               (p.motion == MotionModel::linear ? FGSR_SESSION_LINEAR_MOTION : 0u) |
-              (p.denoise ? 0u : FGSR_SESSION_NO_DENOISE);
+              (p.denoise ? 0u : FGSR_SESSION_NO_DENOISE) | (f.has_vectors ? 0u : FGSR_SESSION_NO_MVS) |
+              (f.has_depth ? 0u : FGSR_SESSION_NO_DEPTH);
     d.queue_policy = FGSR_QUEUE_FIFO;
     d.output_format = FGSR_COLOR_RGBA32F_LINEAR;
     d.t_depth = p.t_depth;

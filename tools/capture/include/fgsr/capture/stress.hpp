@@ -52,6 +52,20 @@ struct Step {
     // against the reference of that number.
     int drift_reference = -1;
     int drift_compare = -1;
+    // interpolate / extrapolate across a scene cut the session was not told about (no
+    // FrameView::reset; colour-only sessions detect cuts from colour): the step passes when it is
+    // refused with a reason mentioning "needs two submitted frames" or with the session's
+    // frames_submitted() back at 1 (the engine restarted at the cut, as after FrameView::reset),
+    // or when every output equals the session's frame 0 or frame
+    // 1 as stored (Session::read_frame, within 1e-3 relative to max(1, |value|)): never a warp or
+    // a blend of the two scenes. `reject` is unused.
+    bool across_cut = false;
+    // interpolate / extrapolate on content a colour-only session may take for a scene cut (no
+    // texture, noise, a fade, motion beyond any search range): besides succeeding, the step may be
+    // refused as after a reset (a reason mentioning "needs two submitted frames", or the session's
+    // frames_submitted() back at 1; through fgsrd NOT_READY with that reason logged). Any other
+    // failure still fails the case.
+    bool cut_allowed = false;
 };
 
 struct Case {
@@ -67,6 +81,9 @@ struct Case {
     bool cpu_reference = true;              // also run the CPU reference on the same inputs (small cases)
     // Long runs: the drift figure must stay at or above this PSNR (dB).
     double min_drift_db = 0.0;
+    // > 0: the case fails when it takes longer (seconds, wall time of the whole case): a bound
+    // against runaway work (e.g. a search that grows with the motion), not a benchmark.
+    double max_seconds = 0.0;
 };
 
 struct CaseOptions {

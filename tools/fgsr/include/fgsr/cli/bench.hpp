@@ -1,5 +1,6 @@
 // `fgsr bench`: run time against error. For each capture x mode x configuration (the quality
-// presets of fgsr/engine/presets.hpp, and each single switch toggled from `balanced`) it runs
+// presets of fgsr/engine/presets.hpp, each single switch toggled from `balanced`, and `balanced`
+// on colour alone: vectors and depth withheld, eval's fgsr-colour) it runs
 // `fgsr eval`'s scoring on the same frames and records engine GPU milliseconds (timestamp
 // queries, median over frames x repeats, per pass and total) with PSNR / SSIM; then it times the
 // engine against resolution (540p .. 2160p synthetic inputs), frames generated per pair, a memcpy
@@ -158,6 +159,10 @@ struct BenchOptions {
     std::vector<std::string> modes{"interp", "extrap", "sr", "isr", "esr"};
     std::vector<std::string> presets{"performance", "balanced", "quality"};
     bool toggles = true; // also each single switch toggled from balanced
+    // Also "balanced+colour": balanced with the capture's vectors and depth withheld (eval's
+    // fgsr-colour: motion estimated from colour; its time includes the motion passes of the newest
+    // input's submit, its row the EPE of the estimated vectors).
+    bool colour = true;
     std::vector<std::string> resolutions{"540p", "720p", "1080p", "2160p"};
     std::vector<int> alpha_counts{1, 2, 4, 8}; // frames generated per pair (one call)
     int repeats = 5;                           // engine calls per generated frame (timing)
@@ -182,8 +187,13 @@ struct BenchRow {
     double ms = 0, ms_mean = 0;            // median / mean over samples
     std::map<std::string, double> pass_ms; // median per pass
     double psnr = 0, ssim = 0;             // mean over frames
-    uint64_t bytes = 0;                    // frame_bytes estimate per generated frame
-    bool pareto = false;                   // on the front of its capture and mode
+    // Colour-only rows (balanced+colour): ms includes the motion passes of the newest input's
+    // submit, motion_ms is their median alone; epe the mean EPE in pixels (NaN elsewhere).
+    bool colour_only = false;
+    double motion_ms = 0;
+    double epe = std::numeric_limits<double>::quiet_NaN();
+    uint64_t bytes = 0;  // frame_bytes estimate per generated frame
+    bool pareto = false; // on the front of its capture and mode
 };
 
 // Balanced interpolation at one resolution (synthetic scene).
@@ -212,6 +222,15 @@ struct BenchReport {
     // frame = the new input's ingest + the call (GPU ms, medians).
     double still_ms = 0, moving_ms = 0;
     double still_frame_ms = 0, moving_frame_ms = 0;
+    // Colour only (BenchOptions::colour), balanced interpolation of the moving synthetic scene at
+    // the headline resolution, each sample on a fresh pair: the new input's motion passes (at
+    // submit; 0 until the engine times them), its ingest and the interpolate call (GPU ms,
+    // medians), and the motion passes one by one (issue 12: motion at most 2x the rest).
+    struct ColourTiming {
+        bool measured = false;
+        double motion_ms = 0, ingest_ms = 0, call_ms = 0;
+        std::map<std::string, double> motion_pass_ms;
+    } colour;
     double seconds = 0;
     int repeats = 0, frames = 0;
     unsigned copy_threads = 0;
@@ -233,7 +252,7 @@ double time_copy_ms(uint64_t bytes, int repeats, unsigned threads);
 struct BenchCli {
     BenchOptions options;
     std::string captures, modes, presets, resolutions, alphas, out;
-    bool no_toggles = false, no_plots = false, quiet = false;
+    bool no_toggles = false, no_plots = false, quiet = false, no_colour = false;
 };
 CLI::App* add_bench_command(CLI::App& app, BenchCli& c);
 int bench_main(BenchCli& c, CLI::App* cmd);

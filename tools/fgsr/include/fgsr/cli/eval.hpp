@@ -22,7 +22,8 @@ struct EvalOptions {
     std::string capture = "builtin"; // a capture directory, or "builtin" (generated synthetic scene)
     EvalMode mode = EvalMode::interp;
     float alpha = 0.5f;
-    std::vector<std::string> methods{"fgsr", "linear", "blend", "repeat"};
+    // fgsr-colour: the engine with the capture's vectors and depth withheld (fgsr/cli/eval_motion.hpp).
+    std::vector<std::string> methods{"fgsr", "fgsr-colour", "linear", "blend", "repeat"};
     std::optional<std::filesystem::path> out; // generated frames (EXR + PNG) and metrics.json
     bool json = false;
     bool prefer_lr = false; // Mob-FGSR captures: LR_Inputs instead of HR_Inputs
@@ -38,6 +39,10 @@ struct EvalOptions {
     // vectors, so uniform acceleration falls back to uniform velocity there); max_frames counts
     // the targets after them.
     int skip_targets = 0;
+    // interp / extrap: the vectors of the inputs come from DIR/%04d.flo instead of the capture and
+    // the depth is withheld (replace_vectors_from, fgsr/cli/eval_motion.hpp); the engine methods
+    // then also report the EPE of those vectors against the capture's.
+    std::optional<std::filesystem::path> vectors_from;
     // Not owned; when set, evaluated instead of loading `capture` (must outlive run_eval).
     const capture::Capture* preloaded = nullptr;
     // Not owned; when set, sessions are made on it instead of a new engine (`device` unused).
@@ -57,6 +62,16 @@ struct MethodScore {
     double stability_std = -1;
     // Per pass that classifies tiles (Params::skip_tiles): tiles skipped and tiles in total, summed.
     std::map<std::string, std::pair<uint64_t, uint64_t>> pass_tiles;
+    // End-point error of the method's vectors against the capture's, per scored input frame, in
+    // pixels (fgsr/cli/eval_motion.hpp); scores_vectors: the method is scored on its vectors
+    // (colour-only methods; every engine method with vectors_from).
+    std::vector<double> epe;
+    double mean_epe = 0;
+    bool scores_vectors = false;
+    // Colour-only methods: generated frames the session refused because it detected a scene cut
+    // in the newest input (restarted_at_cut, fgsr/cli/eval_motion.hpp); the nearest input is
+    // scored in their place and they are not timed.
+    size_t scene_cuts = 0;
 };
 
 struct EvalReport {
@@ -106,7 +121,8 @@ void add_timing(MethodScore& score, const GeneratedFrame& frame);
 void finish_means(EvalReport& report);
 // The engine to make sessions on: o.engine, else `owned` (created from o.device on first use).
 Result<Engine*> eval_engine(const EvalOptions& o, std::unique_ptr<Engine>& owned, EvalReport& report);
-// One engine session per engine method of `methods` (those `params_for` returns a value for).
+// One engine session per engine method of `methods` (those `params_for` returns a value for);
+// colour-only methods get a session of colour_only(format).
 using SessionParams = std::function<std::optional<Params>(const std::string& method)>;
 Result<std::map<std::string, std::unique_ptr<Session>>>
 make_sessions(const EvalOptions& o, const FrameFormat& format, const SessionParams& params_for,

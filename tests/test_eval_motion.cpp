@@ -1,0 +1,273 @@
+// Motion in `fgsr eval` (fgsr/cli/eval_motion.hpp): the colour-only method fgsr-colour in the
+// JSON, the EPE reference (a session given the capture's vectors scores 0 against it), and
+// --vectors-from with the capture's own vectors written as .flo files (EPE 0) or malformed ones.
+#include "engine_fixture.hpp"
+#include "run_process.hpp"
+
+#include <fgsr/cli/capture_spec.hpp>
+#include <fgsr/cli/eval_motion.hpp>
+
+#include <fgsr/capture/flow_io.hpp>
+#include <fgsr/capture/synthetic.hpp>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fgsr::test {
+namespace {
+
+ProcessRun run_fgsr(const std::string& args) {
+    return run_process(std::string(FGSR_BIN_DIR) + "/fgsr " + args);
+}
+
+nlohmann::json eval_json(const std::string& args) {
+    ProcessRun r = run_fgsr("eval --quiet --json " + args);
+    EXPECT_EQ(r.status, 0) << args;
+    return nlohmann::json::parse(r.out, nullptr, false);
+}
+
+bool finite_number(const nlohmann::json& v) {
+    return v.is_number() && std::isfinite(v.get<double>());
+}
+
+// A scratch directory per test, removed at the end.
+class EvalMotion : public testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ = std::filesystem::temp_directory_path() /
+               ("fgsr-test-eval-motion-" + std::to_string(::getpid()) + "-" +
+                testing::UnitTest::GetInstance()->current_test_info()->name());
+        std::filesystem::remove_all(dir_);
+        std::filesystem::create_directories(dir_);
+    }
+    void TearDown() override { std::filesystem::remove_all(dir_); }
+
+    // The built-in capture's vectors of inputs 1.. in the internal convention, as .flo files.
+    void write_capture_flow(const capture::Capture& cap) {
+        for (size_t k = 1; k < cap.inputs.size(); ++k) {
+            const ref::InternalFrame f = ref::ingest(cap.format, cap.inputs[k].view());
+            ASSERT_TRUE(f.has_mv) << k;
+            capture::FlowField flow;
+            flow.width = f.width;
+            flow.height = f.height;
+            for (const glm::vec2& v : f.mv) {
+                flow.xy.push_back(v.x);
+                flow.xy.push_back(v.y);
+            }
+            ASSERT_TRUE(capture::write_flo(dir_ / fmt::format("{:04d}.flo", k), flow));
+        }
+    }
+    std::filesystem::path dir_;
+};
+
+TEST_F(EvalMotion, ColourMethodIsInTheJsonWithFiniteFigures) {
+    for (const char* mode : {"interp", "extrap"}) {
+        // The default method list has fgsr-colour.
+        nlohmann::json j = eval_json(std::string("--capture builtin --frames 3 --mode ") + mode);
+        ASSERT_FALSE(j.is_discarded()) << mode;
+        ASSERT_TRUE(j["methods"].contains("fgsr-colour")) << j.dump();
+        const nlohmann::json& c = j["methods"]["fgsr-colour"];
+        for (const char* key : {"psnr", "ssim", "ms", "epe"})
+            EXPECT_TRUE(finite_number(c[key])) << mode << " " << key << " = " << c[key];
+        EXPECT_GT(c["psnr"].get<double>(), 15.0) << mode;
+        EXPECT_GT(c["ms"].get<double>(), 0.0) << mode;
+        // The builtin scene moves; no estimate matches the analytic vectors to the last bit, so an
+        // EPE of exactly 0 would mean the scoring compared a field with itself.
+        EXPECT_GT(c["epe"].get<double>(), 0.0) << mode;
+        EXPECT_FALSE(j["methods"]["fgsr"].contains("epe")) << "fgsr gets the capture's vectors";
+    }
+    // The table names the method and the EPE column.
+    ProcessRun t = run_fgsr("eval --quiet --capture builtin --frames 2 --methods fgsr,fgsr-colour");
+    ASSERT_EQ(t.status, 0);
+    EXPECT_NE(t.out.find("fgsr-colour"), std::string::npos) << t.out;
+    EXPECT_NE(t.out.find("EPE px"), std::string::npos) << t.out;
+}
+
+// The reference scored against a session that holds the capture's own vectors: 0 on every frame
+// with vectors; a session without them (colour only: zero vectors until the engine estimates)
+// scores the mean motion of the visible pixels, > 0 on a moving scene.
+TEST_F(EvalMotion, ReferenceSessionScoresZeroAgainstItself) {
+    auto cap = cli::load_capture_spec("builtin", false, 5);
+    ASSERT_TRUE(cap) << cap.error().message;
+    auto given = engine().create_session(cap->format);
+    ASSERT_TRUE(given) << given.error().message;
+    auto colour = engine().create_session(cli::colour_only(cap->format));
+    ASSERT_TRUE(colour) << colour.error().message;
+    cli::VectorReference reference(cap->format);
+    cli::MethodScore self, est;
+    for (const capture::Frame& f : cap->inputs) {
+        ASSERT_TRUE((*given)->submit(f.view()));
+        ASSERT_TRUE((*colour)->submit(cli::session_view((*colour)->format(), f.view())));
+        ASSERT_TRUE(reference.add_frame(f.view()));
+        ASSERT_TRUE(reference.score(**given, self));
+        ASSERT_TRUE(reference.score(**colour, est));
+    }
+    ASSERT_EQ(self.epe.size(), cap->inputs.size() - 1) << "every input after the first is scored";
+    for (double e : self.epe) EXPECT_NEAR(e, 0.0, 1e-6);
+    ASSERT_EQ(est.epe.size(), self.epe.size());
+    for (double e : est.epe) EXPECT_TRUE(std::isfinite(e) && e >= 0.0) << e;
+    // Session views of a colour-only session carry neither vectors nor depth.
+    const FrameView v = cli::session_view((*colour)->format(), cap->inputs[1].view());
+    EXPECT_TRUE(v.mv.empty());
+    EXPECT_TRUE(v.depth.empty());
+    EXPECT_FALSE(v.color.empty());
+    expect_no_validation_errors();
+}
+
+TEST_F(EvalMotion, VectorsFromTheCapturesOwnFlowScoreZero) {
+    auto cap = cli::load_capture_spec("builtin");
+    ASSERT_TRUE(cap) << cap.error().message;
+    write_capture_flow(*cap);
+    nlohmann::json j =
+        eval_json("--capture builtin --frames 4 --methods fgsr,blend --vectors-from " + dir_.string());
+    ASSERT_FALSE(j.is_discarded());
+    const nlohmann::json& f = j["methods"]["fgsr"];
+    ASSERT_TRUE(finite_number(f["epe"])) << f.dump();
+    EXPECT_NEAR(f["epe"].get<double>(), 0.0, 1e-4);
+    EXPECT_TRUE(finite_number(f["psnr"])) << f.dump();
+    // The vectors are right, the depth is withheld: still far better than a blend.
+    EXPECT_GT(f["psnr"].get<double>(), j["methods"]["blend"]["psnr"].get<double>() + 3.0) << j.dump();
+
+    // Vectors scaled by 1.5: the EPE is half the mean vector length, > 0.
+    for (size_t k = 1; k < cap->inputs.size(); ++k) {
+        const std::filesystem::path p = dir_ / fmt::format("{:04d}.flo", k);
+        auto flow = capture::read_flo(p);
+        ASSERT_TRUE(flow);
+        for (float& v : flow->xy) v *= 1.5f;
+        ASSERT_TRUE(capture::write_flo(p, *flow));
+    }
+    nlohmann::json s =
+        eval_json("--capture builtin --frames 4 --methods fgsr --vectors-from " + dir_.string());
+    ASSERT_FALSE(s.is_discarded());
+    EXPECT_GT(s["methods"]["fgsr"]["epe"].get<double>(), 0.1) << s.dump();
+}
+
+TEST_F(EvalMotion, VectorsFromRefusesBadFlowFiles) {
+    auto cap = cli::load_capture_spec("builtin");
+    ASSERT_TRUE(cap) << cap.error().message;
+    write_capture_flow(*cap);
+    const std::string args = "eval --quiet --capture builtin --frames 2 --methods fgsr --vectors-from ";
+    // A truncated file.
+    std::filesystem::resize_file(dir_ / "0002.flo", std::filesystem::file_size(dir_ / "0002.flo") - 4);
+    ProcessRun r = run_fgsr(args + dir_.string() + " 2>&1");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.out.find("0002.flo"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("truncated"), std::string::npos) << r.out;
+    // A field of another size.
+    capture::FlowField small{4, 4, std::vector<float>(32, 0.f)};
+    ASSERT_TRUE(capture::write_flo(dir_ / "0002.flo", small));
+    r = run_fgsr(args + dir_.string() + " 2>&1");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.out.find("4x4"), std::string::npos) << r.out;
+    // A missing file, and a directory that does not exist.
+    std::filesystem::remove(dir_ / "0001.flo");
+    r = run_fgsr(args + dir_.string() + " 2>&1");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.out.find("0001.flo"), std::string::npos) << r.out;
+    r = run_fgsr(args + (dir_ / "nowhere").string() + " 2>&1");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.out.find("not a directory"), std::string::npos) << r.out;
+    // Only frame generation takes it.
+    r = run_fgsr("eval --quiet --mode sr --capture builtin --vectors-from " + dir_.string() + " 2>&1");
+    EXPECT_NE(r.status, 0);
+}
+
+// A colour-only frame's time adds the motion passes of its newest input's submit as passes of
+// their own; eval's fgsr-colour reports them in pass_ms, and its ms is larger than its generate
+// call's passes alone by their sum.
+TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
+    GeneratedFrame f;
+    f.gpu_ms = 10.0;
+    PassTiming splat, luma, match;
+    splat.name = "splat";
+    splat.ms = 10.0;
+    luma.name = "luma";
+    luma.ms = 1.25;
+    match.name = "match";
+    match.ms = 2.5;
+    f.passes = {splat};
+    const GeneratedFrame g = cli::with_motion_timings(f, {luma, match});
+    EXPECT_DOUBLE_EQ(g.gpu_ms, 13.75);
+    ASSERT_EQ(g.passes.size(), 3u);
+    EXPECT_EQ(g.passes[1].name, "luma");
+    EXPECT_EQ(g.passes[2].name, "match");
+    cli::MethodScore score;
+    cli::add_timing(score, g);
+    EXPECT_DOUBLE_EQ(score.pass_ms["match"], 2.5);
+
+    nlohmann::json j = eval_json(
+        "--capture builtin --frames 2 --no-skip-tiles --methods fgsr-colour"); // every pass every frame
+    ASSERT_FALSE(j.is_discarded());
+    const nlohmann::json& c = j["methods"]["fgsr-colour"];
+    double motion = 0, all = 0;
+    for (const char* pass : {"luma", "match", "flow"}) {
+        ASSERT_TRUE(c["pass_ms"].contains(pass)) << c.dump();
+        motion += c["pass_ms"][pass].get<double>();
+    }
+    for (const auto& [name, ms] : c["pass_ms"].items()) all += ms.get<double>();
+    EXPECT_GT(motion, 0.0);
+    EXPECT_NEAR(c["ms"].get<double>(), all, 1e-6 * all) << "ms is the sum of every pass, motion included";
+}
+
+// A cut the capture does not flag (the inputs from 5 on come from another scene): the colour-only
+// session detects it and refuses the pair across it; eval shows the nearest input there, counts
+// it and carries on (it used to stop the whole evaluation with the refusal).
+TEST(EvalMotionTiming, DetectedCutIsScoredAsTheNearestInput) {
+    auto a = cli::load_capture_spec("builtin");
+    ASSERT_TRUE(a) << a.error().message;
+    capture::SceneOptions other;
+    other.seed = 77;
+    other.supersample = 1;
+    auto b = capture::make_synthetic_capture(other, 11);
+    ASSERT_TRUE(b) << b.error().message;
+    ASSERT_EQ(b->format.width, a->format.width);
+    for (size_t k = 5; k < a->inputs.size(); ++k) {
+        // Scene B's colour seen by a camera that also turned around: mirrored rows.
+        capture::Frame f = b->inputs[k];
+        const size_t row = f.color.size() / b->format.height;
+        for (uint32_t y = 0; y < b->format.height; ++y)
+            std::copy(b->inputs[k].color.begin() + std::ptrdiff_t(y * row),
+                      b->inputs[k].color.begin() + std::ptrdiff_t((y + 1) * row),
+                      f.color.end() - std::ptrdiff_t((y + 1) * row));
+        a->inputs[k].color = f.color;
+    }
+    cli::EvalOptions o;
+    o.methods = {"fgsr-colour", "blend"};
+    o.preloaded = &*a;
+    o.engine = &engine();
+    o.progress = false;
+    auto r = cli::run_eval(o);
+    ASSERT_TRUE(r) << r.error().message;
+    const cli::MethodScore& c = r->methods.at("fgsr-colour");
+    EXPECT_GE(c.scene_cuts, 1u) << "the cut before input 5 is detected";
+    EXPECT_LT(c.scene_cuts, 4u) << "and little else";
+    EXPECT_EQ(c.psnr.size(), r->frames) << "every frame is scored";
+    EXPECT_EQ(c.ms_samples.size(), r->frames - c.scene_cuts) << "refused frames are not timed";
+    const nlohmann::json j = nlohmann::json::parse(cli::report_json(*r, false));
+    EXPECT_EQ(j["methods"]["fgsr-colour"]["scene_cuts"].get<size_t>(), c.scene_cuts);
+    expect_no_validation_errors();
+}
+
+TEST(EvalMotionCaptures, ColourMethodInSuperResolution) {
+    const std::filesystem::path dir = std::filesystem::path(FGSR_SHARED_CAPTURES) / "blender/orbit-sr";
+    if (!std::filesystem::exists(dir))
+        GTEST_SKIP() << "../shared/captures/blender/orbit-sr not found (captures exist in CI only)";
+    nlohmann::json j = eval_json(
+        "--mode sr --frames 3 --static-frames 0 --methods fgsr,fgsr-colour --capture " + dir.string());
+    ASSERT_FALSE(j.is_discarded());
+    const nlohmann::json& c = j["methods"]["fgsr-colour"];
+    for (const char* key : {"psnr", "ssim", "ms", "epe"})
+        EXPECT_TRUE(finite_number(c[key])) << key << " = " << c[key];
+    EXPECT_GT(c["psnr"].get<double>(), 15.0);
+}
+
+} // namespace
+} // namespace fgsr::test
