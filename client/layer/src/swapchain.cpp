@@ -305,10 +305,14 @@ void Swapchain::process(Item& item) {
         std::vector<Generated> gens = generate(item, deadline);
         // The schedule starts at the previous real present R, or later when the generated frames
         // came after R + P / m: then everything moves later by as much (the real frame too), which
-        // raises the latency to what the daemon needs and keeps the intervals even.
+        // raises the latency to what the daemon needs and keeps the intervals even. It may also
+        // start up to half a step before R, so that the latency comes back down once the daemon is
+        // fast again (one gap of the sequence is then shorter by at most P / 2m).
         const uint64_t R = last_real_ns_;
         const uint64_t ready = monotonic_ns();
-        const uint64_t base = R == 0 ? 0 : std::max(R, ready > P / m ? ready - P / m : 0);
+        const uint64_t step = P / m, catch_up = P / (2 * m);
+        const uint64_t base =
+            R == 0 ? 0 : std::max(R > catch_up ? R - catch_up : 0, ready > step ? ready - step : 0);
         bool on_time = true;
         uint32_t shown = 0;
         for (const Generated& g : gens) {
