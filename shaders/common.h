@@ -19,7 +19,10 @@ using uint = uint32_t;
 using uint64_t = std::uint64_t;
 } // namespace fgsr::gpu
 #define FGSR_INLINE inline
+#define FGSR_UNROLL
 #else
+#extension GL_EXT_control_flow_attributes : require
+#define FGSR_UNROLL [[unroll]]
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #define FGSR_INLINE

@@ -33,6 +33,7 @@
 //   void  store_flow(uint pixel, vec2 mv, float depth, bool write_depth)
 
 #define FLOW_SMOOTH_BIAS 0.9f // cost factor of the bilinear candidate
+#define FLOW_AGREE 0.25f     // pixels: blocks this close to their blend need no per-pixel choice
 #define FLOW_PROXY_RANGE 0.04f // depth proxies lie in (1 - range, 1]
 
 FGSR_INLINE vec2 flow_block(ivec2 b, uint offset, FlowParams p) {
@@ -61,45 +62,11 @@ FGSR_INLINE float flow_luma(ivec2 q, bool prev, FlowParams p) {
 FGSR_INLINE float flow_cost(ivec2 q, vec2 v, FlowParams p) {
     ivec2 d = ivec2(floor(v + 0.5f));
     float s = 0.0f;
-    for (int y = -1; y <= 1; ++y)
-        for (int x = -1; x <= 1; ++x) s += abs(flow_luma(q + ivec2(x, y), false, p) - flow_luma(q + ivec2(x, y) + d, true, p));
-    return s * (1.0f / 9.0f);
-}
-
-// Bilinear luma of the previous frame at a position in pixels (centres at +0.5).
-FGSR_INLINE float flow_prev_at(vec2 pos, FlowParams p) {
-    vec2 b = pos - 0.5f;
-    vec2 i = floor(b);
-    vec2 f = b - i;
-    ivec2 c = ivec2(i);
-    float top = mix(flow_luma(c, true, p), flow_luma(c + ivec2(1, 0), true, p), f.x);
-    float bottom = mix(flow_luma(c + ivec2(0, 1), true, p), flow_luma(c + ivec2(1, 1), true, p), f.x);
-    return mix(top, bottom, f.y);
-}
-
-// One Lucas-Kanade step over the 5x5 neighbourhood (inverse compositional: the current frame's
-// gradients): the correction dv that brings prev(x + v + dv) closest to cur(x) to first order.
-// Kept only where the neighbourhood has texture in both directions and the step stays within a
-// pixel; elsewhere (flat, or an edge only: the aperture problem) v is returned unchanged.
-FGSR_INLINE vec2 flow_refine(ivec2 q, vec2 v, FlowParams p) {
-    float hxx = 0.0f, hxy = 0.0f, hyy = 0.0f, bx = 0.0f, by = 0.0f;
-    for (int y = -2; y <= 2; ++y)
-        for (int x = -2; x <= 2; ++x) {
-            ivec2 o = q + ivec2(x, y);
-            float gx = 0.5f * (flow_luma(o + ivec2(1, 0), false, p) - flow_luma(o - ivec2(1, 0), false, p));
-            float gy = 0.5f * (flow_luma(o + ivec2(0, 1), false, p) - flow_luma(o - ivec2(0, 1), false, p));
-            float e = flow_prev_at(vec2(o) + 0.5f + v, p) - flow_luma(o, false, p);
-            hxx += gx * gx;
-            hxy += gx * gy;
-            hyy += gy * gy;
-            bx += gx * e;
-            by += gy * e;
-        }
-    float det = hxx * hyy - hxy * hxy;
-    float trace = hxx + hyy;
-    if (!(det > 0.05f * trace * trace) || trace < 1.0e-3f) return v;
-    vec2 dv = -vec2(hyy * bx - hxy * by, hxx * by - hxy * bx) / det;
-    return length(dv) < 1.0f ? v + dv : v;
+    for (int k = 0; k < 5; ++k) {
+        ivec2 o = k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1))));
+        s += abs(flow_luma(q + o, false, p) - flow_luma(q + o + d, true, p));
+    }
+    return s * 0.2f;
 }
 
 FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
@@ -110,20 +77,28 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     vec2 b = pos * (1.0f / float(MOTION_BLOCK)) - 0.5f;
     ivec2 c = ivec2(floor(b));
     vec2 best = flow_bilinear(pos, p.back_offset, p);
-    float best_cost = FLOW_SMOOTH_BIAS * flow_cost(q, best, p);
-    vec2 nearest_g = best;
+    vec2 corner[4];
+    float spread = 0.0f;
     for (int k = 0; k < 4; ++k) {
-        vec2 v = flow_block(c + ivec2(k & 1, k >> 1), p.back_offset, p);
-        float cost = flow_cost(q, v, p);
-        if (cost < best_cost) {
-            best_cost = cost;
-            best = v;
+        corner[k] = flow_block(c + ivec2(k & 1, k >> 1), p.back_offset, p);
+        spread = max(spread, length(corner[k] - best));
+    }
+    vec2 nearest_g = best;
+    // Where the four blocks agree (most of a frame) the blend is the answer: no costs to compare.
+    if (spread > FLOW_AGREE) {
+        float best_cost = FLOW_SMOOTH_BIAS * flow_cost(q, best, p);
+        for (int k = 0; k < 4; ++k) {
+            float cost = flow_cost(q, corner[k], p);
+            if (cost < best_cost) {
+                best_cost = cost;
+                best = corner[k];
+            }
+            if (length(corner[k] - g) < length(nearest_g - g)) nearest_g = corner[k];
         }
-        if (length(v - g) < length(nearest_g - g)) nearest_g = v;
     }
     vec2 back = flow_bilinear(pos + best, p.fwd_offset, p);
     bool occluded = length(best + back) > p.fb_tolerance + 0.1f * length(best);
-    vec2 v = occluded ? nearest_g : flow_refine(q, best, p);
+    vec2 v = occluded ? nearest_g : best;
     float m = occluded ? 0.0f : max(length(v - g) - 1.0f, 0.0f);
     store_flow(u.y * p.width + u.x, v, 1.0f - FLOW_PROXY_RANGE * m / (m + p.depth_scale), p.write_depth != 0u);
 }

@@ -8,7 +8,8 @@
 //   1. candidates: the zero vector; the previous submit's vector of the block (motion is coherent
 //      in time); below the coarsest level, twice the vectors of the parent block and of its three
 //      neighbours on this block's side (so a block at a motion boundary can take the motion of
-//      either side). Each level is then matched a second time (propagation): the candidates are
+//      either side). Each level of the current -> previous field is then matched a second time
+//      (propagation; the other direction only checks it, flow.h): the candidates are
 //      the first pass's vectors of the block and its four neighbours, so that a good match
 //      spreads along structures (poles, floors) that single blocks miss;
 //   2. cost of a displacement d: mean absolute luma difference over the block (SAD / 64) plus
@@ -28,16 +29,28 @@
 //   vec4  load_field(uint index) the block field (coarser level)
 //   void  store_field(uint index, vec4 value)
 
+#define MATCH_GOOD 0.003f // mean absolute luma difference of a match that needs no search
+
 FGSR_INLINE float match_dst(ivec2 q, MatchParams p) {
     q = clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
     return load_dst(p.dst_offset + uint(q.y) * p.width + uint(q.x));
 }
 
+// Mean absolute difference over the block's checkerboard half (32 pixels): the cost candidates and
+// the search compare (half the reads; a displacement that fits one half of an 8x8 block fits the
+// other).
+FGSR_INLINE float match_cost(float blk[64], ivec2 origin, ivec2 d, MatchParams p) {
+    float s = 0.0f;
+    FGSR_UNROLL for (int y = 0; y < 8; ++y)
+        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) s += abs(blk[y * 8 + x] - match_dst(origin + ivec2(x, y) + d, p));
+    return s * (1.0f / 32.0f);
+}
+
 // Mean absolute difference of the block (its luma in blk) against the destination at origin + d.
 FGSR_INLINE float match_sad(float blk[64], ivec2 origin, ivec2 d, MatchParams p) {
     float s = 0.0f;
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 8; ++x) s += abs(blk[y * 8 + x] - match_dst(origin + ivec2(x, y) + d, p));
+    FGSR_UNROLL for (int y = 0; y < 8; ++y)
+        FGSR_UNROLL for (int x = 0; x < 8; ++x) s += abs(blk[y * 8 + x] - match_dst(origin + ivec2(x, y) + d, p));
     return s * (1.0f / 64.0f);
 }
 
@@ -64,15 +77,15 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
     ivec2 last = ivec2(int(p.width) - 1, int(p.height) - 1);
     float blk[64];
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 8; ++x) {
+    FGSR_UNROLL for (int y = 0; y < 8; ++y)
+        FGSR_UNROLL for (int x = 0; x < 8; ++x) {
             ivec2 q = min(origin + ivec2(x, y), last);
             blk[y * 8 + x] = load_src(p.src_offset + uint(q.y) * p.width + uint(q.x));
         }
     vec2 pred = vec2(0.0f);
     if (p.same_offset != MOTION_NONE) pred = match_same(ivec2(b), p.same_offset, p);
     ivec2 best = ivec2(0);
-    float best_cost = match_sad(blk, origin, best, p) + p.lambda * length(pred);
+    float best_cost = match_cost(blk, origin, best, p) + p.lambda * length(pred);
     if (p.same_offset != MOTION_NONE) {
         // Propagation: this block's own first-pass vector and its four neighbours', so that a
         // good match spreads along a structure (a pole, a floor) that single blocks miss.
@@ -80,7 +93,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
             ivec2 c = ivec2(b) + (k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1)))));
             vec2 v = match_same(c, p.same_offset, p);
             ivec2 d = ivec2(floor(v + 0.5f));
-            float cost = match_sad(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+            float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
             if (cost < best_cost) {
                 best_cost = cost;
                 best = d;
@@ -91,7 +104,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
         // The previous submit's vector of this block: motion is coherent in time.
         vec2 v = match_same(ivec2(b), p.temporal_offset, p);
         ivec2 d = ivec2(floor(v + 0.5f));
-        float cost = match_sad(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+        float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
         if (cost < best_cost) {
             best_cost = cost;
             best = d;
@@ -101,24 +114,27 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
         ivec2 parent = ivec2(b) / 2;
         ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
         pred = match_coarse(parent, p);
-        best_cost = match_sad(blk, origin, best, p) + p.lambda * length(vec2(best) - pred);
+        best_cost = match_cost(blk, origin, best, p) + p.lambda * length(vec2(best) - pred);
         for (int k = 0; k < 4; ++k) {
             ivec2 c = parent + ivec2((k & 1) != 0 ? side.x : 0, (k & 2) != 0 ? side.y : 0);
             vec2 v = match_coarse(c, p);
             ivec2 d = ivec2(floor(v + 0.5f));
-            float cost = match_sad(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+            float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
             if (cost < best_cost) {
                 best_cost = cost;
                 best = d;
             }
         }
     }
+    // A candidate that already matches to within MATCH_GOOD needs no search around it (most blocks
+    // of a smooth motion, after the first levels): only its sub-pixel fit.
     ivec2 centre = best;
-    for (int dy = -p.radius; dy <= p.radius; ++dy)
-        for (int dx = -p.radius; dx <= p.radius; ++dx) {
+    int radius = best_cost < MATCH_GOOD ? 0 : p.radius;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
             if (dx == 0 && dy == 0) continue;
             ivec2 d = centre + ivec2(dx, dy);
-            float cost = match_sad(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+            float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
             if (cost < best_cost) {
                 best_cost = cost;
                 best = d;
@@ -126,16 +142,17 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
         }
     // The block's contrast (mean absolute deviation): what a cut's mismatch is measured against.
     float mean = 0.0f;
-    for (int k = 0; k < 64; ++k) mean += blk[k];
+    FGSR_UNROLL for (int k = 0; k < 64; ++k) mean += blk[k];
     mean *= 1.0f / 64.0f;
     float contrast = 0.0f;
-    for (int k = 0; k < 64; ++k) contrast += abs(blk[k] - mean);
+    FGSR_UNROLL for (int k = 0; k < 64; ++k) contrast += abs(blk[k] - mean);
     contrast *= 1.0f / 64.0f;
     float c0 = match_sad(blk, origin, best, p);
-    float sx = match_subpixel(match_sad(blk, origin, best - ivec2(1, 0), p), c0,
-                              match_sad(blk, origin, best + ivec2(1, 0), p));
-    float sy = match_subpixel(match_sad(blk, origin, best - ivec2(0, 1), p), c0,
-                              match_sad(blk, origin, best + ivec2(0, 1), p));
+    float h0 = match_cost(blk, origin, best, p);
+    float sx = match_subpixel(match_cost(blk, origin, best - ivec2(1, 0), p), h0,
+                              match_cost(blk, origin, best + ivec2(1, 0), p));
+    float sy = match_subpixel(match_cost(blk, origin, best - ivec2(0, 1), p), h0,
+                              match_cost(blk, origin, best + ivec2(0, 1), p));
     store_field(p.field_offset + b.y * p.blocks_x + b.x, vec4(float(best.x) + sx, float(best.y) + sy, c0, contrast));
 }
 

@@ -58,7 +58,9 @@ gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_
         m.lambda = kMotionLambda;
         return m;
     }
-    m.field_offset = l.field_offset + first_pass;
+    // The previous -> current field only checks the vectors (flow.h): one pass, straight into the
+    // final region.
+    m.field_offset = l.field_offset + (forward ? dir : first_pass);
     if (temporal && !forward) m.temporal_offset = 4 * half + l.field_offset;
     if (k + 1 < levels.size()) {
         m.coarse_offset = levels[k + 1].field_offset + dir;
@@ -177,13 +179,14 @@ Result<void> Session::Impl::record_match(int cur, int prev) {
     }
     for (size_t k = estimator.levels.size(); k-- > 0;) {
         const ref::MotionLevel& l = estimator.levels[k];
-        for (bool propagate : {false, true}) {
-            const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false, propagate, temporal);
-            const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true, propagate, temporal);
-            FGSR_TRY(rec.dispatch_pixels(Variant::match, back, &pb, l.blocks_x, l.blocks_y));
-            FGSR_TRY(rec.dispatch_pixels(Variant::match, fwd, &pf, l.blocks_x, l.blocks_y));
-            rec.barrier();
-        }
+        const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false, false, temporal);
+        const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true, false, temporal);
+        FGSR_TRY(rec.dispatch_pixels(Variant::match, back, &pb, l.blocks_x, l.blocks_y));
+        FGSR_TRY(rec.dispatch_pixels(Variant::match, fwd, &pf, l.blocks_x, l.blocks_y));
+        rec.barrier();
+        const gpu::MatchParams pp = ref::match_params(estimator.levels, k, false, true, temporal);
+        FGSR_TRY(rec.dispatch_pixels(Variant::match, back, &pp, l.blocks_x, l.blocks_y));
+        rec.barrier();
     }
     const gpu::MatchParams fb = ref::fill_params(estimator.levels, false),
                            ff = ref::fill_params(estimator.levels, true);
