@@ -8,10 +8,13 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake pkg-config git glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers
           vulkan-validationlayers libopenexr-dev libpng-dev libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-          libgtest-dev libusb-1.0-0-dev gnuplot-nox)
+          libgtest-dev libusb-1.0-0-dev gnuplot-nox
+          # the Vulkan layer (client/layer) and its test application: TOML, XCB
+          libtomlplusplus-dev libxcb1-dev)
 # Only the test suite needs these: python3-opencv runs the DIS reference (tools/reference/dis_vectors.py)
-# in its test. Blender (tools/render) is needed by no test and is not installed here.
-test_packages=(python3-opencv)
+# in its test; xvfb and vulkan-tools (vkcube) run the Vulkan layer's end-to-end tests. Blender
+# (tools/render) is needed by no test and is not installed here.
+test_packages=(python3-opencv xvfb vulkan-tools)
 
 install_missing() {
     local missing=()

@@ -1,0 +1,131 @@
+// The layer's counters, present records, dumps and log (report.hpp).
+#include "report.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <vector>
+
+namespace fgsr::layer {
+
+void log_line(const std::string& message) {
+    std::fprintf(stderr, "fgsr layer: %s\n", message.c_str());
+    std::fflush(stderr);
+}
+
+struct PresentRecord {
+    PresentKind kind;
+    uint64_t app_present, app_ns, intended_ns, actual_ns, swapchain;
+};
+
+struct Report::State {
+    std::mutex m;
+    uint64_t app_presents = 0, presents = 0, generated = 0, dropped = 0, cpu_ns = 0;
+    std::vector<PresentRecord> records; // kept only with FGSR_LAYER_PRESENTS
+    std::string stats_path, presents_path, dump_dir;
+    LayerConfig config;
+    bool present_wait = false;
+};
+
+Report::Report() : s_(new State) { // never freed: used from atexit and from layer threads
+    if (const char* p = std::getenv("FGSR_LAYER_STATS")) s_->stats_path = p;
+    if (const char* p = std::getenv("FGSR_LAYER_PRESENTS")) s_->presents_path = p;
+    if (const char* p = std::getenv("FGSR_LAYER_DUMP")) s_->dump_dir = p;
+}
+
+Report& Report::get() {
+    static Report* r = new Report();
+    return *r;
+}
+
+void Report::app_present() {
+    std::lock_guard l(s_->m);
+    ++s_->app_presents;
+}
+
+void Report::present(PresentKind kind, uint64_t app_present, uint64_t app_ns, uint64_t intended_ns,
+                     uint64_t actual_ns, uint64_t swapchain) {
+    std::lock_guard l(s_->m);
+    ++s_->presents;
+    if (kind == PresentKind::generated) ++s_->generated;
+    if (!s_->presents_path.empty() && s_->records.size() < (1u << 22))
+        s_->records.push_back({kind, app_present, app_ns, intended_ns, actual_ns, swapchain});
+}
+
+void Report::dropped(uint32_t n) {
+    std::lock_guard l(s_->m);
+    s_->dropped += n;
+}
+
+void Report::layer_cpu(uint64_t ns) {
+    std::lock_guard l(s_->m);
+    s_->cpu_ns += ns;
+}
+
+void Report::set_config(const LayerConfig& c) {
+    std::lock_guard l(s_->m);
+    s_->config = c;
+}
+
+void Report::set_present_wait(bool available) {
+    std::lock_guard l(s_->m);
+    s_->present_wait = available;
+}
+
+bool Report::dumping() const {
+    return !s_->dump_dir.empty();
+}
+
+void Report::dump(const DumpInfo& info, const uint8_t* rgba8) {
+    if (s_->dump_dir.empty()) return;
+    char base[64];
+    std::snprintf(base, sizeof(base), "/gen_%06llu_%u", static_cast<unsigned long long>(info.app_present),
+                  info.index);
+    const std::string stem = s_->dump_dir + base;
+    if (FILE* f = std::fopen((stem + ".rgba").c_str(), "wb")) {
+        std::fwrite(rgba8, 1, size_t(info.width) * info.height * 4, f);
+        std::fclose(f);
+    }
+    if (FILE* f = std::fopen((stem + ".json").c_str(), "w")) {
+        std::fprintf(f,
+                     "{\"width\": %u, \"height\": %u, \"app_present\": %llu, \"index\": %u, \"alpha\": %.6f, "
+                     "\"mode\": \"%s\", \"multiplier\": %u}\n",
+                     info.width, info.height, static_cast<unsigned long long>(info.app_present), info.index,
+                     double(info.alpha), mode_name(info.mode), info.multiplier);
+        std::fclose(f);
+    }
+}
+
+void Report::write_files() {
+    std::lock_guard l(s_->m);
+    if (!s_->stats_path.empty()) {
+        if (FILE* f = std::fopen(s_->stats_path.c_str(), "w")) {
+            const double cpu = s_->app_presents ? double(s_->cpu_ns) / double(s_->app_presents) : 0.0;
+            std::fprintf(
+                f,
+                "{\"app_presents\": %llu, \"presents\": %llu, \"generated\": %llu, \"dropped\": %llu, "
+                "\"mode\": \"%s\", \"multiplier\": %u, \"present_wait\": %s, "
+                "\"layer_cpu_ns_per_present\": %.0f}\n",
+                static_cast<unsigned long long>(s_->app_presents),
+                static_cast<unsigned long long>(s_->presents), static_cast<unsigned long long>(s_->generated),
+                static_cast<unsigned long long>(s_->dropped), mode_name(s_->config.mode),
+                s_->config.multiplier, s_->present_wait ? "true" : "false", cpu);
+            std::fclose(f);
+        }
+    }
+    if (!s_->presents_path.empty()) {
+        if (FILE* f = std::fopen(s_->presents_path.c_str(), "w")) {
+            std::fprintf(f, "kind,app_present,app_ns,intended_ns,actual_ns,swapchain\n");
+            for (const PresentRecord& r : s_->records)
+                std::fprintf(
+                    f, "%s,%llu,%llu,%llu,%llu,%llu\n", r.kind == PresentKind::real ? "real" : "generated",
+                    static_cast<unsigned long long>(r.app_present), static_cast<unsigned long long>(r.app_ns),
+                    static_cast<unsigned long long>(r.intended_ns),
+                    static_cast<unsigned long long>(r.actual_ns),
+                    static_cast<unsigned long long>(r.swapchain));
+            std::fclose(f);
+        }
+    }
+}
+
+} // namespace fgsr::layer

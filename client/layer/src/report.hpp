@@ -1,0 +1,78 @@
+// What the layer tells the outside: log lines (stderr, "fgsr layer: " prefix), the counters of
+// FGSR_LAYER_STATS, the per-present records of FGSR_LAYER_PRESENTS and the generated-frame dumps of
+// FGSR_LAYER_DUMP. One process-wide Report; every member function is thread-safe.
+//
+// FGSR_LAYER_STATS=FILE, written at exit (and when the last device is destroyed):
+//   {"app_presents": N, "presents": M, "generated": K, "dropped": D, "mode": "...", "multiplier": m,
+//    "present_wait": false, "layer_cpu_ns_per_present": c}
+// app_presents: vkQueuePresentKHR calls of the application; presents: presents the layer made
+// (real + generated); generated: generated frames presented; dropped: generated frames requested
+// but not presented (daemon late or gone, first frame of a session, no free image).
+// FGSR_LAYER_PRESENTS=FILE: CSV "kind,app_present,app_ns,intended_ns,actual_ns,swapchain" per
+// present (kind real|generated; CLOCK_MONOTONIC; app_ns: the application's vkQueuePresentKHR of
+// the real frame involved, so actual_ns - app_ns of a real row is the latency the layer adds;
+// actual = when the present call returned: VK_KHR_present_wait is detected, not used).
+// FGSR_LAYER_DUMP. One process-wide Report; every member function is thread-safe.
+//
+// FGSR_LAYER_STATS=FILE, written at exit (and when the last device is destroyed):
+//   {"app_presents": N, "presents": M, "generated": K, "dropped": D, "mode": "...", "multiplier": m,
+//    "present_wait": false, "layer_cpu_ns_per_present": c}
+// app_presents: vkQueuePresentKHR calls of the application; presents: presents the layer made
+// (real + generated); generated: generated frames presented; dropped: generated frames requested
+// but not presented (daemon late or gone, first frame of a session, no free image).
+// FGSR_LAYER_PRESENTS=FILE: CSV "kind,app_present,app_ns,intended_ns,actual_ns,swapchain" per
+// present (kind real|generated; CLOCK_MONOTONIC; app_ns: the application's vkQueuePresentKHR of
+// the real frame involved, so actual_ns - app_ns of a real row is the latency the layer adds;
+// actual = when the present call returned: VK_KHR_present_wait is detected, not used).
+// FGSR_LAYER_DUMP=DIR: each generated frame as DIR/gen_<app_present>_<j>.rgba (RGBA8 sRGB rows,
+// tightly packed) + .json {"width","height","app_present","index","alpha","mode","multiplier"};
+// interpolated frames lie between app presents app_present-1 and app_present at alpha, extrapolated
+// ones after app_present at 1 + alpha.
+#pragma once
+
+#include "config.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace fgsr::layer {
+
+void log_line(const std::string& message);
+
+enum class PresentKind { real, generated };
+
+struct DumpInfo {
+    uint32_t width, height;
+    uint64_t app_present;
+    uint32_t index; // 1..multiplier-1
+    float alpha;
+    Mode mode;
+    uint32_t multiplier;
+};
+
+class Report {
+  public:
+    static Report& get();
+
+    void app_present();
+    // app_ns: when the application presented the real frame this present belongs to (generated
+    // frames: the real frame they were made with).
+    void present(PresentKind kind, uint64_t app_present, uint64_t app_ns, uint64_t intended_ns,
+                 uint64_t actual_ns, uint64_t swapchain);
+    void dropped(uint32_t n);
+    void layer_cpu(uint64_t ns);
+    void set_config(const LayerConfig& c);
+    void set_present_wait(bool available);
+    // Writes `rgba8` (width * height * 4 bytes) when FGSR_LAYER_DUMP is set.
+    bool dumping() const;
+    void dump(const DumpInfo& info, const uint8_t* rgba8);
+    // Writes the stats and present files (idempotent: rewrites them with the current figures).
+    void write_files();
+
+  private:
+    Report();
+    struct State;
+    State* s_;
+};
+
+} // namespace fgsr::layer

@@ -1,0 +1,472 @@
+// End to end: vkcube and fgsr_layer_app under Xvfb (lavapipe) with VK_LAYER_FGSR_frame_generation
+// (build/share in XDG_DATA_DIRS, enabled by FGSR_ENABLE=1) and a real fgsrd. Each test reads the
+// layer's stats file (FGSR_LAYER_STATS) and the application's output. Skipped only when Xvfb or
+// vkcube is not installed.
+#include <fgsr/testing/fgsrd_process.hpp>
+
+#include <fcntl.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace {
+
+using fgsr::test::FgsrdProcess;
+
+bool have(const char* program) {
+    return std::system((std::string("command -v ") + program + " >/dev/null 2>&1").c_str()) == 0;
+}
+
+std::string read_file(const std::string& path) {
+    std::ifstream f(path);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// A number field of a flat JSON object (-1 when absent).
+double json_number(const std::string& j, const std::string& key) {
+    const size_t p = j.find("\"" + key + "\":");
+    if (p == std::string::npos) return -1;
+    return std::strtod(j.c_str() + p + key.size() + 3, nullptr);
+}
+
+size_t count(const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+    return n;
+}
+
+// An Xvfb on a display it picks itself (-displayfd), killed with the object.
+class Xvfb {
+  public:
+    bool start() {
+        int fds[2];
+        if (pipe(fds) != 0) return false;
+        pid_ = fork();
+        if (pid_ == 0) {
+            close(fds[0]);
+            const std::string fd = std::to_string(fds[1]);
+            const int devnull = open("/dev/null", O_WRONLY);
+            dup2(devnull, 1);
+            dup2(devnull, 2);
+            execlp("Xvfb", "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "1920x1080x24", "-nolisten",
+                   "tcp", static_cast<char*>(nullptr));
+            _exit(127);
+        }
+        close(fds[1]);
+        char buf[32] = {};
+        ssize_t n = 0, got;
+        while (n < 31 && (got = read(fds[0], buf + n, size_t(31 - n))) > 0) {
+            n += got;
+            if (std::memchr(buf, '\n', size_t(n))) break;
+        }
+        close(fds[0]);
+        if (n <= 0) return false;
+        display_ = ":" + std::string(buf, size_t(n - (buf[n - 1] == '\n' ? 1 : 0)));
+        return true;
+    }
+    ~Xvfb() {
+        if (pid_ > 0) {
+            kill(pid_, SIGTERM);
+            waitpid(pid_, nullptr, 0);
+        }
+    }
+    const std::string& display() const { return display_; }
+
+  private:
+    pid_t pid_ = -1;
+    std::string display_;
+};
+
+struct AppRun {
+    int status = -1;  // the wait status
+    std::string json; // the application's JSON line (fgsr_layer_app), if any
+    std::string log;  // stdout + stderr
+    std::string stats;
+};
+
+class LayerE2E : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        if (!have("Xvfb")) GTEST_SKIP() << "Xvfb is not installed (tools/setup.sh installs xvfb)";
+        ASSERT_TRUE(x_.start()) << "Xvfb did not start";
+        dir_ = std::filesystem::temp_directory_path() /
+               ("fgsr-layer-" + std::to_string(getpid()) + "-" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        std::filesystem::remove_all(dir_);
+        std::filesystem::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        if (!HasFailure()) std::filesystem::remove_all(dir_, ec);
+    }
+
+    void start_daemon() {
+        daemon_ = FgsrdProcess::start({"--log-level", "info"});
+        ASSERT_TRUE(daemon_) << FgsrdProcess::last_error();
+    }
+
+    // Runs `command` with the layer enabled (plus `env`, "NAME=value" words) on the test's display.
+    AppRun run(const std::string& command, const std::vector<std::string>& env = {}, bool validation = true) {
+        const std::string stats = (dir_ / "stats.json").string();
+        std::string line =
+            "env DISPLAY=" + x_.display() +
+            " XDG_DATA_DIRS=" FGSR_LAYER_SHARE_DIR ":/usr/local/share:/usr/share" +
+            " FGSR_ENABLE=1 FGSR_LAYER_STATS=" + stats + " FGSR_CONFIG=" + (dir_ / "none.toml").string() +
+            " FGSR_SOCKET=" + (daemon_ ? daemon_->socket_path() : (dir_ / "absent.sock").string());
+        if (validation) line += " VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation";
+        for (const std::string& e : env) line += " " + e;
+        line += " " + command + " > " + (dir_ / "out.log").string() + " 2>&1";
+        AppRun r;
+        r.status = std::system(line.c_str());
+        r.log = read_file((dir_ / "out.log").string());
+        r.stats = read_file(stats);
+        std::istringstream lines(r.log);
+        for (std::string l; std::getline(lines, l);)
+            if (l.rfind("{\"frames\"", 0) == 0) r.json = l;
+        std::printf("[ layer    ] %s\n[ stats    ] %s", command.c_str(), r.stats.c_str());
+        if (!r.json.empty()) std::printf("[ app      ] %s\n", r.json.c_str());
+        return r;
+    }
+
+    static std::string app() { return FGSR_LAYER_APP; }
+
+    Xvfb x_;
+    std::filesystem::path dir_;
+    std::unique_ptr<FgsrdProcess> daemon_;
+};
+
+// presents within 2 % of app_presents * multiplier, and every application frame presented.
+void expect_multiplied(const AppRun& r, double multiplier, double frames) {
+    EXPECT_EQ(json_number(r.stats, "app_presents"), frames) << r.log;
+    const double presents = json_number(r.stats, "presents");
+    EXPECT_NEAR(presents, frames * multiplier, 0.02 * frames * multiplier) << r.stats << r.log;
+    EXPECT_EQ(presents, frames + json_number(r.stats, "generated")) << r.stats;
+}
+
+struct PresentRow {
+    bool real;
+    uint64_t app_present, app_ns, intended_ns, actual_ns;
+};
+
+std::vector<PresentRow> read_presents(const std::string& path) {
+    std::vector<PresentRow> rows;
+    std::ifstream f(path);
+    std::string line;
+    std::getline(f, line); // header
+    while (std::getline(f, line)) {
+        char kind[16] = {};
+        unsigned long long a = 0, b = 0, c = 0, d = 0;
+        if (std::sscanf(line.c_str(), "%15[a-z],%llu,%llu,%llu,%llu", kind, &a, &b, &c, &d) == 5)
+            rows.push_back({std::string(kind) == "real", a, b, c, d});
+    }
+    return rows;
+}
+
+// Where generated frames fall between the real presents around them: for each generated frame j
+// (1-based within its gap) of a gap between two real presents, |fraction - j / m|; their median.
+double median_pacing_error(const std::vector<PresentRow>& rows, double m) {
+    std::vector<double> errors;
+    for (size_t i = 0; i < rows.size(); ++i) {
+        if (!rows[i].real) continue;
+        size_t k = i + 1;
+        while (k < rows.size() && !rows[k].real) ++k;
+        if (k >= rows.size() || k == i + 1) continue;
+        const double span = double(rows[k].actual_ns) - double(rows[i].actual_ns);
+        for (size_t g = i + 1; g < k; ++g)
+            errors.push_back(std::fabs((double(rows[g].actual_ns) - double(rows[i].actual_ns)) / span -
+                                       double(g - i) / m));
+    }
+    if (errors.empty()) return 1.0;
+    std::sort(errors.begin(), errors.end());
+    return errors[errors.size() / 2];
+}
+
+} // namespace
+
+TEST_F(LayerE2E, VkcubePresentsDoubleWithValidationClean) {
+    if (!have("vkcube")) GTEST_SKIP() << "vkcube is not installed (tools/setup.sh installs vulkan-tools)";
+    start_daemon();
+    // 80 frames: 160 presents within 2 % leaves room for the first frame (no predecessor) and 2 more.
+    // 128x128 at 8 fps: fgsrd (motion estimation included) keeps up on two cores shared with other
+    // work (the CI machine's load reaches 8).
+    const AppRun r = run("vkcube --c 80 --width 128 --height 128", {"FGSR_FPS_LIMIT=8", "FGSR_MULTIPLIER=2"});
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+    EXPECT_NE(r.log.find("connected to fgsrd"), std::string::npos) << r.log;
+    expect_multiplied(r, 2, 80);
+}
+
+TEST_F(LayerE2E, AppInterpolatesThreeTimesWithValidationClean) {
+    start_daemon();
+    const std::string presents = (dir_ / "presents.csv").string();
+    const AppRun r = run(app() + " --frames 75 --width 128 --height 72 --fps 8",
+                         {"FGSR_MULTIPLIER=3", "FGSR_LAYER_PRESENTS=" + presents});
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+    EXPECT_NE(r.stats.find("\"mode\": \"interpolate\""), std::string::npos);
+    expect_multiplied(r, 3, 75);
+    // Paced: the two generated frames of a gap at about 1/3 and 2/3 of it, and before the real
+    // frame they were made with (interpolation).
+    const std::vector<PresentRow> rows = read_presents(presents);
+    ASSERT_EQ(rows.size(), size_t(json_number(r.stats, "presents")));
+    const double error = median_pacing_error(rows, 3);
+    std::printf("[ pacing   ] median |position - j/m| of generated frames: %.3f of the gap\n", error);
+    EXPECT_LT(error, 0.15);
+    for (size_t i = 0; i + 1 < rows.size(); ++i)
+        if (!rows[i].real) {
+            EXPECT_EQ(rows[i].app_present, rows[i + 1].app_present) << "row " << i;
+        }
+}
+
+TEST_F(LayerE2E, AppExtrapolatesWithValidationClean) {
+    start_daemon();
+    const std::string presents = (dir_ / "presents.csv").string();
+    const AppRun r = run(app() + " --frames 75 --width 128 --height 72 --fps 8",
+                         {"FGSR_MODE=extrapolate", "FGSR_LAYER_PRESENTS=" + presents});
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+    EXPECT_NE(r.stats.find("\"mode\": \"extrapolate\""), std::string::npos);
+    expect_multiplied(r, 2, 75);
+    // Generated frames follow the real frame they were made from, about halfway to the next one.
+    const std::vector<PresentRow> rows = read_presents(presents);
+    ASSERT_FALSE(rows.empty());
+    for (size_t i = 1; i < rows.size(); ++i)
+        if (!rows[i].real) {
+            EXPECT_EQ(rows[i].app_present, rows[i - 1].app_present) << "row " << i;
+        }
+    const double error = median_pacing_error(rows, 2);
+    std::printf("[ pacing   ] median |position - j/m| of generated frames: %.3f of the gap\n", error);
+    EXPECT_LT(error, 0.15);
+}
+
+TEST_F(LayerE2E, NoDaemonTheAppKeepsAllItsFrames) {
+    const AppRun r = run(app() + " --frames 30 --width 192 --height 108 --fps 30");
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 30);
+    EXPECT_EQ(json_number(r.stats, "presents"), 30);
+    EXPECT_EQ(json_number(r.stats, "generated"), 0);
+    EXPECT_EQ(count(r.log, "no fgsrd"), 1u) << r.log; // one line, however many retries
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+}
+
+TEST_F(LayerE2E, DaemonKilledMidRunTheAppKeepsAllItsFrames) {
+    start_daemon();
+    std::thread killer([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+        daemon_->kill9();
+    });
+    const AppRun r = run(app() + " --frames 60 --width 192 --height 108 --fps 10");
+    killer.join();
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 60);
+    const double generated = json_number(r.stats, "generated");
+    EXPECT_GT(generated, 5) << "frames were generated before the kill";
+    EXPECT_LT(generated, 50) << "and none after it";
+    EXPECT_EQ(json_number(r.stats, "presents"), 60 + generated);
+    EXPECT_EQ(count(r.log, "fgsrd went away"), 1u) << r.log;
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+}
+
+TEST_F(LayerE2E, StalledDaemonDoesNotSlowTheApplication) {
+    start_daemon();
+    std::thread staller([&] { // fgsrd frozen for 2 s in the middle of the run
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        daemon_->signal(SIGSTOP);
+        std::this_thread::sleep_for(std::chrono::milliseconds(2000));
+        daemon_->signal(SIGCONT);
+    });
+    const AppRun r = run(app() + " --frames 50 --width 192 --height 108 --fps 10");
+    staller.join();
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 50);
+    // The application kept its 10 frames a second (5 s for 50 frames), its presents never waiting
+    // for the frozen daemon; the frames of those 2 s went without generated ones.
+    EXPECT_LT(json_number(r.json, "seconds"), 5.5) << r.json;
+    const double generated = json_number(r.stats, "generated");
+    EXPECT_GT(generated, 20) << r.stats;
+    EXPECT_LT(generated, 45) << r.stats;
+    EXPECT_EQ(json_number(r.stats, "presents"), 50 + generated);
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+}
+
+TEST_F(LayerE2E, DaemonStartedLaterIsConnectedTo) {
+    const std::string socket = (dir_ / "late.sock").string();
+    pid_t late = -1;
+    std::thread starter([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+        late = FgsrdProcess::spawn({FGSR_BIN_DIR "/fgsrd", "--socket", socket}, (dir_ / "late.log").string());
+    });
+    const AppRun r = run(app() + " --frames 60 --width 192 --height 108 --fps 10", {"FGSR_SOCKET=" + socket});
+    starter.join();
+    if (late > 0) {
+        kill(late, SIGTERM);
+        waitpid(late, nullptr, 0);
+    }
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "no fgsrd"), 1u) << r.log;
+    EXPECT_EQ(count(r.log, "connected to fgsrd"), 1u) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 60);
+    EXPECT_GT(json_number(r.stats, "generated"), 10) << "frames generated once fgsrd was there";
+    EXPECT_LT(json_number(r.stats, "generated"), 59) << "and none before";
+}
+
+TEST_F(LayerE2E, ResizeRecreatesTheSwapchainAndGoesOn) {
+    start_daemon();
+    const AppRun r = run(app() + " --frames 40 --width 192 --height 108 --fps 10 --resize-at 20:160x90");
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_NE(r.json.find("\"extent\": \"160x90\""), std::string::npos) << r.json;
+    EXPECT_GE(json_number(r.json, "recreations"), 1);
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+    // Each swapchain's first frame has no predecessor: one more drop than without the resize.
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 40);
+    EXPECT_GE(json_number(r.stats, "generated"), 30);
+    EXPECT_NE(daemon_->stderr_text().find("160x90"), std::string::npos) << "a session of the new size";
+}
+
+TEST_F(LayerE2E, TwoSwapchainsEachGetTheirFrames) {
+    start_daemon();
+    const AppRun r = run(app() + " --frames 30 --width 128 --height 72 --fps 10 --windows 2");
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 60);
+    EXPECT_GE(json_number(r.stats, "generated"), 48); // of 2 x (30 - 1 first frame)
+}
+
+TEST_F(LayerE2E, TwoSwapchainsInOnePresentPassThrough) {
+    start_daemon();
+    const AppRun r = run(app() + " --frames 20 --width 192 --height 108 --fps 10 --windows 2 --one-present");
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+    // One call for both (their semaphores are waited once): presented as the application asked.
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 40);
+    EXPECT_EQ(json_number(r.stats, "presents"), 40);
+    EXPECT_EQ(json_number(r.stats, "generated"), 0);
+}
+
+TEST_F(LayerE2E, ExitWithoutDestroyingTheSwapchainStillWritesStats) {
+    start_daemon();
+    const AppRun r = run(app() + " --frames 20 --width 192 --height 108 --fps 10 --no-destroy", {}, false);
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 20) << r.log;
+    EXPECT_GT(json_number(r.stats, "generated"), 10);
+}
+
+TEST_F(LayerE2E, ProfileMatchesTheExecutableAndEnvOverridesIt) {
+    start_daemon();
+    std::ofstream(dir_ / "fgsr.toml")
+        << "[global]\nmultiplier = 2\n\n[[profile]]\nactive_in = [\"fgsr_layer_app\"]\n"
+           "multiplier = 3\nfps_limit = 8\n\n[[profile]]\nactive_in = [\"vkcube\"]\n"
+           "multiplier = 4\n";
+    const std::string config = "FGSR_CONFIG=" + (dir_ / "fgsr.toml").string();
+    // 50 frames: the first has no predecessor (2 of 150 presents missing, 1.3 %).
+    // 75 frames: the first has no predecessor (2 of 225 presents missing, 0.9 %).
+    const AppRun profiled = run(app() + " --frames 75 --width 128 --height 72", {config}, false);
+    ASSERT_EQ(profiled.status, 0) << profiled.log;
+    EXPECT_EQ(json_number(profiled.stats, "multiplier"), 3);
+    EXPECT_NE(profiled.log.find("profile fgsr_layer_app"), std::string::npos) << profiled.log;
+    expect_multiplied(profiled, 3, 75);
+    const AppRun overridden =
+        run(app() + " --frames 75 --width 128 --height 72", {config, "FGSR_MULTIPLIER=2"}, false);
+    ASSERT_EQ(overridden.status, 0) << overridden.log;
+    EXPECT_EQ(json_number(overridden.stats, "multiplier"), 2);
+    expect_multiplied(overridden, 2, 75);
+}
+
+TEST_F(LayerE2E, MailboxAndImmediatePresentModes) {
+    start_daemon();
+    for (const char* mode : {"mailbox", "immediate"}) {
+        const AppRun r =
+            run(app() + " --frames 30 --width 192 --height 108 --fps 10 --present-mode " + std::string(mode));
+        ASSERT_EQ(r.status, 0) << mode << ": " << r.log;
+        EXPECT_EQ(count(r.log, "Validation Error"), 0u) << mode << ": " << r.log;
+        EXPECT_EQ(json_number(r.stats, "app_presents"), 30) << mode;
+        EXPECT_GE(json_number(r.stats, "generated"), 22) << mode << ": " << r.stats;
+    }
+}
+
+TEST_F(LayerE2E, ConfigChangesArePickedUpWhileRunning) {
+    start_daemon();
+    const std::filesystem::path config = dir_ / "fgsr.toml";
+    std::ofstream(config) << "[global]\nmultiplier = 2\n";
+    std::thread editor([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+        std::ofstream(config) << "[global]\nmultiplier = 3\n";
+    });
+    const AppRun r =
+        run(app() + " --frames 60 --width 192 --height 108 --fps 10", {"FGSR_CONFIG=" + config.string()});
+    editor.join();
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "configuration reloaded"), 1u) << r.log;
+    EXPECT_EQ(json_number(r.stats, "multiplier"), 3);
+    const double generated = json_number(r.stats, "generated");
+    EXPECT_GT(generated, 60) << "more than one per frame: two per frame after the edit";
+    EXPECT_LT(generated, 110) << "one per frame before it";
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+}
+
+TEST_F(LayerE2E, ConfigErrorLogsOnceAndPassesThrough) {
+    start_daemon();
+    std::ofstream(dir_ / "fgsr.toml") << "[global]\nmultiplier = 7\n";
+    const AppRun r = run(app() + " --frames 20 --width 192 --height 108 --fps 30",
+                         {"FGSR_CONFIG=" + (dir_ / "fgsr.toml").string()});
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "configuration error"), 1u) << r.log;
+    EXPECT_NE(r.log.find("2, 3 or 4"), std::string::npos) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 20);
+    EXPECT_EQ(json_number(r.stats, "presents"), 20);
+    EXPECT_EQ(json_number(r.stats, "generated"), 0);
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+}
+
+TEST_F(LayerE2E, DisableEnvironmentUnloadsTheLayer) {
+    const AppRun r = run(app() + " --frames 5 --width 192 --height 108", {"FGSR_DISABLE=1"}, false);
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_TRUE(r.stats.empty()) << "the layer wrote stats though disabled: " << r.stats;
+    EXPECT_EQ(r.log.find("fgsr layer:"), std::string::npos) << r.log;
+}
+
+TEST_F(LayerE2E, GeneratedFramesScoreAgainstExactIntermediateFrames) {
+    start_daemon();
+    const std::string dump = (dir_ / "dump").string();
+    std::filesystem::create_directories(dump);
+    // 480x270 at 3 frames a second: fgsrd's motion estimation keeps up on two shared cores.
+    const AppRun r =
+        run(app() + " --frames 20 --width 480 --height 270 --fps 3", {"FGSR_LAYER_DUMP=" + dump}, false);
+    ASSERT_EQ(r.status, 0) << r.log;
+    AppRun score;
+    {
+        const std::string line = app() + " --score " + dump + " > " + (dir_ / "score.log").string() + " 2>&1";
+        score.status = std::system(line.c_str());
+        score.log = read_file((dir_ / "score.log").string());
+    }
+    ASSERT_EQ(score.status, 0) << score.log;
+    std::printf("[ score    ] %s", score.log.c_str());
+    EXPECT_GE(json_number(score.log, "generated"), 14);
+    const double gen = json_number(score.log, "psnr_generated"), blend = json_number(score.log, "psnr_blend");
+    EXPECT_GT(gen, 15.0) << "generated frames are images of the scene";
+    const double repeat = json_number(score.log, "psnr_repeat");
+    EXPECT_GT(gen, repeat + 1.0) << "better than repeating the nearest real frame: " << score.log;
+    if (json_number(score.log, "psnr_to_linear_blend") > 40.0) {
+        // fgsrd blends colour-only sessions (no motion estimation yet): its blend is in linear light,
+        // within 1 dB of the 50/50 blend of display values, not above it.
+        std::printf("[ score    ] fgsrd blends (no motion estimation): generated %.2f dB, blend %.2f dB\n",
+                    gen, blend);
+        EXPECT_GT(gen, blend - 1.0) << score.log;
+    } else {
+        EXPECT_GT(gen, blend + 0.5) << "motion-estimated frames beat the 50/50 blend: " << score.log;
+    }
+}
