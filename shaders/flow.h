@@ -75,14 +75,14 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     vec2 pos = vec2(q) + 0.5f;
     vec2 g = vec2(p.global_x, p.global_y);
     vec2 b = pos * (1.0f / float(MOTION_BLOCK)) - 0.5f;
-    ivec2 c = ivec2(floor(b));
-    vec2 best = flow_bilinear(pos, p.back_offset, p);
+    vec2 fb = floor(b);
+    vec2 f = b - fb;
+    ivec2 c = ivec2(fb);
     vec2 corner[4];
+    for (int k = 0; k < 4; ++k) corner[k] = flow_block(c + ivec2(k & 1, k >> 1), p.back_offset, p);
+    vec2 best = mix(mix(corner[0], corner[1], f.x), mix(corner[2], corner[3], f.x), f.y); // flow_bilinear
     float spread = 0.0f;
-    for (int k = 0; k < 4; ++k) {
-        corner[k] = flow_block(c + ivec2(k & 1, k >> 1), p.back_offset, p);
-        spread = max(spread, length(corner[k] - best));
-    }
+    for (int k = 0; k < 4; ++k) spread = max(spread, length(corner[k] - best));
     vec2 nearest_g = best;
     // Where the four blocks agree (most of a frame) the blend is the answer: no costs to compare.
     if (spread > FLOW_AGREE) {

@@ -110,7 +110,7 @@ glm::vec4 copy_through(const InternalFrame& f0, const InternalFrame& f1, glm::iv
 // ---- Motion estimation from colour (shaders/luma.h, match.h, flow.h; docs/MOTION.md) ----
 // The engine uses these same functions for its level layout, push constants and field summary.
 
-inline constexpr int kMotionRadiusCoarsest = 8; // integer search of the coarsest level (+-8 of its pixels)
+inline constexpr int kMotionRadiusCoarsest = 4; // integer search of the coarsest level (+-4 of its pixels)
 inline constexpr int kMotionRadiusMiddle = 2;   // around the best candidate, levels between
 inline constexpr int kMotionRadiusFine = 1;     // around the best candidate, level 0
 // Cost per pixel away from the coarse prediction; on the coarsest level, which has none, away from
