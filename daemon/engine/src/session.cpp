@@ -241,9 +241,8 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             s.estimator.last_cut = summary.cut;
             s.estimator.global = summary.global;
             restart = summary.cut;
-            if (!summary.cut)
-                s.estimator.typical_share =
-                    ref::update_typical_share(s.estimator.typical_share, summary.mismatch_share);
+            s.estimator.typical_share =
+                ref::update_typical_share(s.estimator.typical_share, summary.mismatch_share, summary.cut);
         }
         FGSR_TRY(s.rec.begin());
         q = 0;
@@ -255,7 +254,6 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         }
         frame_has_mv = !restart;
         s.estimator.field_valid = !restart;
-        if (restart) s.estimator.typical_share = -1.f;
     }
     if (denoise) {
         FGSR_TRY(s.record_denoise(f.color));

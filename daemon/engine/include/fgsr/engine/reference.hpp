@@ -124,8 +124,8 @@ inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for
 // display-referred [0, 1]) exceeds both kCutSad and kCutContrast times the block's own contrast
 // (its mean absolute deviation), so that a textured block is judged against its texture and a
 // flat one against an absolute step. A frame is a cut when the share of such blocks jumps: above
-// kCutShare and kCutJump times the session's typical share (a running mean over the frames since
-// the last restart), or, with no history yet, above kCutShareAlone. Content that never matches
+// kCutShare and kCutJump times the session's typical share (a running mean over its frames,
+// update_typical_share), or, with no history yet, above kCutShareAlone. Content that never matches
 // well (aliased point-sampled frames, noise) has a high typical share and is not cut every frame.
 inline constexpr float kCutSad = 0.04f;
 inline constexpr float kCutContrast = 0.6f;
@@ -163,9 +163,12 @@ struct MotionSummary {
 };
 // typical_share: the session's running mean share (negative: no history yet).
 MotionSummary summarise_motion(std::span<const glm::vec4> blocks, float typical_share = -1.f);
-// The running mean after a frame that was not a cut.
-inline float update_typical_share(float typical, float share) {
-    return typical < 0.f ? share : 0.7f * typical + 0.3f * share;
+// The running mean after a frame: updated by frames that were not cuts; a cut re-seeds it with its
+// own share (the new scene's baseline: content that never matches well is cut once and then
+// judged against itself, not cut at every frame). It outlives restarts.
+inline float update_typical_share(float typical, float share, bool cut) {
+    if (typical < 0.f || cut) return share;
+    return 0.7f * typical + 0.3f * share;
 }
 
 // The passes on the CPU: the pyramid of a frame; one level of matching into `field` (both
