@@ -26,11 +26,42 @@ int main(int argc, char** argv) {
                    "Connections waiting for their HELLO at once (a new one closes the oldest)")
         ->check(CLI::Range(1u, 4096u))
         ->capture_default_str();
+    app.add_option("--idle-timeout", opt.idle_timeout_s,
+                   "Seconds a served connection may send no message and no frame before it is closed")
+        ->check(CLI::Range(0.01, 86400.0))
+        ->capture_default_str();
+    app.add_option("--max-clients-per-uid", opt.max_clients_per_uid, "Connections served at once per user")
+        ->check(CLI::Range(1u, 4096u))
+        ->capture_default_str();
+    app.add_option("--max-sessions-per-uid", opt.max_sessions_per_uid, "Sessions at once per user")
+        ->check(CLI::Range(1u, 65536u))
+        ->capture_default_str();
+    app.add_option("--max-session-pixels", opt.max_session_pixels,
+                   "Largest frame of a session (input or output), in pixels (more: UNSUPPORTED)")
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32))
+        ->capture_default_str();
+    uint64_t session_mib = opt.max_session_memory >> 20, total_mib = opt.max_total_memory >> 20;
+    app.add_option("--max-session-memory", session_mib,
+                   "Estimated memory of one session, MiB (more: UNSUPPORTED)")
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 30))
+        ->capture_default_str();
+    app.add_option("--max-total-memory", total_mib, "Estimated memory of all sessions, MiB (more: BUSY)")
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 30))
+        ->capture_default_str();
+    app.add_option("--interactive-pixels", opt.interactive_pixels,
+                   "Sessions with larger frames run on the bulk lane, at lower CPU priority")
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32))
+        ->capture_default_str();
+    app.add_option("--bulk-nice", opt.bulk_nice, "Nice increment of the bulk lane's threads")
+        ->check(CLI::Range(0, 19))
+        ->capture_default_str();
     app.add_flag("--allow-any-user", opt.allow_any_user,
                  "Serve clients of any uid (default: only this user, checked with SO_PEERCRED)");
     app.add_flag("--no-zero-copy", no_zero_copy, "Always copy inputs through a staging buffer");
     CLI11_PARSE(app, argc, argv);
     opt.zero_copy = !no_zero_copy;
+    opt.max_session_memory = session_mib << 20;
+    opt.max_total_memory = total_mib << 20;
     fgsrd::log::parse_level(level, fgsrd::log::threshold());
     return fgsrd::run_server(opt);
 }

@@ -1,4 +1,5 @@
-// fgsrd's server: the listening socket, the clients and their sessions, one event loop.
+// fgsrd's server: the listening socket, the clients and their sessions, one event loop, and the
+// lanes that run the engine (lane.hpp).
 #pragma once
 
 #include <cstdint>
@@ -11,11 +12,29 @@ struct Options {
     std::string device;      // fgsr::DeviceOptions::device
     uint32_t max_clients = 32;
     uint32_t max_sessions_per_client = 8;
+    // Per uid (SO_PEERCRED): served connections and sessions, so that with --allow-any-user no
+    // user can take every place.
+    uint32_t max_clients_per_uid = 16;
+    uint32_t max_sessions_per_uid = 32;
     // Connections that have not said HELLO: closed after hello_timeout_s, and at most
     // max_pending of them (a new one beyond it closes the oldest), so that idle or hostile
     // connections cannot hold the daemon's fds.
     double hello_timeout_s = 5.0;
     uint32_t max_pending = 64;
+    // A served connection that sends no message and no frame for idle_timeout_s is closed; and
+    // when the daemon is full, a HELLO evicts the connection without sessions idle the longest
+    // (idle at least one second).
+    double idle_timeout_s = 120.0;
+    // Per-session limits: the larger of the input and the output frame, in pixels, and the
+    // session's memory (shared pools and the engine's buffers, estimated before anything is
+    // allocated); and the memory of all sessions together (beyond it: BUSY).
+    uint64_t max_session_pixels = 4096ull * 4096ull;
+    uint64_t max_session_memory = 8ull << 30;
+    uint64_t max_total_memory = 16ull << 30;
+    // Sessions whose larger frame has more pixels than this run on the bulk lane, at lower CPU
+    // priority, so that they cannot hold up the frames of small sessions.
+    uint64_t interactive_pixels = 1920ull * 1080ull;
+    int bulk_nice = 10;
     bool allow_any_user = false; // else only peers with the daemon's uid (SO_PEERCRED)
     bool zero_copy = true;       // import input pools into the device where it can
 };

@@ -8,9 +8,12 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <ctime>
 #include <fcntl.h>
+#include <mutex>
+#include <pthread.h>
 #include <sys/eventfd.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -21,6 +24,66 @@ uint64_t thread_cpu_ns() {
     timespec ts{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
+}
+
+namespace {
+
+// The signal that interrupts a blocked eventfd write (see signal_eventfd).
+int interrupt_signal() {
+    return SIGRTMIN + 2;
+}
+
+} // namespace
+
+bool signal_eventfd(int fd) {
+    struct ThreadTimer {
+        timer_t id{};
+        bool ok = false;
+        sigset_t set{};
+        ThreadTimer() {
+            static std::once_flag installed;
+            std::call_once(installed, [] {
+                struct sigaction sa {};
+                sa.sa_handler = [](int) {}; // no SA_RESTART: the write returns EINTR
+                sigemptyset(&sa.sa_mask);
+                sigaction(interrupt_signal(), &sa, nullptr);
+            });
+            sigemptyset(&set);
+            sigaddset(&set, interrupt_signal());
+            pthread_sigmask(SIG_BLOCK, &set, nullptr); // unblocked only around the write
+            sigevent ev{};
+            ev.sigev_notify = SIGEV_THREAD_ID;
+            ev.sigev_signo = interrupt_signal();
+            ev._sigev_un._tid = gettid(); // sigev_notify_thread_id in glibc >= 2.37
+            ok = timer_create(CLOCK_MONOTONIC, &ev, &id) == 0;
+            if (!ok) log::error("timer_create: {}; eventfd writes are not protected", std::strerror(errno));
+        }
+        ~ThreadTimer() {
+            if (ok) timer_delete(id);
+        }
+    };
+    thread_local ThreadTimer timer;
+    const uint64_t one = 1;
+    if (!timer.ok) return write(fd, &one, sizeof(one)) == sizeof(one) || errno == EAGAIN;
+    // 10 ms: far longer than a write that does not block takes, short enough that one hostile
+    // client costs the others one hiccup before it is dropped.
+    itimerspec arm{};
+    arm.it_value.tv_nsec = 10'000'000;
+    timer_settime(timer.id, 0, &arm, nullptr);
+    pthread_sigmask(SIG_UNBLOCK, &timer.set, nullptr);
+    const ssize_t n = write(fd, &one, sizeof(one));
+    const int err = errno;
+    pthread_sigmask(SIG_BLOCK, &timer.set, nullptr);
+    const itimerspec disarm{};
+    timer_settime(timer.id, 0, &disarm, nullptr);
+    // A signal that fired after the write returned stays pending while blocked: take it now.
+    const timespec zero{};
+    while (sigtimedwait(&timer.set, nullptr, &zero) > 0) {
+    }
+    if (n == sizeof(one)) return true;
+    if (err == EAGAIN) return true; // counter full and non-blocking: the client has a wake-up pending
+    if (err != EINTR) log::warn("eventfd write: {}", std::strerror(err));
+    return false;
 }
 
 namespace {
@@ -188,9 +251,6 @@ std::optional<std::string> ServiceSession::validate(const fgsr_submit_entry& e) 
 }
 
 std::optional<std::string> ServiceSession::poll() {
-    uint64_t counter = 0;
-    while (read(submit_event_.get(), &counter, sizeof(counter)) == sizeof(counter)) {
-    }
     const uint32_t cap = layout_.ring_capacity;
     // Submits: each entry is copied out of the ring, then the copy is validated.
     std::optional<std::string> why;
@@ -209,11 +269,12 @@ std::optional<std::string> ServiceSession::poll() {
     if (why) return why;
     // Releases.
     drained = fgsr::ipc::drain(rings_.release, release_tail_, head, [&](const fgsr_release_entry& r) {
-        if (r.output_slot >= layout_.output_slot_count || !output_with_client_[r.output_slot]) {
+        if (r.output_slot >= layout_.output_slot_count || !output_taken_[r.output_slot] ||
+            reserved(r.output_slot)) {
             why = "release of output slot " + std::to_string(r.output_slot) + " the client does not hold";
             return false;
         }
-        output_with_client_[r.output_slot] = false;
+        output_taken_[r.output_slot] = false;
         ++free_outputs_;
         return true;
     });
@@ -232,7 +293,7 @@ std::optional<uint64_t> ServiceSession::completion_free() const {
 }
 
 bool ServiceSession::ready() const {
-    if (pending_.empty()) return false;
+    if (pending_.empty() || in_flight_) return false;
     const auto room = completion_free();
     if (!room) return true; // process_one reports the violation
     if (desc_.queue_policy == FGSR_QUEUE_MAILBOX && pending_.size() > 1) return *room >= 1;
@@ -242,7 +303,7 @@ bool ServiceSession::ready() const {
 }
 
 bool ServiceSession::waiting_on_completion_ring() const {
-    if (pending_.empty()) return false;
+    if (pending_.empty() || in_flight_) return false;
     const auto room = completion_free();
     return room && *room < std::max(requested_outputs(pending_.front().entry), 1u);
 }
@@ -251,10 +312,9 @@ void ServiceSession::push_completion(const fgsr_completion_entry& c) {
     rings_.completion.push(completion_head_, c);
 }
 
-void ServiceSession::signal_complete() {
-    const uint64_t one = 1;
-    // EAGAIN only when the counter is near overflow; the client then has a wake-up pending anyway.
-    (void)!write(complete_event_.get(), &one, sizeof(one));
+bool ServiceSession::signal_complete() {
+    signal_pending_ = false;
+    return signal_eventfd(complete_event_.get());
 }
 
 void ServiceSession::record_latency(std::vector<uint64_t>& v, uint64_t ns) {
@@ -262,7 +322,7 @@ void ServiceSession::record_latency(std::vector<uint64_t>& v, uint64_t ns) {
     v.push_back(ns);
 }
 
-std::optional<std::string> ServiceSession::complete_without_output(const Pending& p, int32_t status) {
+void ServiceSession::complete_without_output(const Pending& p, int32_t status) {
     fgsr_completion_entry c{};
     c.sequence = p.entry.sequence;
     c.status = status;
@@ -280,13 +340,12 @@ std::optional<std::string> ServiceSession::complete_without_output(const Pending
     else
         ++stats_.frames_rejected;
     push_completion(c);
-    signal_complete();
-    return std::nullopt;
+    signal_pending_ = true;
 }
 
-std::optional<std::string> ServiceSession::process_one() {
-    if (!completion_free()) return std::string("completion ring tail corrupted by the client");
-    if (!ready()) return std::nullopt;
+ServiceSession::Begun ServiceSession::begin() {
+    if (!completion_free()) return {std::string("completion ring tail corrupted by the client"), nullptr};
+    if (!ready()) return {};
     if (desc_.queue_policy == FGSR_QUEUE_MAILBOX && pending_.size() > 1) {
         // Latest wins: everything but the newest pending submit is dropped, as ring room allows.
         while (pending_.size() > 1 && completion_free().value_or(0) >= 1) {
@@ -294,16 +353,32 @@ std::optional<std::string> ServiceSession::process_one() {
             pending_.pop_front();
             complete_without_output(p, FGSR_STATUS_DROPPED);
         }
-        if (!ready()) return std::nullopt;
+        if (!ready()) return {};
     }
     const Pending p = pending_.front();
     pending_.pop_front();
-    if (requested_outputs(p.entry) > layout_.output_slot_count) {
+    const uint32_t n = requested_outputs(p.entry);
+    if (n > layout_.output_slot_count) {
         log::warn("session {}: submit {} wants {} outputs, the session has {} output slots", id_,
-                  p.entry.sequence, requested_outputs(p.entry), layout_.output_slot_count);
-        return complete_without_output(p, FGSR_STATUS_INVALID_ARGUMENT);
+                  p.entry.sequence, n, layout_.output_slot_count);
+        complete_without_output(p, FGSR_STATUS_INVALID_ARGUMENT);
+        return {};
     }
-    return run(p);
+    auto job = std::make_shared<FrameJob>();
+    job->pending = p;
+    for (uint32_t slot = 0; slot < layout_.output_slot_count && job->slots.size() < n; ++slot)
+        if (!output_taken_[slot]) {
+            output_taken_[slot] = true; // ready() guaranteed n free slots
+            job->slots.push_back(slot);
+        }
+    free_outputs_ -= uint32_t(job->slots.size());
+    reserved_ = job->slots;
+    in_flight_ = true;
+    return {std::nullopt, std::move(job)};
+}
+
+bool ServiceSession::reserved(uint32_t slot) const {
+    return std::find(reserved_.begin(), reserved_.end(), slot) != reserved_.end();
 }
 
 void ServiceSession::write_output(uint32_t slot, const fgsr::ImageRGBA& image) {
@@ -312,8 +387,29 @@ void ServiceSession::write_output(uint32_t slot, const fgsr::ImageRGBA& image) {
     fgsr::encode_output(image, fgsr::ColorFormat(desc_.output_format), dst);
 }
 
-std::optional<std::string> ServiceSession::run(const Pending& p) {
+void ServiceSession::execute(FrameJob& job) {
+    const uint64_t job_start = monotonic_ns();
+    struct Timed {
+        FrameJob& job;
+        uint64_t start;
+        ~Timed() { job.engine_ns = monotonic_ns() - start; }
+    } timed{job, job_start};
+    const Pending& p = job.pending;
     const fgsr_submit_entry& e = p.entry;
+    auto complete_without_output = [&](int32_t status) {
+        fgsr_completion_entry c{};
+        c.sequence = e.sequence;
+        c.status = status;
+        c.flags = FGSR_COMPLETION_INPUT_RELEASED | FGSR_COMPLETION_LAST;
+        c.input_slot = e.input_slot;
+        c.output_slot = FGSR_NO_SLOT;
+        c.user_data = e.user_data;
+        c.telemetry.submit_ns = e.submit_time_ns;
+        c.telemetry.dequeue_ns = p.dequeue_ns;
+        c.telemetry.start_ns = c.telemetry.complete_ns = monotonic_ns();
+        c.telemetry.queue_wait_ns = c.telemetry.start_ns - p.dequeue_ns;
+        job.completions.push_back(c);
+    };
     const uint64_t start_ns = monotonic_ns();
     uint64_t cpu_mark = thread_cpu_ns();
 
@@ -328,11 +424,10 @@ std::optional<std::string> ServiceSession::run(const Pending& p) {
     auto submitted = import_ ? engine_session_->submit(view, *import_) : engine_session_->submit(view);
     if (!submitted) {
         log::info("session {}: frame {} rejected: {}", id_, e.sequence, submitted.error().message);
-        return complete_without_output(p, submitted.error().code == fgsr::Errc::vulkan
-                                              ? FGSR_STATUS_DEVICE_ERROR
-                                              : FGSR_STATUS_BAD_FRAME);
+        return complete_without_output(submitted.error().code == fgsr::Errc::vulkan ? FGSR_STATUS_DEVICE_ERROR
+                                                                                    : FGSR_STATUS_BAD_FRAME);
     }
-    if (!import_) stats_.bytes_copied += view.color.size() + view.depth.size() + view.mv.size();
+    if (!import_) job.bytes_copied = view.color.size() + view.depth.size() + view.mv.size();
     const fgsr::PassTiming ingest = engine_session_->last_ingest_timing();
     if (view.reset) previous_present_ns_ = 0;
 
@@ -386,6 +481,7 @@ std::optional<std::string> ServiceSession::run(const Pending& p) {
 
     const uint64_t cur_present = e.present_time_ns;
     const uint64_t prev_present = previous_present_ns_;
+    size_t written = 0;
     for (size_t k = 0; k < outputs.size(); ++k) {
         const Output& o = outputs[k];
         fgsr_completion_entry c{};
@@ -424,35 +520,65 @@ std::optional<std::string> ServiceSession::run(const Pending& p) {
         add_pass(ingest);
         if (o.status == FGSR_STATUS_OK && o.frame) {
             for (const fgsr::PassTiming& pt : o.frame->passes) add_pass(pt);
-            uint32_t out_slot = 0;
-            while (output_with_client_[out_slot]) ++out_slot; // ready() guaranteed enough free slots
+            const uint32_t out_slot = job.slots[written++]; // begin() reserved one per output
             write_output(out_slot, o.frame->color);
-            output_with_client_[out_slot] = true;
-            --free_outputs_;
             c.output_slot = out_slot;
-            ++stats_.outputs_written;
-            record_latency(gpu_, t.gpu_ns);
         } else if (o.status != FGSR_STATUS_OK) {
             t.skipped_passes = o.frame_type == FGSR_FRAME_UPSCALED
                                    ? (1u << FGSR_PASS_SR)
                                    : (1u << FGSR_PASS_SPLAT) | (1u << FGSR_PASS_GENERATE);
         }
-        if (k + 1 == outputs.size()) {
-            c.flags = FGSR_COMPLETION_INPUT_RELEASED | FGSR_COMPLETION_LAST;
-            input_with_daemon_[e.input_slot] = false;
-        }
+        if (k + 1 == outputs.size()) c.flags = FGSR_COMPLETION_INPUT_RELEASED | FGSR_COMPLETION_LAST;
         const uint64_t cpu_now = thread_cpu_ns();
         t.daemon_cpu_ns = cpu_now - cpu_mark;
         cpu_mark = cpu_now;
         t.complete_ns = monotonic_ns();
-        const uint64_t from =
-            (e.submit_time_ns && e.submit_time_ns <= t.complete_ns) ? e.submit_time_ns : p.dequeue_ns;
+        job.completions.push_back(c);
+    }
+    previous_present_ns_ = cur_present;
+}
+
+std::optional<std::string> ServiceSession::finish(FrameJob& job) {
+    in_flight_ = false;
+    reserved_.clear();
+    engine_ns_ += job.engine_ns;
+    stats_.bytes_copied += job.bytes_copied;
+    const Pending& p = job.pending;
+    // Slots reserved for outputs that were not written (an error, or NOT_READY) go back.
+    std::array<bool, FGSR_MAX_SLOTS> used{};
+    for (const fgsr_completion_entry& c : job.completions)
+        if (c.output_slot != FGSR_NO_SLOT) used[c.output_slot] = true;
+    for (uint32_t slot : job.slots)
+        if (!used[slot]) {
+            output_taken_[slot] = false;
+            ++free_outputs_;
+        }
+    input_with_daemon_[p.entry.input_slot] = false;
+    // The client may only have made room in the ring since begin() checked it, or corrupted it.
+    const auto room = completion_free();
+    if (!room) return std::string("completion ring tail corrupted by the client");
+    if (*room < job.completions.size()) return std::string("completion ring shrank while a frame ran");
+    for (fgsr_completion_entry& c : job.completions) {
+        fgsr_telemetry& t = c.telemetry;
+        if (c.output_slot != FGSR_NO_SLOT) {
+            ++stats_.outputs_written;
+            record_latency(gpu_, t.gpu_ns);
+        }
+        if (c.status != FGSR_STATUS_OK && t.frame_type == FGSR_FRAME_NONE) {
+            if (c.status == FGSR_STATUS_DROPPED)
+                ++stats_.frames_dropped;
+            else
+                ++stats_.frames_rejected;
+        }
+        t.complete_ns = monotonic_ns();
+        const uint64_t from = (p.entry.submit_time_ns && p.entry.submit_time_ns <= t.complete_ns)
+                                  ? p.entry.submit_time_ns
+                                  : p.dequeue_ns;
         record_latency(latency_, t.complete_ns - from);
         record_latency(queue_wait_, t.queue_wait_ns);
         push_completion(c);
     }
-    previous_present_ns_ = cur_present;
-    signal_complete();
+    signal_pending_ = true;
     return std::nullopt;
 }
 
