@@ -22,11 +22,11 @@ std::string printable(std::string_view s) {
     out.reserve(s.size());
     for (size_t i = 0; i < s.size(); ++i) {
         const auto c = static_cast<unsigned char>(s[i]);
-        // C0 controls, DEL, backslash, and the UTF-8 encodings of the C1 controls (U+0080..U+009F:
+        // C0 controls, DEL, and the UTF-8 encodings of the C1 controls (U+0080..U+009F:
         // some terminals take U+009B as CSI).
         const bool c1 =
             c == 0xc2 && i + 1 < s.size() && (static_cast<unsigned char>(s[i + 1]) & 0xe0) == 0x80;
-        if (c < 0x20 || c == 0x7f || c == '\\')
+        if (c < 0x20 || c == 0x7f)
             out += fmt::format("\\x{:02x}", c);
         else if (c1) {
             out += fmt::format("\\xc2\\x{:02x}", static_cast<unsigned char>(s[i + 1]));

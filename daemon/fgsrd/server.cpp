@@ -496,13 +496,15 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
 
 // The memory a session will hold, before anything is allocated: its shared pools, the engine's
 // buffers (per input and per output pixel) and the host images of the outputs of one submit.
-// The per-pixel figures are measured on lavapipe (docs/RELIABILITY.md, "Limits") and rounded up.
+// The per-pixel figures are fitted to the RSS of fgsrd on lavapipe after running 512x512, 1024x1024
+// and 2048x2048 sessions with eight outputs per submit (docs/RELIABILITY.md, "Limits"), and err
+// on the high side (2048x2048: 2.05 GiB estimated, 1.57 GiB measured).
 uint64_t session_memory_estimate(const fgsr_session_desc& d, const fgsr_pool_layout& l) {
     const uint64_t in_px = uint64_t(d.width) * d.height;
     const uint64_t out_px =
         uint64_t(std::ceil(double(d.width) * d.scale)) * uint64_t(std::ceil(double(d.height) * d.scale));
-    constexpr uint64_t kEngineBytesPerInputPixel = 256, kEngineBytesPerOutputPixel = 64,
-                       kBytesPerOutputImagePixel = 32;
+    constexpr uint64_t kEngineBytesPerInputPixel = 128, kEngineBytesPerOutputPixel = 32,
+                       kBytesPerOutputImagePixel = 16;
     return l.input_pool_size + l.output_pool_size + l.rings_size + in_px * kEngineBytesPerInputPixel +
            out_px * (kEngineBytesPerOutputPixel + uint64_t(d.output_slots) * kBytesPerOutputImagePixel);
 }
@@ -551,15 +553,15 @@ bool Server::create_session(Client& c, const fgsr_msg_header& h, const std::byte
     if (sessions_of(c.uid) >= opt_.max_sessions_per_uid)
         return refuse(FGSR_STATUS_BUSY, "too many sessions for uid " + std::to_string(c.uid));
     if (pixels > opt_.max_session_pixels)
-        return refuse(FGSR_STATUS_UNSUPPORTED,
-                      std::to_string(pixels) + " pixels per frame; the daemon's limit is " +
-                          std::to_string(opt_.max_session_pixels) + " (--max-session-pixels)");
+        return refuse(FGSR_STATUS_UNSUPPORTED, "--max-session-pixels " +
+                                                   std::to_string(opt_.max_session_pixels) + ": frames of " +
+                                                   std::to_string(pixels) + " pixels");
     if (memory > opt_.max_session_memory)
-        return refuse(FGSR_STATUS_UNSUPPORTED, "needs about " + mib(memory) + "; the daemon's limit is " +
-                                                   mib(opt_.max_session_memory) + " (--max-session-memory)");
+        return refuse(FGSR_STATUS_UNSUPPORTED, "--max-session-memory " + mib(opt_.max_session_memory) +
+                                                   ": needs about " + mib(memory));
     if (memory_ + memory > opt_.max_total_memory)
-        return refuse(FGSR_STATUS_BUSY, "needs about " + mib(memory) + "; sessions hold " + mib(memory_) +
-                                            " of " + mib(opt_.max_total_memory) + " (--max-total-memory)");
+        return refuse(FGSR_STATUS_BUSY, "--max-total-memory " + mib(opt_.max_total_memory) + ": " +
+                                            mib(memory_) + " held, needs " + mib(memory));
     const int lane_index = pixels > opt_.interactive_pixels ? kBulk : kInteractive;
     Lane* l = lane(lane_index);
     const uint32_t id = next_session_++;
