@@ -84,12 +84,13 @@ TEST(DaemonHostile, BlockingCompleteEventfdDropsTheAttackerOnly) {
     expect_responsive_and_stoppable(*d);
 }
 
-// A session of `side` x `side`, scale 1, interpolation only, 8 output slots.
+// A session of `side` x `side`, scale 1, interpolation only, 4 input and 8 output slots.
 fgsr_session_desc square_desc(uint32_t side) {
     fgsr_session_desc desc = default_desc();
     desc.width = desc.height = side;
     desc.scale = 1.f;
     desc.modes = FGSR_MODE_INTERPOLATE;
+    desc.input_slots = 4;
     desc.output_slots = 8;
     return desc;
 }
@@ -182,8 +183,9 @@ TEST(DaemonHostile, AHeavySessionDoesNotHoldUpHelloOrSmallClients) {
 }
 
 // Fairness: two sessions on the same lane, one with 64 times the pixels of the other, both always
-// ready (two submits queued each). Each should get about half of the lane's time, not half of its
-// frames.
+// ready (up to three submits queued each, so that a client thread delayed by a loaded machine
+// still has work waiting). Each should get about half of the lane's time, not half of its frames:
+// frame-fair round robin measured 30.7 here (112 big and 115 small frames).
 TEST(DaemonHostile, LaneTimeIsSharedFairlyWhateverTheFrameSize) {
     auto d = FgsrdProcess::start();
     ASSERT_TRUE(d) << FgsrdProcess::last_error();
@@ -192,8 +194,8 @@ TEST(DaemonHostile, LaneTimeIsSharedFairlyWhateverTheFrameSize) {
     ASSERT_TRUE(big && little);
     std::atomic<bool> stop{false};
     std::vector<double> big_ms, little_ms;
-    std::thread tb([&] { big_ms = keep_busy(*big->s, 1, stop, 2); });
-    std::thread tl([&] { little_ms = keep_busy(*little->s, 1, stop, 2); });
+    std::thread tb([&] { big_ms = keep_busy(*big->s, 1, stop, 3); });
+    std::thread tl([&] { little_ms = keep_busy(*little->s, 1, stop, 3); });
     usleep(4000000);
     stop = true;
     tb.join();
@@ -208,7 +210,7 @@ TEST(DaemonHostile, LaneTimeIsSharedFairlyWhateverTheFrameSize) {
     const double cost_ratio = (big_total / double(big_ms.size())) / (little_total / double(little_ms.size()));
     const double time_ratio = big_total / little_total;
     EXPECT_GT(cost_ratio, 8.0) << "the sizes do not differ enough in cost for this test";
-    EXPECT_LT(time_ratio, 3.0) << big_ms.size() << " big frames, " << little_ms.size() << " small frames";
+    EXPECT_LT(time_ratio, 4.0) << big_ms.size() << " big frames, " << little_ms.size() << " small frames";
     expect_responsive_and_stoppable(*d);
 }
 

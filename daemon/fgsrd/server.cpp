@@ -12,10 +12,9 @@
 // or completion-ring room is not ready and is skipped.
 #include "server.hpp"
 
-#include "lane.hpp"
 #include "listen.hpp"
 #include "log.hpp"
-#include "session.hpp"
+#include "server_internal.hpp"
 
 #include <fgsr/engine/engine.hpp>
 #include <fgsr/ipc/socket.hpp>
@@ -44,116 +43,7 @@
 
 namespace fgsrd {
 
-namespace {
-
-// epoll tags: kind in the top byte, an id below.
-enum Kind : uint64_t { kListen = 1, kSignal = 2, kClient = 3, kSession = 4, kLanes = 5 };
-uint64_t tag(Kind k, uint64_t id) {
-    return (uint64_t(k) << 56) | id;
-}
-
-struct Client {
-    uint64_t id = 0;
-    UniqueFd fd;
-    uid_t uid = 0;
-    pid_t pid = 0;
-    std::string name; // "pid N" until HELLO names it
-    bool hello_done = false;
-    uint64_t connected_ns = 0; // CLOCK_MONOTONIC at accept (the HELLO deadline counts from it)
-    uint64_t active_ns = 0;    // last message, submit or release
-    uint32_t creating = 0;     // CREATE_SESSION requests on a lane
-    std::map<uint32_t, std::unique_ptr<ServiceSession>> sessions;
-};
-
-// Where a session lives and what the scheduler knows of it.
-struct SessionRef {
-    uint64_t client = 0;
-    int lane = 0;          // index into Server::lanes_
-    uint64_t vstart = 0;   // the lane's virtual clock when the session was created
-    uint64_t memory = 0;   // estimated bytes (counted in Server::memory_)
-    uint64_t activity = 0; // ServiceSession::ring_activity() at the last poll
-};
-
-struct LaneState {
-    std::unique_ptr<Lane> lane;
-    bool frame_in_flight = false;
-    uint64_t vclock = 0;   // virtual time of the last frame started
-    uint32_t rr_after = 0; // ties: round robin after this session id
-};
-
-constexpr int kInteractive = 0, kBulk = 1;
-
-class Server {
-  public:
-    explicit Server(const Options& o) : opt_(o) {}
-    ~Server();
-    int run();
-
-  private:
-    void accept_clients();
-    // Closes the connections without HELLO past their deadline and the idle ones; returns the
-    // milliseconds until the next deadline (-1: none).
-    int expire_connections();
-    void on_client(uint64_t id, uint32_t events);
-    void drop_client(uint64_t id, const char* why);
-    // Sends FGSR_MSG_ERROR with a reason, then drops the client.
-    void violation(Client& c, uint32_t sequence, const std::string& reason);
-    // Handles one message; false when the client was dropped.
-    bool handle_message(Client& c, const std::byte* data, size_t size);
-    bool send_reply(Client& c, const void* msg, size_t size, const int* fds = nullptr, size_t nfds = 0);
-    bool create_session(Client& c, const fgsr_msg_header& h, const std::byte* data, size_t size);
-    void session_created(uint64_t client_id, uint32_t sequence, uint32_t session_id, int lane,
-                         uint64_t memory, std::shared_ptr<std::unique_ptr<ServiceSession>> made,
-                         int32_t status, const std::string& reason);
-    void destroy_session(Client& c, uint32_t session_id);
-    // Polls every session's rings, then starts a frame on each free lane.
-    void schedule();
-    void start_frame(int lane);
-    void frame_done(int lane, uint32_t session_id, const std::shared_ptr<ServiceSession::FrameJob>& job);
-    // Publishes a session's pushed completions; false when the client was dropped for blocking it.
-    bool signal(Client& c, ServiceSession& s);
-    Lane* lane(int index);
-    // What a lane calls with a finished job's continuation (on the lane's thread).
-    std::function<void(Lane::Continuation)> deliver() {
-        return [this](Lane::Continuation c) {
-            {
-                std::lock_guard lock(done_mutex_);
-                done_.push_back(std::move(c));
-            }
-            const uint64_t one = 1;
-            (void)!write(lanes_event_.get(), &one, sizeof(one)); // private eventfd, non-blocking
-        };
-    }
-    void run_continuations();
-    bool lanes_idle() const;
-    bool evict_idle_client();
-    size_t served_clients(uid_t uid, bool any_uid) const {
-        size_t n = 0;
-        for (const auto& [id, c] : clients_) n += c->hello_done && (any_uid || c->uid == uid) ? 1 : 0;
-        return n;
-    }
-    size_t sessions_of(uid_t uid) const {
-        size_t n = 0;
-        for (const auto& [id, c] : clients_)
-            if (c->uid == uid) n += c->sessions.size() + c->creating;
-        return n;
-    }
-
-    Options opt_;
-    std::array<LaneState, 2> lanes_;
-    std::mutex done_mutex_; // guards done_ (lanes push, the server's thread pops)
-    std::deque<Lane::Continuation> done_;
-    UniqueFd epoll_, listen_, signal_, lanes_event_;
-    std::string created_socket_; // unlinked at shutdown when this process created it
-    std::map<uint64_t, std::unique_ptr<Client>> clients_;
-    std::map<uint32_t, SessionRef> session_owner_;
-    uint64_t memory_ = 0; // estimated bytes of every session, made or being made
-    uint64_t next_client_ = 1;
-    uint32_t next_session_ = 1;
-    uint64_t epoch_ = 0;
-    uint32_t caps_ = 0;
-    bool stop_ = false;
-};
+namespace detail {
 
 Server::~Server() {
     // Every session is destroyed on its lane, before the lane's engine: drop the clients, then
@@ -210,12 +100,6 @@ bool Server::send_reply(Client& c, const void* msg, size_t size, const int* fds,
         return false;
     }
     return true;
-}
-
-void copy_reason(char* dst, size_t cap, const std::string& s) {
-    const size_t n = std::min(cap - 1, s.size());
-    std::memcpy(dst, s.data(), n);
-    dst[n] = 0;
 }
 
 void Server::violation(Client& c, uint32_t sequence, const std::string& reason) {
@@ -494,241 +378,6 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
     }
 }
 
-// The memory a session will hold, before anything is allocated: its shared pools, the engine's
-// buffers (per input and per output pixel) and the host images of the outputs of one submit.
-// The per-pixel figures are fitted to the RSS of fgsrd on lavapipe after running 512x512, 1024x1024
-// and 2048x2048 sessions with eight outputs per submit (docs/RELIABILITY.md, "Limits"), and err
-// on the high side (2048x2048: 2.05 GiB estimated, 1.57 GiB measured).
-uint64_t session_memory_estimate(const fgsr_session_desc& d, const fgsr_pool_layout& l) {
-    const uint64_t in_px = uint64_t(d.width) * d.height;
-    const uint64_t out_px =
-        uint64_t(std::ceil(double(d.width) * d.scale)) * uint64_t(std::ceil(double(d.height) * d.scale));
-    constexpr uint64_t kEngineBytesPerInputPixel = 128, kEngineBytesPerOutputPixel = 32,
-                       kBytesPerOutputImagePixel = 16;
-    return l.input_pool_size + l.output_pool_size + l.rings_size + in_px * kEngineBytesPerInputPixel +
-           out_px * (kEngineBytesPerOutputPixel + uint64_t(d.output_slots) * kBytesPerOutputImagePixel);
-}
-
-bool Server::create_session(Client& c, const fgsr_msg_header& h, const std::byte* data, size_t size) {
-    if (size < sizeof(fgsr_create_session)) {
-        violation(c, h.sequence,
-                  "message type " + std::to_string(h.type) + " truncated to " + std::to_string(size) +
-                      " bytes (needs " + std::to_string(sizeof(fgsr_create_session)) + ")");
-        return false;
-    }
-    fgsr_session_desc desc;
-    std::memcpy(&desc, data + sizeof(fgsr_msg_header), sizeof(desc));
-    if (desc.struct_size < sizeof(fgsr_session_desc) || desc.struct_size > size - sizeof(fgsr_msg_header)) {
-        violation(c, h.sequence,
-                  "session description struct_size " + std::to_string(desc.struct_size) +
-                      " does not match the message");
-        return false;
-    }
-    const uint32_t sequence = h.sequence;
-    auto refuse = [&](int32_t status, const std::string& reason) {
-        log::info("client {} ({}): session refused: {}: {}", c.id, c.name, fgsr_status_string(status),
-                  reason);
-        fgsr_create_session_reply r{};
-        r.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), sequence);
-        r.epoch = epoch_;
-        r.status = status;
-        copy_reason(r.reason, sizeof(r.reason), reason);
-        if (send_reply(c, &r, sizeof(r))) return true;
-        drop_client(c.id, nullptr);
-        return false;
-    };
-    fgsr_session_desc d;
-    char why[128];
-    if (fgsr_session_desc_normalize(&desc, &d, why, sizeof(why)) != FGSR_STATUS_OK)
-        return refuse(FGSR_STATUS_INVALID_ARGUMENT, why);
-    const fgsr_pool_layout layout = fgsr_pool_layout_for(&d);
-    const uint64_t in_px = uint64_t(d.width) * d.height;
-    const uint64_t out_px =
-        uint64_t(std::ceil(double(d.width) * d.scale)) * uint64_t(std::ceil(double(d.height) * d.scale));
-    const uint64_t pixels = std::max(in_px, out_px);
-    const uint64_t memory = session_memory_estimate(d, layout);
-    const auto mib = [](uint64_t b) { return std::to_string((b + (1u << 20) - 1) >> 20) + " MiB"; };
-    if (c.sessions.size() + c.creating >= opt_.max_sessions_per_client)
-        return refuse(FGSR_STATUS_BUSY, "too many sessions on this connection");
-    if (sessions_of(c.uid) >= opt_.max_sessions_per_uid)
-        return refuse(FGSR_STATUS_BUSY, "too many sessions for uid " + std::to_string(c.uid));
-    if (pixels > opt_.max_session_pixels)
-        return refuse(FGSR_STATUS_UNSUPPORTED, "--max-session-pixels " +
-                                                   std::to_string(opt_.max_session_pixels) + ": frames of " +
-                                                   std::to_string(pixels) + " pixels");
-    if (memory > opt_.max_session_memory)
-        return refuse(FGSR_STATUS_UNSUPPORTED, "--max-session-memory " + mib(opt_.max_session_memory) +
-                                                   ": needs about " + mib(memory));
-    if (memory_ + memory > opt_.max_total_memory)
-        return refuse(FGSR_STATUS_BUSY, "--max-total-memory " + mib(opt_.max_total_memory) + ": " +
-                                            mib(memory_) + " held, needs " + mib(memory));
-    const int lane_index = pixels > opt_.interactive_pixels ? kBulk : kInteractive;
-    Lane* l = lane(lane_index);
-    const uint32_t id = next_session_++;
-    if (next_session_ == 0) next_session_ = 1;
-    memory_ += memory;
-    ++c.creating;
-    const uint64_t client_id = c.id;
-    const bool zero_copy = opt_.zero_copy;
-    l->post([this, l, client_id, sequence, id, lane_index, memory, desc, zero_copy](fgsr::Engine* engine) {
-        auto made = std::make_shared<std::unique_ptr<ServiceSession>>();
-        int32_t status = FGSR_STATUS_UNSUPPORTED;
-        std::string reason;
-        if (engine)
-            *made = ServiceSession::create(*engine, id, desc, zero_copy, status, reason);
-        else
-            reason = "no engine for large sessions: " + l->engine_error();
-        return Lane::Continuation([this, client_id, sequence, id, lane_index, memory, made, status, reason] {
-            session_created(client_id, sequence, id, lane_index, memory, made, status, reason);
-        });
-    });
-    return true;
-}
-
-void Server::session_created(uint64_t client_id, uint32_t sequence, uint32_t id, int lane_index,
-                             uint64_t memory, std::shared_ptr<std::unique_ptr<ServiceSession>> made,
-                             int32_t status, const std::string& reason) {
-    auto cit = clients_.find(client_id);
-    if (cit != clients_.end()) --cit->second->creating;
-    if (cit == clients_.end() || !*made) {
-        memory_ -= memory;
-        if (*made) // the client went away meanwhile: destroy it where it was made
-            lane(lane_index)->post([made](fgsr::Engine*) {
-                made->reset();
-                return Lane::Continuation{};
-            });
-        if (cit == clients_.end()) return;
-        Client& c = *cit->second;
-        log::info("client {} ({}): session refused: {}: {}", c.id, c.name, fgsr_status_string(status),
-                  reason);
-        fgsr_create_session_reply r{};
-        r.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), sequence);
-        r.epoch = epoch_;
-        r.status = status;
-        copy_reason(r.reason, sizeof(r.reason), reason);
-        if (!send_reply(c, &r, sizeof(r))) drop_client(c.id, nullptr);
-        return;
-    }
-    Client& c = *cit->second;
-    ServiceSession& s = **made;
-    const fgsr_session_desc& d = s.desc();
-    // Registered before the reply, so that a failed reply tears it down like any other session.
-    session_owner_[id] = SessionRef{client_id, lane_index, lanes_[size_t(lane_index)].vclock, memory, 0};
-    c.sessions[id] = std::move(*made);
-    fgsr_create_session_reply r{};
-    r.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), sequence);
-    r.epoch = epoch_;
-    r.status = FGSR_STATUS_OK;
-    r.session_id = id;
-    r.layout = s.layout();
-    const auto fds = s.fds();
-    if (!send_reply(c, &r, sizeof(r), fds.data(), fds.size())) {
-        drop_client(c.id, nullptr);
-        return;
-    }
-    s.close_shared_fds();
-    epoll_event ev{};
-    ev.events = EPOLLIN | EPOLLET; // a wake-up per client write; the counter is never read
-    ev.data.u64 = tag(kSession, id);
-    epoll_ctl(epoll_.get(), EPOLL_CTL_ADD, s.submit_event_fd(), &ev);
-    log::info("client {} ({}): session {} {}x{} x{} on the {} lane ({})", c.id, c.name, id, d.width, d.height,
-              d.scale, lane_index == kBulk ? "bulk" : "interactive",
-              s.zero_copy() ? "zero-copy input" : "staging copies");
-}
-
-bool Server::signal(Client& c, ServiceSession& s) {
-    if (!s.signal_pending() || s.signal_complete()) return true;
-    violation(c, 0,
-              "session " + std::to_string(s.id()) +
-                  ": its complete eventfd blocked the daemon's write (O_NONBLOCK cleared and counter full)");
-    return false;
-}
-
-void Server::schedule() {
-    // Poll every session (rings copied and validated, activity noted), in id order.
-    std::vector<uint32_t> ids;
-    ids.reserve(session_owner_.size());
-    for (const auto& [sid, ref] : session_owner_) ids.push_back(sid);
-    const uint64_t now = monotonic_ns();
-    for (uint32_t sid : ids) {
-        auto ref = session_owner_.find(sid);
-        if (ref == session_owner_.end()) continue; // its client was dropped meanwhile
-        Client& c = *clients_.at(ref->second.client);
-        ServiceSession& s = *c.sessions.at(sid);
-        if (auto why = s.poll()) {
-            violation(c, 0, "session " + std::to_string(sid) + ": " + *why);
-            continue;
-        }
-        if (s.ring_activity() != ref->second.activity) {
-            ref->second.activity = s.ring_activity();
-            c.active_ns = now;
-        }
-    }
-    for (int l = 0; l < int(lanes_.size()); ++l) start_frame(l);
-}
-
-void Server::start_frame(int lane_index) {
-    LaneState& ls = lanes_[size_t(lane_index)];
-    while (ls.lane && !ls.frame_in_flight) {
-        // The ready session of this lane with the least virtual time (engine time used since it
-        // was created, from the lane's clock then); one that was idle restarts at the lane's clock.
-        // Ties: round robin after the last one served.
-        uint32_t best = 0;
-        uint64_t best_key = UINT64_MAX;
-        bool best_after = false;
-        for (const auto& [sid, ref] : session_owner_) {
-            if (ref.lane != lane_index) continue;
-            const ServiceSession& s = *clients_.at(ref.client)->sessions.at(sid);
-            if (!s.ready()) continue;
-            const uint64_t key = std::max(ref.vstart + s.engine_ns(), ls.vclock);
-            const bool after = sid > ls.rr_after;
-            if (key < best_key || (key == best_key && after && !best_after)) {
-                best = sid;
-                best_key = key;
-                best_after = after;
-            }
-        }
-        if (best_key == UINT64_MAX) return;
-        SessionRef& ref = session_owner_.at(best);
-        Client& c = *clients_.at(ref.client);
-        ServiceSession& s = *c.sessions.at(best);
-        // Catch an idle session up: its virtual start moves so that its key is the clock.
-        if (ref.vstart + s.engine_ns() < ls.vclock) ref.vstart = ls.vclock - s.engine_ns();
-        ls.vclock = best_key;
-        ls.rr_after = best;
-        auto begun = s.begin();
-        if (begun.violation) {
-            violation(c, 0, "session " + std::to_string(best) + ": " + *begun.violation);
-            continue;
-        }
-        if (!signal(c, s)) continue; // drops and rejections published by begin()
-        if (!begun.job) continue;    // nothing for the engine: pick again
-        ls.frame_in_flight = true;
-        auto job = begun.job;
-        ServiceSession* target = &s; // outlives the job: its destruction is posted after it
-        const uint32_t sid = best;
-        ls.lane->post([this, lane_index, sid, job, target](fgsr::Engine*) {
-            target->execute(*job);
-            return Lane::Continuation([this, lane_index, sid, job] { frame_done(lane_index, sid, job); });
-        });
-    }
-}
-
-void Server::frame_done(int lane_index, uint32_t session_id,
-                        const std::shared_ptr<ServiceSession::FrameJob>& job) {
-    lanes_[size_t(lane_index)].frame_in_flight = false;
-    auto ref = session_owner_.find(session_id);
-    if (ref != session_owner_.end()) { // else destroyed while the frame ran: nothing to publish
-        Client& c = *clients_.at(ref->second.client);
-        ServiceSession& s = *c.sessions.at(session_id);
-        if (auto why = s.finish(*job))
-            violation(c, 0, "session " + std::to_string(session_id) + ": " + *why);
-        else
-            signal(c, s);
-    }
-    start_frame(lane_index);
-}
-
 int Server::run() {
     // Blocked before any thread starts (lanes and driver threads inherit the mask): otherwise the
     // kernel may deliver SIGTERM to a driver thread and kill the process without a clean shutdown.
@@ -825,10 +474,10 @@ int Server::run() {
     return 0;
 }
 
-} // namespace
+} // namespace detail
 
 int run_server(const Options& options) {
-    Server s(options);
+    detail::Server s(options);
     return s.run();
 }
 
