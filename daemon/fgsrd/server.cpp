@@ -268,114 +268,78 @@ void Server::on_client(uint64_t id, uint32_t events) {
 }
 
 bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
-    fgsr_msg_header h{};
-    if (size < sizeof(h)) {
-        violation(c, 0, "message of " + std::to_string(size) + " bytes is shorter than a header");
+    const Request request = parse_request(data, size, c.hello_done);
+    if (const auto* v = std::get_if<Violation>(&request)) {
+        violation(c, v->sequence, v->reason);
         return false;
     }
-    std::memcpy(&h, data, sizeof(h));
-    if (h.magic != FGSR_PROTOCOL_MAGIC) {
-        violation(c, h.sequence, "bad magic");
+    if (const auto* create = std::get_if<CreateRequest>(&request)) return create_session(c, *create);
+    if (const auto* session = std::get_if<SessionRequest>(&request)) return session_request(c, *session);
+    const fgsr_hello& hello = std::get<HelloRequest>(request).hello;
+    const uint32_t sequence = hello.header.sequence;
+    // Kept escaped: it reaches logs and telemetry, and must not forge lines there.
+    c.name = log::printable(hello.name) + " (pid " + std::to_string(c.pid) + ")";
+    fgsr_hello_reply r{};
+    r.header = fgsr_msg_header_for(FGSR_MSG_HELLO_REPLY, sizeof(r), sequence);
+    r.major = FGSR_PROTOCOL_MAJOR;
+    r.minor = FGSR_PROTOCOL_MINOR;
+    r.capabilities = caps_;
+    r.epoch = epoch_;
+    copy_reason(r.device, sizeof(r.device), lanes_[kInteractive].lane->device_name());
+    r.status = FGSR_STATUS_OK;
+    if (hello.major != FGSR_PROTOCOL_MAJOR)
+        r.status = FGSR_STATUS_VERSION_MISMATCH;
+    else if (!opt_.allow_any_user && c.uid != getuid())
+        r.status = FGSR_STATUS_PERMISSION_DENIED;
+    else if (served_clients(c.uid, false) >= opt_.max_clients_per_uid)
+        r.status = FGSR_STATUS_BUSY; // per uid: with --allow-any-user no user takes every place
+    else if (served_clients(0, true) >= opt_.max_clients && !evict_idle_client())
+        r.status = FGSR_STATUS_BUSY; // counted at HELLO: probes and half-open sockets do not count
+    if (r.status != FGSR_STATUS_OK) {
+        log::info("client {} ({}): refused: {} (client protocol {}.{}, uid {})", c.id, c.name,
+                  fgsr_status_string(r.status), hello.major, hello.minor, c.uid);
+        send_reply(c, &r, sizeof(r));
+        drop_client(c.id, nullptr);
         return false;
     }
-    if (h.size != size) {
-        violation(c, h.sequence,
-                  "header size " + std::to_string(h.size) + " but the packet has " + std::to_string(size) +
-                      " bytes");
+    c.hello_done = true;
+    log::info("client {} ({}) connected, protocol {}.{}", c.id, c.name, hello.major, hello.minor);
+    if (!send_reply(c, &r, sizeof(r))) {
+        drop_client(c.id, nullptr);
         return false;
     }
-    auto need = [&](size_t n) {
-        if (size >= n) return true;
-        violation(c, h.sequence,
-                  "message type " + std::to_string(h.type) + " truncated to " + std::to_string(size) +
-                      " bytes (needs " + std::to_string(n) + ")");
-        return false;
-    };
-    if (!c.hello_done && h.type != FGSR_MSG_HELLO) {
-        violation(c, h.sequence, "the first message must be HELLO");
-        return false;
-    }
-    switch (h.type) {
-    case FGSR_MSG_HELLO: {
-        if (c.hello_done) {
-            violation(c, h.sequence, "second HELLO");
-            return false;
-        }
-        if (!need(sizeof(fgsr_hello))) return false;
-        fgsr_hello hello;
-        std::memcpy(&hello, data, sizeof(hello));
-        hello.name[sizeof(hello.name) - 1] = 0;
-        // Kept escaped: it reaches logs and telemetry, and must not forge lines there.
-        c.name = log::printable(hello.name) + " (pid " + std::to_string(c.pid) + ")";
-        fgsr_hello_reply r{};
-        r.header = fgsr_msg_header_for(FGSR_MSG_HELLO_REPLY, sizeof(r), h.sequence);
-        r.major = FGSR_PROTOCOL_MAJOR;
-        r.minor = FGSR_PROTOCOL_MINOR;
-        r.capabilities = caps_;
-        r.epoch = epoch_;
-        copy_reason(r.device, sizeof(r.device), lanes_[kInteractive].lane->device_name());
-        r.status = FGSR_STATUS_OK;
-        if (hello.major != FGSR_PROTOCOL_MAJOR)
-            r.status = FGSR_STATUS_VERSION_MISMATCH;
-        else if (!opt_.allow_any_user && c.uid != getuid())
-            r.status = FGSR_STATUS_PERMISSION_DENIED;
-        else if (served_clients(c.uid, false) >= opt_.max_clients_per_uid)
-            r.status = FGSR_STATUS_BUSY; // per uid: with --allow-any-user no user takes every place
-        else if (served_clients(0, true) >= opt_.max_clients && !evict_idle_client())
-            r.status = FGSR_STATUS_BUSY; // counted at HELLO: probes and half-open sockets do not count
-        if (r.status != FGSR_STATUS_OK) {
-            log::info("client {} ({}): refused: {} (client protocol {}.{}, uid {})", c.id, c.name,
-                      fgsr_status_string(r.status), hello.major, hello.minor, c.uid);
-            send_reply(c, &r, sizeof(r));
-            drop_client(c.id, nullptr);
-            return false;
-        }
-        c.hello_done = true;
-        log::info("client {} ({}) connected, protocol {}.{}", c.id, c.name, hello.major, hello.minor);
-        if (!send_reply(c, &r, sizeof(r))) {
-            drop_client(c.id, nullptr);
-            return false;
-        }
-        return true;
-    }
-    case FGSR_MSG_CREATE_SESSION:
-        return create_session(c, h, data, size);
-    case FGSR_MSG_DESTROY_SESSION:
-    case FGSR_MSG_STATS: {
-        if (!need(sizeof(fgsr_session_ref))) return false;
-        fgsr_session_ref ref;
-        std::memcpy(&ref, data, sizeof(ref));
-        auto it = c.sessions.find(ref.session_id);
-        if (h.type == FGSR_MSG_STATS) {
-            fgsr_stats_reply r{};
-            r.header = fgsr_msg_header_for(FGSR_MSG_STATS_REPLY, sizeof(r), h.sequence);
-            r.session_id = ref.session_id;
-            r.status = it == c.sessions.end() ? FGSR_STATUS_INVALID_ARGUMENT : FGSR_STATUS_OK;
-            if (it != c.sessions.end()) r.stats = it->second->stats();
-            if (!send_reply(c, &r, sizeof(r))) {
-                drop_client(c.id, nullptr);
-                return false;
-            }
-            return true;
-        }
-        fgsr_reply r{};
-        r.header = fgsr_msg_header_for(FGSR_MSG_DESTROY_SESSION_REPLY, sizeof(r), h.sequence);
+    return true;
+}
+
+bool Server::session_request(Client& c, const SessionRequest& request) {
+    const fgsr_session_ref& ref = request.ref;
+    const uint32_t sequence = ref.header.sequence;
+    auto it = c.sessions.find(ref.session_id);
+    if (request.type == FGSR_MSG_STATS) {
+        fgsr_stats_reply r{};
+        r.header = fgsr_msg_header_for(FGSR_MSG_STATS_REPLY, sizeof(r), sequence);
         r.session_id = ref.session_id;
         r.status = it == c.sessions.end() ? FGSR_STATUS_INVALID_ARGUMENT : FGSR_STATUS_OK;
-        if (it == c.sessions.end())
-            copy_reason(r.reason, sizeof(r.reason), "no such session on this connection");
-        else
-            destroy_session(c, ref.session_id);
+        if (it != c.sessions.end()) r.stats = it->second->stats();
         if (!send_reply(c, &r, sizeof(r))) {
             drop_client(c.id, nullptr);
             return false;
         }
         return true;
     }
-    default:
-        violation(c, h.sequence, "unknown message type " + std::to_string(h.type));
+    fgsr_reply r{};
+    r.header = fgsr_msg_header_for(FGSR_MSG_DESTROY_SESSION_REPLY, sizeof(r), sequence);
+    r.session_id = ref.session_id;
+    r.status = it == c.sessions.end() ? FGSR_STATUS_INVALID_ARGUMENT : FGSR_STATUS_OK;
+    if (it == c.sessions.end())
+        copy_reason(r.reason, sizeof(r.reason), "no such session on this connection");
+    else
+        destroy_session(c, ref.session_id);
+    if (!send_reply(c, &r, sizeof(r))) {
+        drop_client(c.id, nullptr);
         return false;
     }
+    return true;
 }
 
 int Server::run() {

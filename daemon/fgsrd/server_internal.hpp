@@ -3,6 +3,7 @@
 #pragma once
 
 #include "lane.hpp"
+#include "messages.hpp"
 #include "server.hpp"
 #include "session.hpp"
 
@@ -75,7 +76,8 @@ class Server {
     // Handles one message; false when the client was dropped.
     bool handle_message(Client& c, const std::byte* data, size_t size);
     bool send_reply(Client& c, const void* msg, size_t size, const int* fds = nullptr, size_t nfds = 0);
-    bool create_session(Client& c, const fgsr_msg_header& h, const std::byte* data, size_t size);
+    bool create_session(Client& c, const CreateRequest& request);
+    bool session_request(Client& c, const SessionRequest& request);
     void session_created(uint64_t client_id, uint32_t sequence, uint32_t session_id, int lane,
                          uint64_t memory, std::shared_ptr<std::unique_ptr<ServiceSession>> made,
                          int32_t status, const std::string& reason);

@@ -31,22 +31,9 @@ static uint64_t session_memory_estimate(const fgsr_session_desc& d, const fgsr_p
            out_px * (kEngineBytesPerOutputPixel + uint64_t(d.output_slots) * kBytesPerOutputImagePixel);
 }
 
-bool Server::create_session(Client& c, const fgsr_msg_header& h, const std::byte* data, size_t size) {
-    if (size < sizeof(fgsr_create_session)) {
-        violation(c, h.sequence,
-                  "message type " + std::to_string(h.type) + " truncated to " + std::to_string(size) +
-                      " bytes (needs " + std::to_string(sizeof(fgsr_create_session)) + ")");
-        return false;
-    }
-    fgsr_session_desc desc;
-    std::memcpy(&desc, data + sizeof(fgsr_msg_header), sizeof(desc));
-    if (desc.struct_size < sizeof(fgsr_session_desc) || desc.struct_size > size - sizeof(fgsr_msg_header)) {
-        violation(c, h.sequence,
-                  "session description struct_size " + std::to_string(desc.struct_size) +
-                      " does not match the message");
-        return false;
-    }
-    const uint32_t sequence = h.sequence;
+bool Server::create_session(Client& c, const CreateRequest& request) {
+    const fgsr_session_desc& desc = request.desc;
+    const uint32_t sequence = request.sequence;
     auto refuse = [&](int32_t status, const std::string& reason) {
         log::info("client {} ({}): session refused: {}: {}", c.id, c.name, fgsr_status_string(status),
                   reason);
@@ -97,7 +84,7 @@ bool Server::create_session(Client& c, const fgsr_msg_header& h, const std::byte
         int32_t status = FGSR_STATUS_UNSUPPORTED;
         std::string reason;
         if (engine)
-            *made = ServiceSession::create(*engine, id, desc, zero_copy, status, reason);
+            *made = ServiceSession::create(engine, id, desc, zero_copy, status, reason);
         else
             reason = "no engine for large sessions: " + l->engine_error();
         return Lane::Continuation([this, client_id, sequence, id, lane_index, memory, made, status, reason] {

@@ -107,7 +107,7 @@ UniqueFd make_memfd(const char* name, uint64_t size) {
 
 } // namespace
 
-std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uint32_t id,
+std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine* engine, uint32_t id,
                                                        const fgsr_session_desc& in, bool zero_copy,
                                                        int32_t& status, std::string& reason) {
     status = FGSR_STATUS_INVALID_ARGUMENT;
@@ -153,14 +153,16 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uin
     s->layout_ = fgsr_pool_layout_for(&d);
     const fgsr_pool_layout& l = s->layout_;
 
-    auto engine_session = engine.create_session(format, params);
-    if (!engine_session) {
-        status = engine_session.error().code == fgsr::Errc::unsupported ? FGSR_STATUS_UNSUPPORTED
-                 : engine_session.error().code == fgsr::Errc::vulkan    ? FGSR_STATUS_OUT_OF_MEMORY
-                                                                        : FGSR_STATUS_INVALID_ARGUMENT;
-        return bad(engine_session.error().message);
+    if (engine) {
+        auto engine_session = engine->create_session(format, params);
+        if (!engine_session) {
+            status = engine_session.error().code == fgsr::Errc::unsupported ? FGSR_STATUS_UNSUPPORTED
+                     : engine_session.error().code == fgsr::Errc::vulkan    ? FGSR_STATUS_OUT_OF_MEMORY
+                                                                            : FGSR_STATUS_INVALID_ARGUMENT;
+            return bad(engine_session.error().message);
+        }
+        s->engine_session_ = std::move(*engine_session);
     }
-    s->engine_session_ = std::move(*engine_session);
 
     status = FGSR_STATUS_OUT_OF_MEMORY;
     s->input_fd_ = make_memfd("fgsr-input", l.input_pool_size);
@@ -189,10 +191,10 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine& engine, uin
     s->complete_event_.reset(eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK));
     if (!s->submit_event_ || !s->complete_event_) return bad(std::string("eventfd: ") + std::strerror(errno));
 
-    if (zero_copy) {
-        const size_t align = engine.host_import_alignment();
+    if (zero_copy && engine) {
+        const size_t align = engine->host_import_alignment();
         if (align > 0 && FGSR_PLANE_ALIGNMENT % align == 0) {
-            auto imp = engine.import_host_memory(s->input_map_.data(), l.input_pool_size);
+            auto imp = engine->import_host_memory(s->input_map_.data(), l.input_pool_size);
             if (imp)
                 s->import_ = std::move(*imp);
             else
@@ -413,6 +415,7 @@ void ServiceSession::execute(FrameJob& job) {
     const uint64_t start_ns = monotonic_ns();
     uint64_t cpu_mark = thread_cpu_ns();
 
+    if (!engine_session_) return complete_without_output(FGSR_STATUS_DEVICE_ERROR); // made without an engine
     const std::byte* slot = input_map_.data() + uint64_t(e.input_slot) * layout_.input_slot_stride;
     fgsr::FrameView view;
     view.color = {slot + layout_.color.offset, size_t(layout_.color.size)};

@@ -38,7 +38,9 @@ class ServiceSession {
   public:
     // Validates desc (copied by the caller) and allocates everything. zero_copy: import the input
     // pool into the device when it supports VK_EXT_external_memory_host with FGSR_PLANE_ALIGNMENT.
-    static std::unique_ptr<ServiceSession> create(fgsr::Engine& engine, uint32_t id,
+    // engine null: a session whose frames complete with DEVICE_ERROR, for tests and fuzzing of
+    // the ring protocol (poll, begin, finish) without a device.
+    static std::unique_ptr<ServiceSession> create(fgsr::Engine* engine, uint32_t id,
                                                   const fgsr_session_desc& desc, bool zero_copy,
                                                   int32_t& status, std::string& reason);
     ~ServiceSession();

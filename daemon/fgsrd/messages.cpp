@@ -1,0 +1,57 @@
+#include "messages.hpp"
+
+#include <cstring>
+
+namespace fgsrd {
+
+Request parse_request(const std::byte* data, size_t size, bool hello_done) {
+    fgsr_msg_header h{};
+    if (size < sizeof(h))
+        return Violation{0, "message of " + std::to_string(size) + " bytes is shorter than a header"};
+    std::memcpy(&h, data, sizeof(h));
+    if (h.magic != FGSR_PROTOCOL_MAGIC) return Violation{h.sequence, "bad magic"};
+    if (h.size != size)
+        return Violation{h.sequence, "header size " + std::to_string(h.size) + " but the packet has " +
+                                         std::to_string(size) + " bytes"};
+    auto truncated = [&](size_t need) {
+        return Violation{h.sequence, "message type " + std::to_string(h.type) + " truncated to " +
+                                         std::to_string(size) + " bytes (needs " + std::to_string(need) +
+                                         ")"};
+    };
+    if (!hello_done && h.type != FGSR_MSG_HELLO)
+        return Violation{h.sequence, "the first message must be HELLO"};
+    switch (h.type) {
+    case FGSR_MSG_HELLO: {
+        if (hello_done) return Violation{h.sequence, "second HELLO"};
+        if (size < sizeof(fgsr_hello)) return truncated(sizeof(fgsr_hello));
+        HelloRequest r;
+        std::memcpy(&r.hello, data, sizeof(r.hello));
+        r.hello.name[sizeof(r.hello.name) - 1] = 0;
+        return r;
+    }
+    case FGSR_MSG_CREATE_SESSION: {
+        if (size < sizeof(fgsr_create_session)) return truncated(sizeof(fgsr_create_session));
+        CreateRequest r;
+        r.sequence = h.sequence;
+        std::memcpy(&r.desc, data + sizeof(fgsr_msg_header), sizeof(r.desc));
+        if (r.desc.struct_size < sizeof(fgsr_session_desc) ||
+            r.desc.struct_size > size - sizeof(fgsr_msg_header))
+            return Violation{h.sequence, "session description struct_size " +
+                                             std::to_string(r.desc.struct_size) +
+                                             " does not match the message"};
+        return r;
+    }
+    case FGSR_MSG_DESTROY_SESSION:
+    case FGSR_MSG_STATS: {
+        if (size < sizeof(fgsr_session_ref)) return truncated(sizeof(fgsr_session_ref));
+        SessionRequest r;
+        r.type = h.type;
+        std::memcpy(&r.ref, data, sizeof(r.ref));
+        return r;
+    }
+    default:
+        return Violation{h.sequence, "unknown message type " + std::to_string(h.type)};
+    }
+}
+
+} // namespace fgsrd
