@@ -20,7 +20,7 @@ void copy_reason(char* dst, size_t cap, const std::string& s) {
 // buffers (per input and per output pixel) and the host images of the outputs of one submit.
 // The per-pixel figures are fitted to the RSS of fgsrd on lavapipe after running 512x512, 1024x1024
 // and 2048x2048 sessions with eight outputs per submit (docs/RELIABILITY.md, "Limits"), and err
-// on the high side (2048x2048: 2.05 GiB estimated, 1.57 GiB measured).
+// on the high side (2048x2048: 2000 MiB estimated, 1567 MiB measured).
 static uint64_t session_memory_estimate(const fgsr_session_desc& d, const fgsr_pool_layout& l) {
     const uint64_t in_px = uint64_t(d.width) * d.height;
     const uint64_t out_px =
