@@ -50,9 +50,16 @@ Server::~Server() {
     // run continuations (a creation that finishes for a dropped client posts its destruction)
     // until the lanes are idle; then the lanes stop.
     while (!clients_.empty()) drop_client(clients_.begin()->first, nullptr);
-    while (!lanes_idle() || !done_.empty()) {
+    // Done when the lanes are idle and nothing is queued for this thread (a lane delivers a job's
+    // continuation before it reads as idle, and continuations run here may post new jobs).
+    for (;;) {
         run_continuations();
-        if (!lanes_idle()) usleep(1000);
+        if (lanes_idle()) {
+            std::lock_guard lock(done_mutex_);
+            if (done_.empty()) break;
+        } else {
+            usleep(1000);
+        }
     }
     for (LaneState& l : lanes_) l.lane.reset();
     if (!created_socket_.empty()) unlink(created_socket_.c_str());
