@@ -30,11 +30,37 @@ CLI::App* add_stress_command(CLI::App& app, StressCli& o) {
     cmd->add_flag("--daemon", o.daemon,
                   "Feed the cases through fgsrd with libfgsr_client (spawns build/bin/fgsrd on a temporary "
                   "socket unless --socket is given)");
-    cmd->add_option("--socket", o.socket, "With --daemon: the socket of an fgsrd already running");
+    cmd->add_option(
+        "--socket", o.socket,
+        "With --daemon or --service: the socket of an fgsrd already running (--service then skips "
+        "the scenarios that kill, restart or configure the daemon)");
+    cmd->add_flag(
+        "--service", o.service,
+        "Reliability scenarios of fgsrd as a service (issue 15): hostile client, flag attack, heavy "
+        "session, idle clients, kill -9 of clients, daemon restart; each starts its own fgsrd next to "
+        "this executable");
+    cmd->add_flag("--quick", o.quick,
+                  "With --service: the short run (about a minute; heavy session 1024x1024)");
+    cmd->add_option("--heavy-size", o.heavy_size,
+                    "With --service: side of the heavy session (default 4096, "
+                    "--quick 1024)")
+        ->check(CLI::Range(64u, 16384u));
+    cmd->add_option("--max-clients", o.max_clients,
+                    "With --service: idle connections of the idle-clients scenario")
+        ->check(CLI::Range(1u, 256u))
+        ->capture_default_str();
+    cmd->add_option(
+           "--soak", o.soak,
+           "With --service: run the soak for this many seconds instead of the scenarios (short sessions "
+           "back to back; fd, mapping and RSS slopes of the daemon)")
+        ->check(CLI::Range(1.0, 7.0 * 86400.0));
+    cmd->add_option("--soak-csv", o.soak_csv,
+                    "With --soak: write the samples here (and a PNG plot next to it)");
     return cmd;
 }
 
 int stress_main(const StressCli& o) {
+    if (o.service || o.soak > 0) return stress_service_main(o);
     if (o.daemon || !o.socket.empty()) return stress_daemon_main(o);
     DeviceOptions d;
     d.device = o.device;

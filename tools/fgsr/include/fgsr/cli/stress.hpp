@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -24,12 +25,22 @@ struct StressCli {
     std::string filter;  // run only cases whose name contains this
     bool daemon = false; // feed the cases through fgsrd (tools/fgsr/src/stress_daemon.cpp)
     std::string socket;  // with daemon: an fgsrd already listening; empty: spawn one next to fgsr
+    // --service: the reliability scenarios of fgsrd (fgsr/stress/service.hpp;
+    // tools/fgsr/src/stress_service.cpp).
+    bool service = false;
+    bool quick = false;       // about a minute: small heavy session, fewer frames and kills
+    uint32_t heavy_size = 0;  // 0: 4096 (quick: 1024)
+    uint32_t max_clients = 8; // idle-clients scenario
+    double soak = 0;          // seconds; > 0: the soak instead of the scenarios
+    std::string soak_csv;
 };
 
 CLI::App* add_stress_command(CLI::App& app, StressCli& o);
 int stress_main(const StressCli& o);
 // The --daemon run: the cases fed through fgsrd with libfgsr_client; exit status as stress_main.
 int stress_daemon_main(const StressCli& o);
+// The --service run: exit status 1 when any scenario (or the soak) fails.
+int stress_service_main(const StressCli& o);
 // Runs the cases selected by `o` with `run`, stopping early when `stop` (may be empty) says so
 // after a case, and prints the report (`title` first; `header` holds the JSON report's fields
 // naming the target). Returns 1 when any selected case failed or did not run, else 0.

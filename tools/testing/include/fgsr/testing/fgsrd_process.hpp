@@ -59,26 +59,32 @@ class FgsrdProcess {
         p->stderr_path_ = p->dir_ + "/stderr.log";
         std::vector<std::string> argv_s = {fgsrd, "--socket", p->socket_};
         argv_s.insert(argv_s.end(), args.begin(), args.end());
-        p->pid_ = spawn(argv_s, p->stderr_path_);
-        if (p->pid_ < 0) return fail("fork: " + std::string(std::strerror(errno)));
-        const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
-        while (std::chrono::steady_clock::now() < deadline) {
-            if (!p->running())
-                return fail("fgsrd exited early (status " + std::to_string(p->status_) + "); stderr:\n" +
-                            p->stderr_text());
-            if (p->probe()) return p;
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        p->argv_ = argv_s;
+        if (!p->launch(timeout_ms)) return nullptr;
+        return p;
+    }
+
+    // After the daemon exited (kill9, terminate): starts the same command line again, on the same
+    // socket, with stderr appended to the same file; waits up to timeout_ms for the socket to
+    // accept. False on failure (reason in last_error()).
+    bool restart(int timeout_ms = 60000) {
+        if (running()) {
+            error_() = "fgsrd is still running";
+            return false;
         }
-        return fail("fgsrd did not accept on " + p->socket_ + " within " + std::to_string(timeout_ms) +
-                    " ms; stderr:\n" + p->stderr_text());
+        exited_ = false;
+        status_ = -1;
+        return launch(timeout_ms, true);
     }
 
     // Starts `argv` (argv[0] a path) with stderr to `stderr_path` and stdin from /dev/null; `env`
-    // entries ("NAME=value") override the inherited environment. Returns the child's pid or -1.
+    // entries ("NAME=value") override the inherited environment; append: stderr appended to the
+    // file rather than replacing it. Returns the child's pid or -1.
     // Socket activation: keep_fd >= 0 passes that fd as fd keep_as (3 for systemd) and sets
     // LISTEN_FDS=1 and LISTEN_PID=<the child's pid>, as systemd does.
     static pid_t spawn(const std::vector<std::string>& argv_s, const std::string& stderr_path,
-                       const std::vector<std::string>& env = {}, int keep_fd = -1, int keep_as = -1) {
+                       const std::vector<std::string>& env = {}, int keep_fd = -1, int keep_as = -1,
+                       bool append = false) {
         // Everything the child needs is built before fork: after it only async-signal-safe calls.
         std::vector<char*> argv;
         for (const std::string& a : argv_s) argv.push_back(const_cast<char*>(a.c_str()));
@@ -101,7 +107,8 @@ class FgsrdProcess {
         envp.push_back(nullptr);
         const pid_t pid = fork();
         if (pid != 0) return pid;
-        const int err = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+        const int err =
+            open(stderr_path.c_str(), O_WRONLY | O_CREAT | (append ? O_APPEND : O_TRUNC) | O_CLOEXEC, 0600);
         if (err >= 0) dup2(err, 2);
         const int in = open("/dev/null", O_RDONLY | O_CLOEXEC);
         if (in >= 0) dup2(in, 0);
@@ -233,6 +240,27 @@ class FgsrdProcess {
         return nullptr;
     }
 
+    bool launch(int timeout_ms, bool append = false) {
+        pid_ = spawn(argv_, stderr_path_, {}, -1, -1, append);
+        if (pid_ < 0) {
+            error_() = "fork: " + std::string(std::strerror(errno));
+            return false;
+        }
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+        while (std::chrono::steady_clock::now() < deadline) {
+            if (!running()) {
+                error_() =
+                    "fgsrd exited early (status " + std::to_string(status_) + "); stderr:\n" + stderr_text();
+                return false;
+            }
+            if (probe()) return true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        error_() = "fgsrd did not accept on " + socket_ + " within " + std::to_string(timeout_ms) +
+                   " ms; stderr:\n" + stderr_text();
+        return false;
+    }
+
     bool probe() const {
         const int fd = connect_to(socket_);
         if (fd < 0) return false;
@@ -273,6 +301,7 @@ class FgsrdProcess {
     bool exited_ = false;
     int status_ = -1;
     std::string dir_, socket_, stderr_path_;
+    std::vector<std::string> argv_;
 };
 
 } // namespace fgsr::daemon_process
