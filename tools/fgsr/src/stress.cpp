@@ -40,7 +40,8 @@ CLI::App* add_stress_command(CLI::App& app, StressCli& o) {
         "session, idle clients, kill -9 of clients, daemon restart; each starts its own fgsrd next to "
         "this executable");
     cmd->add_flag("--quick", o.quick,
-                  "With --service: the short run (about a minute; heavy session 1024x1024)");
+                  "With --service: the short run of the test suite (about a minute; heavy session "
+                  "1024x1024; timing gates at 10x the targets, figures reported)");
     cmd->add_option("--heavy-size", o.heavy_size,
                     "With --service: side of the heavy session (default 4096, "
                     "--quick 1024)")
