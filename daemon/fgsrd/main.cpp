@@ -40,14 +40,15 @@ int main(int argc, char** argv) {
                    "Largest frame of a session (input or output), in pixels (more: UNSUPPORTED)")
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32))
         ->capture_default_str();
-    uint64_t session_mib = opt.max_session_memory >> 20, total_mib = opt.max_total_memory >> 20;
-    app.add_option("--max-session-memory", session_mib,
-                   "Estimated memory of one session, MiB (more: UNSUPPORTED)")
-        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 30))
-        ->capture_default_str();
-    app.add_option("--max-total-memory", total_mib, "Estimated memory of all sessions, MiB (more: BUSY)")
-        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 30))
-        ->capture_default_str();
+    uint64_t session_mib = 0, total_mib = 0;
+    app.add_option(
+           "--max-session-memory", session_mib,
+           "Estimated memory of one session, MiB (more: UNSUPPORTED; default half the machine's memory)")
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 30));
+    app.add_option("--max-total-memory", total_mib,
+                   "Estimated memory of all sessions, MiB (more: BUSY; default three quarters of the "
+                   "machine's memory)")
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 30));
     app.add_option("--interactive-pixels", opt.interactive_pixels,
                    "Sessions with larger frames run on the bulk lane, at lower CPU priority")
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32))

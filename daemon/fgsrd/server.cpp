@@ -374,6 +374,11 @@ int Server::run() {
     const size_t align = engine.host_import_alignment();
     if (opt_.zero_copy && align > 0 && FGSR_PLANE_ALIGNMENT % align == 0) caps_ |= FGSR_CAP_ZERO_COPY_INPUT;
     if (engine.calibrated_time()) caps_ |= FGSR_CAP_CALIBRATED_TIME;
+    const uint64_t ram = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGESIZE));
+    if (opt_.max_session_memory == 0) opt_.max_session_memory = ram / 2;
+    if (opt_.max_total_memory == 0) opt_.max_total_memory = ram / 4 * 3;
+    log::info("limits: {} pixels and {} MiB a session, {} MiB all sessions", opt_.max_session_pixels,
+              opt_.max_session_memory >> 20, opt_.max_total_memory >> 20);
     std::random_device rd;
     epoch_ = (uint64_t(rd()) << 32) ^ rd() ^ (uint64_t(getpid()) << 16) ^ monotonic_ns();
     if (epoch_ == 0) epoch_ = 1;

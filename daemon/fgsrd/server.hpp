@@ -27,10 +27,11 @@ struct Options {
     double idle_timeout_s = 120.0;
     // Per-session limits: the larger of the input and the output frame, in pixels, and the
     // session's memory (shared pools and the engine's buffers, estimated before anything is
-    // allocated); and the memory of all sessions together (beyond it: BUSY).
+    // allocated); and the memory of all sessions together (beyond it: BUSY). 0: from the
+    // machine's memory at start (a session half of it, all sessions three quarters).
     uint64_t max_session_pixels = 4096ull * 4096ull;
-    uint64_t max_session_memory = 8ull << 30;
-    uint64_t max_total_memory = 16ull << 30;
+    uint64_t max_session_memory = 0;
+    uint64_t max_total_memory = 0;
     // Sessions whose larger frame has more pixels than this run on the bulk lane, at lower CPU
     // priority, so that they cannot hold up the frames of small sessions.
     uint64_t interactive_pixels = 1920ull * 1080ull;
