@@ -4,7 +4,17 @@
 
 #include <CLI/CLI.hpp>
 
+#include <malloc.h>
+
 int main(int argc, char** argv) {
+    // Frames, images and staging copies (hundreds of KiB to hundreds of MiB) are allocated and
+    // freed for every frame, on several threads. glibc's dynamic mmap threshold moves such blocks
+    // onto the heaps after the first free, where they fragment them: a soak of back-to-back replays
+    // grew the idle daemon's RSS by about 400 kB/min that way, and not at all with the threshold
+    // fixed (docs/RELIABILITY.md, "Soak"). Fixed thresholds keep every block from 128 KiB up in its
+    // own mapping, returned at free, and the heaps trimmed.
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+    mallopt(M_TRIM_THRESHOLD, 128 * 1024);
     fgsrd::Options opt;
     std::string level = "info";
     bool no_zero_copy = false;
