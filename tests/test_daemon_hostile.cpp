@@ -182,6 +182,39 @@ TEST(DaemonHostile, AHeavySessionDoesNotHoldUpHelloOrSmallClients) {
     expect_responsive_and_stoppable(*d);
 }
 
+// SIGTERM while a long frame runs (2048x2048, eight outputs: seconds on lavapipe): clients are
+// disconnected at once and the daemon exits after --shutdown-grace, not after the frame.
+TEST(DaemonHostile, SigtermDoesNotWaitForALongFrame) {
+    auto d = FgsrdProcess::start({"--shutdown-grace", "0.2"});
+    ASSERT_TRUE(d) << FgsrdProcess::last_error();
+    auto heavy = open_session(d->socket_path(), square_desc(2048));
+    ASSERT_TRUE(heavy);
+    RawSession& s = *heavy->s;
+    fill_any(s, 0, 0.f);
+    s.push(s.entry(0));
+    ASSERT_EQ(s.wait_submit().size(), 1u);
+    fill_any(s, 1, 4.f);
+    fgsr_submit_entry e = s.entry(1);
+    e.interp_count = 8;
+    for (uint32_t k = 0; k < 8; ++k) e.interp_alphas[k] = float(k + 1) / 9.f;
+    const uint64_t submitted = monotonic_ns();
+    s.push(e);
+    usleep(300000); // the frame is running
+    const uint64_t t0 = monotonic_ns();
+    const int status = d->terminate(30000);
+    const double exit_ms = double(monotonic_ns() - t0) * 1e-6;
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+    EXPECT_TRUE(heavy->raw.closed_by_daemon(10));
+    const bool finished = s.wait(0).has_value();
+    if (!finished) { // else this machine ran eight 2048x2048 frames in 300 ms: nothing to test
+        EXPECT_LT(exit_ms, 1500.0);
+        EXPECT_NE(d->stderr_text().find("exiting without waiting"), std::string::npos) << d->stderr_text();
+    }
+    EXPECT_NE(access(d->socket_path().c_str(), F_OK), 0) << "socket file left behind";
+    std::printf("[ measured ] SIGTERM to exit %.0f ms, %.0f ms after the submit\n", exit_ms,
+                double(monotonic_ns() - submitted) * 1e-6);
+}
+
 // Fairness: two sessions on the same lane, one with 64 times the pixels of the other, both always
 // ready (up to three submits queued each, so that a client thread delayed by a loaded machine
 // still has work waiting). Each should get about half of the lane's time, not half of its frames:

@@ -66,6 +66,10 @@ int main(int argc, char** argv) {
     app.add_option("--bulk-nice", opt.bulk_nice, "Nice increment of the bulk lane's threads")
         ->check(CLI::Range(0, 19))
         ->capture_default_str();
+    app.add_option("--shutdown-grace", opt.shutdown_grace_s,
+                   "Seconds to wait at shutdown for frames still running before exiting without them")
+        ->check(CLI::Range(0.0, 3600.0))
+        ->capture_default_str();
     app.add_flag("--allow-any-user", opt.allow_any_user,
                  "Serve clients of any uid (default: only this user, checked with SO_PEERCRED)");
     app.add_flag("--no-zero-copy", no_zero_copy, "Always copy inputs through a staging buffer");

@@ -46,23 +46,29 @@ namespace fgsrd {
 namespace detail {
 
 Server::~Server() {
+    drain(UINT64_MAX);
+    for (LaneState& l : lanes_) l.lane.reset();
+    if (!created_socket_.empty()) unlink(created_socket_.c_str());
+}
+
+bool Server::drain(uint64_t timeout_ns) {
     // Every session is destroyed on its lane, before the lane's engine: drop the clients, then
     // run continuations (a creation that finishes for a dropped client posts its destruction)
-    // until the lanes are idle; then the lanes stop.
-    while (!clients_.empty()) drop_client(clients_.begin()->first, nullptr);
-    // Done when the lanes are idle and nothing is queued for this thread (a lane delivers a job's
+    // until the lanes are idle and nothing is queued for this thread (a lane delivers a job's
     // continuation before it reads as idle, and continuations run here may post new jobs).
+    while (!clients_.empty()) drop_client(clients_.begin()->first, nullptr);
+    const uint64_t start = monotonic_ns();
     for (;;) {
         run_continuations();
         if (lanes_idle()) {
             std::lock_guard lock(done_mutex_);
-            if (done_.empty()) break;
+            if (done_.empty()) return true;
+        } else if (monotonic_ns() - start >= timeout_ns) {
+            return false;
         } else {
             usleep(1000);
         }
     }
-    for (LaneState& l : lanes_) l.lane.reset();
-    if (!created_socket_.empty()) unlink(created_socket_.c_str());
 }
 
 Lane* Server::lane(int index) {
@@ -447,6 +453,16 @@ int Server::run() {
         if (!stop_) schedule();
     }
     log::info("stopping: {} clients", clients_.size());
+    // A frame cannot be interrupted (one Vulkan submission; a 4096x4096 session's can take a
+    // minute on a CPU device). The clients are disconnected at once; past the grace period the
+    // process exits without waiting for the running frames (the kernel frees their memory).
+    if (!drain(uint64_t(opt_.shutdown_grace_s * 1e9))) {
+        log::warn("frames still running {:g} s after the signal; exiting without waiting for them",
+                  opt_.shutdown_grace_s);
+        if (!created_socket_.empty()) unlink(created_socket_.c_str());
+        std::fflush(stderr);
+        _exit(0);
+    }
     return 0;
 }
 

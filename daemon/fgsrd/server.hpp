@@ -36,6 +36,9 @@ struct Options {
     // priority, so that they cannot hold up the frames of small sessions.
     uint64_t interactive_pixels = 1920ull * 1080ull;
     int bulk_nice = 10;
+    // After SIGTERM/SIGINT: clients are disconnected at once; frames still running after this
+    // long are not waited for (the process exits).
+    double shutdown_grace_s = 2.0;
     bool allow_any_user = false; // else only peers with the daemon's uid (SO_PEERCRED)
     bool zero_copy = true;       // import input pools into the device where it can
 };

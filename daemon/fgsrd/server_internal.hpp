@@ -101,6 +101,8 @@ class Server {
         };
     }
     void run_continuations();
+    // Drops every client and waits until the lanes are idle; false after timeout_ns.
+    bool drain(uint64_t timeout_ns);
     bool lanes_idle() const;
     bool evict_idle_client();
     size_t served_clients(uid_t uid, bool any_uid) const {
