@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The libFuzzer targets of tests/fuzz (preset fuzz, build-fuzz/; docs/RELIABILITY.md):
-#   tools/fuzz.sh TARGET [SECONDS]   one long run (default 600 s) with its corpus in
+#   tools/fuzz.sh TARGET [SECONDS [OPTIONS...]]
+#                                    one long run (default 600 s; OPTIONS go to libFuzzer, e.g.
+#                                    -timeout=60 or -jobs=2) with its corpus in
 #                                    build-fuzz/corpus/TARGET (kept between runs) and findings in
 #                                    build-fuzz/findings/TARGET/; prints executions and findings
 #   tools/fuzz.sh --ci [RUNS]        every target for RUNS inputs (default 20000) or 15 s, whichever
@@ -76,6 +78,7 @@ case "${1:-}" in
 *)
     target=$1
     seconds=${2:-600}
+    shift $(($# < 2 ? $# : 2))
     build
     if ! grep -qx "$target" build-fuzz/fuzzers.txt; then
         echo "fuzz: unknown target $target (tools/fuzz.sh --list)" >&2
@@ -84,6 +87,6 @@ case "${1:-}" in
     mkdir -p build-fuzz/logs
     log=build-fuzz/logs/$target.log
     echo "fuzz: $target for $seconds s, corpus build-fuzz/corpus/$target, log $log" >&2
-    run "$target" build-fuzz/corpus/"$target" "$log" -max_total_time="$seconds"
+    run "$target" build-fuzz/corpus/"$target" "$log" -max_total_time="$seconds" "$@"
     ;;
 esac
