@@ -9,10 +9,11 @@
 #include <fgsr/capture/capture.hpp>
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/synthetic.hpp>
-#include <fgsr/engine/reference.hpp>
 #include <fgsr/engine/color.hpp>
+#include <fgsr/engine/reference.hpp>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <random>
 #include <string>
@@ -966,4 +968,51 @@ TEST(Importers, FgsrFormatMalformed) {
     ASSERT_FALSE(s);
     EXPECT_EQ(s.error().code, Errc::size_mismatch);
     EXPECT_NE(s.error().message.find("frame 2"), std::string::npos) << s.error().message;
+}
+
+// Numbers a capture's JSON holds outside the range of the field they fill are errors, not a
+// conversion (nlohmann's get<uint32_t>/get<float> of such a double is undefined behaviour; found
+// by tests/fuzz/fuzz_capture with "width": 4.8e65).
+TEST(Importers, JsonNumbersOutOfRangeAreErrors) {
+    TempDir tmp("json-range");
+    const fs::path g = tmp.path / "fg";
+    for (const char* f : {"0001.exr", "0002.exr"}) {
+        ASSERT_TRUE(put_exr(g / "in" / f, blender_exr(8, 4, true, false)));
+        ASSERT_TRUE(put_exr(g / "in_aux" / f, blender_exr(8, 4, false, true)));
+    }
+    ASSERT_TRUE(put_exr(g / "gt" / "0001.exr", blender_exr(8, 4, true, false)));
+    write_text(g / "capture.json", R"({"kind": "fg", "width": 8, "height": 4})");
+    ASSERT_TRUE(load(g));
+    for (const char* bad :
+         {R"({"kind": "fg", "width": 4.77e65, "height": 4})", R"({"kind": "fg", "width": -1})",
+          R"({"kind": "fg", "height": 4294967296})", R"({"kind": "fg", "width": 8.5})",
+          R"({"kind": "fg", "jitter_camera_shift_px": [[1e300, 0]]})"}) {
+        SCOPED_TRACE(bad);
+        write_text(g / "capture.json", bad);
+        auto r = load(g);
+        expect_error_naming(r, "capture.json", Errc::io);
+        if (!r) {
+            EXPECT_NE(r.error().message.find("not "), std::string::npos) << r.error().message;
+        }
+    }
+
+    const Capture c = generated_capture(ColorFormat::rgba16f_linear, MvFormat::rg32f, 7);
+    const fs::path dir = tmp.path / "fgsr";
+    ASSERT_TRUE(save_fgsr(c, dir));
+    std::ifstream in(dir / "manifest.json");
+    const nlohmann::json manifest = nlohmann::json::parse(in);
+    in.close();
+    const auto with = [&](const std::function<void(nlohmann::json&)>& edit) {
+        nlohmann::json m = manifest;
+        edit(m);
+        write_text(dir / "manifest.json", m.dump());
+        return load(dir);
+    };
+    ASSERT_TRUE(with([](nlohmann::json&) {}));
+    expect_error_naming(with([](nlohmann::json& m) { m["width"] = 1e20; }), "manifest.json", Errc::io);
+    expect_error_naming(with([](nlohmann::json& m) { m["version"] = 1e300; }), "manifest.json", Errc::io);
+    expect_error_naming(with([](nlohmann::json& m) { m["conventions"]["near_plane"] = 1e300; }),
+                        "manifest.json", Errc::io);
+    expect_error_naming(with([](nlohmann::json& m) { m["frames"][0]["jitter"][0] = -1e39; }), "manifest.json",
+                        Errc::io);
 }

@@ -91,18 +91,51 @@ TEST(SessionDesc, DefaultsAreAppliedOnce) {
 
 TEST(SessionDesc, SizeBoundaries) {
     expect_ok([](fgsr_session_desc& d) { d.width = d.height = 1; }, "1x1");
+    // base_desc() upscales by 2: the largest input side at that scale is 8192.
     expect_ok(
         [](fgsr_session_desc& d) {
             d.width = 16384;
             d.height = 8;
+            d.scale = 1.f;
+            d.modes = FGSR_MODE_INTERPOLATE;
         },
         "16384 wide");
     expect_ok(
         [](fgsr_session_desc& d) {
             d.height = 16384;
             d.width = 8;
+            d.scale = 1.f;
+            d.modes = FGSR_MODE_INTERPOLATE;
         },
         "16384 high");
+    expect_ok([](fgsr_session_desc& d) { d.width = 8192; }, "8192 wide at scale 2");
+    // The outputs are bounded by FGSR_MAX_FRAME_SIDE too (protocol.h; the engine refuses larger
+    // ones): found by tests/fuzz/fuzz_session_desc (64x10020 at scale 2 was accepted).
+    expect_refused([](fgsr_session_desc& d) { d.width = 8193; }, "8193 wide at scale 2 (16386 out)");
+    expect_refused(
+        [](fgsr_session_desc& d) {
+            d.width = 64;
+            d.height = 10020;
+        },
+        "64x10020 at scale 2");
+    expect_refused(
+        [](fgsr_session_desc& d) {
+            d.width = 4097;
+            d.scale = 4.f;
+        },
+        "4097 wide at scale 4");
+    expect_ok(
+        [](fgsr_session_desc& d) {
+            d.width = 10922; // 16383 at scale 1.5
+            d.scale = 1.5f;
+        },
+        "10922 wide at scale 1.5");
+    expect_refused(
+        [](fgsr_session_desc& d) {
+            d.width = 10923; // 16384.5 rounds to 16385
+            d.scale = 1.5f;
+        },
+        "10923 wide at scale 1.5");
     expect_refused([](fgsr_session_desc& d) { d.width = 0; }, "width 0");
     expect_refused([](fgsr_session_desc& d) { d.height = 0; }, "height 0");
     expect_refused([](fgsr_session_desc& d) { d.width = 16385; }, "width 16385");

@@ -2,7 +2,9 @@
 # One entry point for a fresh Debian 12 machine (run as root, or with the packages already there):
 #   tools/setup.sh demo   install what is missing, build, start fgsrd and replay the built-in capture
 #                         through it (outputs, telemetry and metrics under out/)
-#   tools/setup.sh test   install what is missing, build with warnings as errors, run the test suite
+#   tools/setup.sh test   install what is missing, build with warnings as errors, run the test suite;
+#                         then the service and client tests under ASan + UBSan and a short run of
+#                         each fuzz target
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -14,7 +16,8 @@ packages=(build-essential cmake pkg-config git glslang-tools spirv-tools libvulk
 # Only the test suite needs these: python3-opencv runs the DIS reference (tools/reference/dis_vectors.py)
 # in its test; xvfb and vulkan-tools (vkcube) run the Vulkan layer's end-to-end tests. Blender
 # (tools/render) is needed by no test and is not installed here.
-test_packages=(python3-opencv xvfb vulkan-tools)
+# clang (with its libFuzzer runtime) builds the fuzz targets (tests/fuzz, preset fuzz).
+test_packages=(python3-opencv xvfb vulkan-tools clang)
 
 install_missing() {
     local missing=()
@@ -63,6 +66,19 @@ test)
     install_missing "${test_packages[@]}"
     build ci
     ctest --preset ci -j"$(nproc)"
+    # The service and the client again under AddressSanitizer + UndefinedBehaviorSanitizer
+    # (preset asan: fgsrd, fgsr and fgsr_tests only; the test preset selects the Daemon*,
+    # DaemonProcess*, Client* and StressDaemon* tests), then each fuzz target for a fixed count
+    # of inputs (docs/RELIABILITY.md, "Sanitizers and fuzzing").
+    start=$SECONDS
+    build asan
+    echo "setup: asan build $((SECONDS - start)) s" >&2
+    start=$SECONDS
+    ctest --preset asan -j"$(nproc)"
+    echo "setup: asan tests $((SECONDS - start)) s" >&2
+    start=$SECONDS
+    tools/fuzz.sh --ci
+    echo "setup: fuzz targets $((SECONDS - start)) s" >&2
     ;;
 *)
     echo "usage: $0 demo|test" >&2

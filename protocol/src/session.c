@@ -68,6 +68,12 @@ fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_sessio
         return refuse(reason, reason_size, "modes must be a nonzero set of FGSR_MODE_* bits");
     if ((d.modes & FGSR_MODE_SR) && d.scale == 1.f)
         return refuse(reason, reason_size, "FGSR_MODE_SR needs a scale above 1");
+    /* FGSR_MAX_FRAME_SIDE bounds the outputs too (protocol.h); the engine refuses larger ones. */
+    const long out_w = lround((double)d.width * (double)d.scale);
+    const long out_h = lround((double)d.height * (double)d.scale);
+    if (out_w > (long)FGSR_MAX_FRAME_SIDE || out_h > (long)FGSR_MAX_FRAME_SIDE)
+        return refuse(reason, reason_size, "output size %ldx%ld (size %ux%u times scale %g) exceeds %ux%u", out_w,
+                      out_h, d.width, d.height, (double)d.scale, FGSR_MAX_FRAME_SIDE, FGSR_MAX_FRAME_SIDE);
     if (d.flags & ~kKnownSessionFlags) return refuse(reason, reason_size, "unknown session flags");
     if (d.queue_policy > FGSR_QUEUE_MAILBOX) return refuse(reason, reason_size, "unknown queue policy");
     if (d.input_slots > FGSR_MAX_SLOTS || d.output_slots > FGSR_MAX_SLOTS)

@@ -142,6 +142,24 @@ TEST(LayerConfig, ErrorsNameTheKeyAndTheAllowedValues) {
     EXPECT_NE(error_of("", bad_fps).find("FGSR_FPS_LIMIT"), std::string::npos);
 }
 
+// toml++ 3.3 reaches undefined behaviour on U+00A1..U+0499, U+2C5E..U+3057 and U+FB26..U+FEFE
+// (other than U+3000), even inside strings: found by tests/fuzz/fuzz_layer_config ("x = 1\u00e9",
+// and a string continued after a line-ending backslash). Such text is an error naming the
+// character and its position, before toml++ sees it; other non-ASCII text is kept.
+TEST(LayerConfig, CharactersTomlppCannotClassifyAreAnErrorWithTheirPosition) {
+    EXPECT_NE(error_of("[global]\nmultiplier = 2\xc3\xa9").find("line 2, column 15: character U+00E9"),
+              std::string::npos);
+    EXPECT_NE(error_of("x = 1\xef\xbb\xb9").find("line 1, column 6: character U+FEF9"), std::string::npos);
+    EXPECT_NE(error_of("[global]\nsocket = \"\"\"a \\\n\xc3\xa9\"\"\"").find("line 3, column 1"),
+              std::string::npos);
+    EXPECT_NE(error_of("# caf\xc3\xa9").find("U+00E9"), std::string::npos);
+    EXPECT_NE(error_of("# \xe3\x81\x81").find("U+3041"), std::string::npos);
+    // Neighbours that toml++ classifies: U+00A0, U+3000 (whitespace), U+4E2D, U+FEFF.
+    const LayerConfig c =
+        ok("# \xc2\xa0 \xe3\x80\x80 \xef\xbb\xbf\n[global]\nsocket = \"/tmp/\xe4\xb8\xad.sock\"\n");
+    EXPECT_EQ(c.socket_path, "/tmp/\xe4\xb8\xad.sock");
+}
+
 TEST(LayerConfig, WatcherReloadsAChangedFileAtMostEveryInterval) {
     const auto dir =
         std::filesystem::temp_directory_path() / ("fgsr-layer-config-" + std::to_string(getpid()));

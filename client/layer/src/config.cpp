@@ -1,8 +1,10 @@
 // The layer's TOML configuration: parsing, profile matching, env overrides, reloading (config.hpp).
 #include "config.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -15,6 +17,37 @@
 
 namespace fgsr::layer {
 namespace {
+
+// The first code point of `text` that toml++ 3.3 (Debian 12) cannot classify: its
+// is_non_ascii_horizontal_whitespace reaches __builtin_unreachable (undefined behaviour) for
+// U+00A1..U+0499, U+2C5E..U+3057 and U+FB26..U+FEFE other than U+3000, and the parser asks it
+// about characters inside strings too (after a line-ending backslash, or when it looks ahead past
+// a malformed value). Found by tests/fuzz/fuzz_layer_config. Returns its byte offset and value.
+struct CodePoint {
+    size_t offset;
+    char32_t value;
+};
+std::optional<CodePoint> unclassifiable_code_point(std::string_view text) {
+    for (size_t i = 0; i < text.size();) {
+        const auto b = static_cast<unsigned char>(text[i]);
+        const size_t len = b < 0x80           ? 1
+                           : (b >> 5) == 0x6  ? 2
+                           : (b >> 4) == 0xE  ? 3
+                           : (b >> 3) == 0x1E ? 4
+                                              : 1;
+        if (len == 1 || i + len > text.size()) { // ASCII, or not UTF-8 (toml++ refuses that itself)
+            ++i;
+            continue;
+        }
+        char32_t c = b & (0xFF >> (len + 1));
+        for (size_t k = 1; k < len; ++k) c = (c << 6) | (static_cast<unsigned char>(text[i + k]) & 0x3F);
+        const bool bad = (c >= 0xA1 && c <= 0x499) || (c >= 0x2C5E && c <= 0x3057 && c != 0x3000) ||
+                         (c >= 0xFB26 && c <= 0xFEFE);
+        if (bad) return CodePoint{i, c};
+        i += len;
+    }
+    return std::nullopt;
+}
 
 std::optional<std::string> env_value(const char* name) {
     const char* v = std::getenv(name);
@@ -123,6 +156,17 @@ const char* mode_name(Mode m) {
 Result<LayerConfig> parse_config(std::string_view toml_text, std::string_view exe_name,
                                  const ConfigEnv& env) {
     LayerConfig cfg;
+    if (const auto bad = unclassifiable_code_point(toml_text)) {
+        const std::string_view before = toml_text.substr(0, bad->offset);
+        const size_t line = size_t(std::count(before.begin(), before.end(), '\n')) + 1;
+        const size_t newline = before.rfind('\n');
+        const size_t column = bad->offset - (newline == std::string_view::npos ? 0 : newline + 1) + 1;
+        char code[16];
+        std::snprintf(code, sizeof(code), "U+%04X", unsigned(bad->value));
+        return make_error(Errc::io, "TOML text at line " + std::to_string(line) + ", column " +
+                                        std::to_string(column) + ": character " + code +
+                                        " is not supported (U+00A1..U+0499, U+2C5E..U+3057, U+FB26..U+FEFE)");
+    }
     toml::table root;
     try {
         root = toml::parse(toml_text);

@@ -81,7 +81,7 @@ ojson float_to_json(float v) {
 }
 
 float json_to_float(const json& j) {
-    if (j.is_number()) return j.get<float>();
+    if (j.is_number()) return detail::json_float(j);
     const std::string s = j.get<std::string>(); // throws type_error on anything else
     if (s == "inf") return std::numeric_limits<float>::infinity();
     if (s == "-inf") return -std::numeric_limits<float>::infinity();
@@ -400,14 +400,14 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
         if (m.value("format", std::string()) != kFormatName)
             return io_error(mfile,
                             std::string("not an fgsr capture manifest (format != \"") + kFormatName + "\")");
-        const int version = m.at("version").get<int>();
-        if (version != kFormatVersion)
+        const uint32_t version = detail::json_uint32(m.at("version"));
+        if (version != uint32_t(kFormatVersion))
             return make_error(Errc::unsupported,
                               mfile.string() + ": unsupported format version " + std::to_string(version));
         c.name = m.value("name", std::string());
         c.source = m.value("source", std::string("fgsr"));
-        c.format.width = m.at("width").get<uint32_t>();
-        c.format.height = m.at("height").get<uint32_t>();
+        c.format.width = detail::json_uint32(m.at("width"));
+        c.format.height = detail::json_uint32(m.at("height"));
         const json& cv = m.at("conventions");
         bool ok =
             enum_parse(kColorNames, m.at("color_format").get<std::string>(), c.format.color_format) &&
@@ -438,8 +438,8 @@ Result<Capture> load_fgsr(const fs::path& dir, size_t max_frames) {
         if (m.contains("hr")) {
             const json& hr = m.at("hr");
             c.hr_format = c.format;
-            c.hr_format.width = hr.at("width").get<uint32_t>();
-            c.hr_format.height = hr.at("height").get<uint32_t>();
+            c.hr_format.width = detail::json_uint32(hr.at("width"));
+            c.hr_format.height = detail::json_uint32(hr.at("height"));
             c.hr_format.color_format = ColorFormat::rgba32f_linear;
             if (hr.contains("reference")) hr_files = hr.at("reference").get<std::vector<std::string>>();
             if (hr.contains("ground_truth"))

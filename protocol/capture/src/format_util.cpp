@@ -4,9 +4,14 @@
 
 #include <Imath/half.h>
 
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace fgsr::capture::detail {
 
@@ -28,6 +33,26 @@ Result<nlohmann::json> read_json(const fs::path& path) {
     if (j.is_discarded()) return io_error(path, "invalid JSON");
     if (!j.is_object()) return io_error(path, "JSON root is not an object");
     return j;
+}
+
+uint32_t json_uint32(const nlohmann::json& j) {
+    if (j.is_number_unsigned() && j.get<uint64_t>() <= UINT32_MAX) return uint32_t(j.get<uint64_t>());
+    if (j.is_number_integer() && j.get<int64_t>() >= 0 && j.get<int64_t>() <= int64_t(UINT32_MAX))
+        return uint32_t(j.get<int64_t>());
+    throw std::out_of_range(j.dump() + " is not an integer in 0.." + std::to_string(UINT32_MAX));
+}
+
+float json_float(const nlohmann::json& j) {
+    if (j.is_number_integer()) return float(j.get<int64_t>()); // unsigned too (get converts in range)
+    if (j.is_number_float()) {
+        const double d = j.get<double>();
+        if (std::isfinite(d) && std::fabs(d) <= double(std::numeric_limits<float>::max())) return float(d);
+    }
+    throw std::out_of_range(j.dump() + " is not a number within the range of a float");
+}
+
+uint32_t json_uint32_or(const nlohmann::json& obj, const char* key, uint32_t fallback) {
+    return obj.contains(key) ? json_uint32(obj.at(key)) : fallback;
 }
 
 std::vector<std::byte> floats_to_bytes(std::span<const float> v) {

@@ -51,15 +51,15 @@ Result<BlenderMeta> parse_meta(const fs::path& file) {
     BlenderMeta m;
     try {
         m.kind = j->value("kind", std::string());
-        m.width = j->value("width", 0u);
-        m.height = j->value("height", 0u);
-        m.hr_width = j->value("hr_width", 0u);
-        m.hr_height = j->value("hr_height", 0u);
+        m.width = detail::json_uint32_or(*j, "width", 0);
+        m.height = detail::json_uint32_or(*j, "height", 0);
+        m.hr_width = detail::json_uint32_or(*j, "hr_width", 0);
+        m.hr_height = detail::json_uint32_or(*j, "hr_height", 0);
         if (j->contains("jitter_camera_shift_px")) {
             for (const auto& e : j->at("jitter_camera_shift_px")) {
                 if (!e.is_array() || e.size() != 2)
                     return io_error(file, "jitter_camera_shift_px entry is not [x, y]");
-                m.jitter.emplace_back(e.at(0).get<float>(), e.at(1).get<float>());
+                m.jitter.emplace_back(detail::json_float(e.at(0)), detail::json_float(e.at(1)));
             }
         }
     } catch (const std::exception& e) {

@@ -46,6 +46,16 @@ std::vector<std::byte> pack_rg32f(const float* x, const float* y, size_t n);
 float half_to_float(uint16_t bits);
 uint16_t float_to_half(float f);
 
+// JSON numbers without undefined behaviour: nlohmann's get<uint32_t>() / get<float>() convert a
+// double with a plain cast, undefined outside the target's range (found by
+// tests/fuzz/fuzz_capture: "width": 4.8e65). Both throw std::out_of_range naming the value (the
+// importers catch std::exception): json_uint32 takes an integer in 0..UINT32_MAX, json_float a
+// number within +-FLT_MAX.
+uint32_t json_uint32(const nlohmann::json& j);
+float json_float(const nlohmann::json& j);
+// obj[key] through json_uint32, or `fallback` when obj has no such key.
+uint32_t json_uint32_or(const nlohmann::json& obj, const char* key, uint32_t fallback);
+
 // Linear RGBA image from four float planes.
 ImageRGBA make_image(uint32_t w, uint32_t h, const float* r, const float* g, const float* b, const float* a);
 
