@@ -129,7 +129,6 @@ class ServiceSession {
     fgsr_session_desc desc_{};
     fgsr_pool_layout layout_{};
     fgsr::ipc::Rings rings_{}; // in rings_map_, set once the mapping exists
-    uint32_t outputs_per_frame_limit_ = 0;
 
     // Declaration order is destruction order reversed: the engine session goes first, then the
     // imported memory, then the mappings and fds.

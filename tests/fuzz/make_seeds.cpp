@@ -6,6 +6,7 @@
 
 #include <fgsr/wire.h>
 
+#include <cstddef>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -57,7 +58,7 @@ int main(int argc, char** argv) {
     }
     const fs::path out = argv[1];
     for (const char* t : {"fuzz_exr", "fuzz_png", "fuzz_capture", "fuzz_session_desc", "fuzz_ring_drain",
-                          "fuzz_layer_config"})
+                          "fuzz_layer_config", "fuzz_daemon_messages", "fuzz_session_rings"})
         fs::create_directories(out / t);
 
     // Captures of each layout; their files are the seeds of fuzz_capture (selector byte first, the
@@ -140,5 +141,53 @@ int main(int argc, char** argv) {
     std::vector<uint8_t> cfg(toml.begin(), toml.end());
     for (uint8_t v : {1, 5, 19, 21, 0}) cfg.push_back(v);
     write_seed(out / "fuzz_layer_config" / "profile_env", 0, false, cfg);
+
+    // fuzz_daemon_messages: one packet of each request the daemon takes.
+    {
+        fgsr_hello h;
+        std::memset(&h, 0, sizeof(h));
+        h.header = fgsr_msg_header_for(FGSR_MSG_HELLO, sizeof(h), 1);
+        h.major = FGSR_PROTOCOL_MAJOR;
+        h.minor = FGSR_PROTOCOL_MINOR;
+        std::strcpy(h.name, "seed");
+        write_seed(out / "fuzz_daemon_messages" / "hello", 0, false, bytes_of(h));
+        fgsr_create_session c;
+        std::memset(&c, 0, sizeof(c));
+        c.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION, sizeof(c), 2);
+        c.desc = base_desc();
+        write_seed(out / "fuzz_daemon_messages" / "create", 0, false, bytes_of(c));
+        fgsr_session_ref r;
+        std::memset(&r, 0, sizeof(r));
+        r.header = fgsr_msg_header_for(FGSR_MSG_STATS, sizeof(r), 3);
+        r.session_id = 1;
+        write_seed(out / "fuzz_daemon_messages" / "stats", 0, false, bytes_of(r));
+        r.header = fgsr_msg_header_for(FGSR_MSG_DESTROY_SESSION, sizeof(r), 4);
+        write_seed(out / "fuzz_daemon_messages" / "destroy", 0, false, bytes_of(r));
+    }
+    // fuzz_session_rings: shape (2 input and 2 output slots, ring of 4, FIFO), then chunks of
+    // (position u16 LE, length u8, bytes): a valid submit entry wanting one interpolation, its
+    // publication, then a release of output slot 0.
+    {
+        const fgsr_rings_layout rl = fgsr_rings_layout_for(4);
+        std::vector<uint8_t> b = {0, 0, 0x05, 0};
+        auto chunk = [&](uint64_t at, const std::vector<uint8_t>& bytes) {
+            b.push_back(uint8_t(at & 0xff));
+            b.push_back(uint8_t(at >> 8));
+            b.push_back(uint8_t(bytes.size()));
+            b.insert(b.end(), bytes.begin(), bytes.end());
+        };
+        fgsr_submit_entry e;
+        std::memset(&e, 0, sizeof(e));
+        for (uint64_t k = 0; k < 3; ++k) {
+            e.sequence = k + 1;
+            e.input_slot = uint32_t(k % 2);
+            e.interp_count = k > 0 ? 1 : 0;
+            e.interp_alphas[0] = 0.5f;
+            chunk(rl.submit_entries + k * sizeof(e), bytes_of(e));
+            chunk(rl.submit_header, bytes_of(uint64_t(k + 1)));
+            chunk(rl.completion_header + offsetof(fgsr_ring_header, tail), bytes_of(uint64_t(k + 1)));
+        }
+        fgsr::fuzz::write_file(out / "fuzz_session_rings" / "three_submits", b);
+    }
     return 0;
 }
