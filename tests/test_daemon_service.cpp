@@ -662,13 +662,13 @@ Usage usage(const FgsrdProcess& d) {
     return {d.fd_count(), d.mapping_count(), d.memfd_mapped_bytes(), d.rss_kib()};
 }
 
-// Waits until the daemon's fd and mapping counts return to `base` (teardown is asynchronous to the
-// kill); returns the last usage seen.
+// Waits until the daemon's fd count returns to `base` and its mapping count to `base` or below
+// (teardown is asynchronous to the kill); returns the last usage seen.
 Usage settle(const FgsrdProcess& d, const Usage& base) {
     Usage u;
     for (int i = 0; i < 500; ++i) {
         u = usage(d);
-        if (u.fds == base.fds && u.maps == base.maps && u.memfd_bytes == 0) break;
+        if (u.fds == base.fds && u.maps <= base.maps && u.memfd_bytes == 0) break;
         usleep(20000);
     }
     return u;
@@ -803,7 +803,10 @@ TEST(DaemonProcess, KillNineAtEachProtocolStateLeavesNoFdOrMappingBehind) {
             waitpid(child, &status, 0);
             const Usage after = settle(*d, base);
             EXPECT_EQ(after.fds, base.fds);
-            EXPECT_EQ(after.maps, base.maps);
+            // Nothing left behind: no more mappings than at the baseline. Fewer is not a leak:
+            // under ASan its allocator returns regions of the warm-up's blocks to the kernel at
+            // its own pace (seen: 488 at the baseline, 485 after a later kill).
+            EXPECT_LE(after.maps, base.maps);
             EXPECT_EQ(after.memfd_bytes, 0);
             // Resident memory: no growth beyond allocator noise per cycle.
             EXPECT_LT(after.rss_kib, base.rss_kib + 32 * 1024);
