@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -49,6 +50,16 @@ inline fgsr_msg_header header(uint16_t type, uint32_t size, uint32_t seq = 1) {
     h.type = type;
     h.size = size;
     h.sequence = seq;
+    return h;
+}
+
+// A HELLO of this protocol version; name up to 31 bytes.
+inline fgsr_hello hello_message(const char* name) {
+    fgsr_hello h{};
+    h.header = header(FGSR_MSG_HELLO, sizeof(h));
+    h.major = FGSR_PROTOCOL_MAJOR;
+    h.minor = FGSR_PROTOCOL_MINOR;
+    std::memcpy(h.name, name, std::min(std::strlen(name), sizeof(h.name) - 1)); // h is zeroed: terminated
     return h;
 }
 
@@ -125,11 +136,8 @@ struct Raw {
         return false;
     }
     fgsr_hello_reply hello(uint16_t major = FGSR_PROTOCOL_MAJOR) const {
-        fgsr_hello h{};
-        h.header = header(FGSR_MSG_HELLO, sizeof(h));
+        fgsr_hello h = hello_message("raw-test");
         h.major = major;
-        h.minor = FGSR_PROTOCOL_MINOR;
-        std::strcpy(h.name, "raw-test");
         fgsr_hello_reply r{};
         r.status = -1;
         if (!send(&h, sizeof(h))) return r;

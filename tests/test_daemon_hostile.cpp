@@ -22,10 +22,7 @@ double hello_ms(const std::string& path, int timeout_ms = 5000) {
     const uint64_t t0 = monotonic_ns();
     auto r = Raw::connect(path);
     if (!r) return -1;
-    fgsr_hello h{};
-    h.header = header(FGSR_MSG_HELLO, sizeof(h));
-    h.major = FGSR_PROTOCOL_MAJOR;
-    h.minor = FGSR_PROTOCOL_MINOR;
+    const fgsr_hello h = hello_message("");
     if (!r->send(&h, sizeof(h))) return -1;
     auto m = r->recv(nullptr, nullptr, timeout_ms);
     if (m.size() != sizeof(fgsr_hello_reply)) return -1;
@@ -244,8 +241,9 @@ TEST(DaemonHostile, LaneTimeIsSharedFairlyWhateverTheFrameSize) {
     const double time_ratio = big_total / little_total;
     EXPECT_GT(cost_ratio, 8.0) << "the sizes do not differ enough in cost for this test";
     EXPECT_LT(time_ratio, 4.0) << big_ms.size() << " big frames, " << little_ms.size() << " small frames";
-    std::printf("[ measured ] lane time big/small %.2f at a per-frame cost ratio of %.1f (%zu and %zu frames)\n",
-                time_ratio, cost_ratio, big_ms.size(), little_ms.size());
+    std::printf(
+        "[ measured ] lane time big/small %.2f at a per-frame cost ratio of %.1f (%zu and %zu frames)\n",
+        time_ratio, cost_ratio, big_ms.size(), little_ms.size());
     expect_responsive_and_stoppable(*d);
 }
 
@@ -401,11 +399,7 @@ TEST(DaemonHostile, ClientNamesCannotForgeLogLines) {
     ASSERT_TRUE(d) << FgsrdProcess::last_error();
     auto raw = Raw::connect(d->socket_path());
     ASSERT_TRUE(raw);
-    fgsr_hello h{};
-    h.header = header(FGSR_MSG_HELLO, sizeof(h));
-    h.major = FGSR_PROTOCOL_MAJOR;
-    h.minor = FGSR_PROTOCOL_MINOR;
-    std::strcpy(h.name, "evil\nfgsrd: error: forged\x1b[2J\xc2\x9b");
+    const fgsr_hello h = hello_message("evil\nfgsrd: error: forged\x1b[2J\xc2\x9b");
     ASSERT_TRUE(raw->send(&h, sizeof(h)));
     EXPECT_EQ(as<fgsr_hello_reply>(raw->recv()).status, FGSR_STATUS_OK);
     raw.reset();
@@ -422,9 +416,7 @@ TEST(DaemonHostile, TooManyAttachedFdsAreNamedAsSuch) {
     ASSERT_TRUE(d) << FgsrdProcess::last_error();
     auto raw = Raw::connect(d->socket_path());
     ASSERT_TRUE(raw);
-    fgsr_hello h{};
-    h.header = header(FGSR_MSG_HELLO, sizeof(h));
-    h.major = FGSR_PROTOCOL_MAJOR;
+    fgsr_hello h = hello_message("fds");
     std::vector<int> fds(20, open("/dev/null", O_RDONLY | O_CLOEXEC));
     iovec iov{&h, sizeof(h)};
     msghdr m{};

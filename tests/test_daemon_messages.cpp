@@ -101,6 +101,16 @@ struct Rings {
     ~Rings() {
         if (base) munmap(base, size);
     }
+    // Maps the session's rings memfd as a client would.
+    bool map(const ServiceSession& s) {
+        size = s.layout().rings_size;
+        capacity = s.layout().ring_capacity;
+        rl = fgsr_rings_layout_for(capacity);
+        void* m = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, s.fds()[FGSR_FD_RINGS], 0);
+        if (m == MAP_FAILED) return false;
+        base = static_cast<std::byte*>(m);
+        return true;
+    }
     fgsr_ring_header* hdr(uint64_t off) { return reinterpret_cast<fgsr_ring_header*>(base + off); }
     void submit(uint64_t position, const fgsr_submit_entry& e) {
         auto* entries = reinterpret_cast<fgsr_submit_entry*>(base + rl.submit_entries);
@@ -115,12 +125,7 @@ TEST(DaemonMessages, ASessionWithoutAnEngineRunsTheRingProtocol) {
     auto s = ServiceSession::create(nullptr, 1, small_desc(), false, status, reason);
     ASSERT_TRUE(s) << reason;
     Rings r;
-    r.size = s->layout().rings_size;
-    r.capacity = s->layout().ring_capacity;
-    r.rl = fgsr_rings_layout_for(r.capacity);
-    void* m = mmap(nullptr, r.size, PROT_READ | PROT_WRITE, MAP_SHARED, s->fds()[FGSR_FD_RINGS], 0);
-    ASSERT_NE(m, MAP_FAILED);
-    r.base = static_cast<std::byte*>(m);
+    ASSERT_TRUE(r.map(*s));
 
     fgsr_submit_entry e{};
     e.sequence = 1;
@@ -165,12 +170,7 @@ TEST(DaemonMessages, ARingHeadBeyondCapacityIsAViolation) {
     auto s = ServiceSession::create(nullptr, 1, small_desc(), false, status, reason);
     ASSERT_TRUE(s) << reason;
     Rings r;
-    r.size = s->layout().rings_size;
-    r.capacity = s->layout().ring_capacity;
-    r.rl = fgsr_rings_layout_for(r.capacity);
-    void* m = mmap(nullptr, r.size, PROT_READ | PROT_WRITE, MAP_SHARED, s->fds()[FGSR_FD_RINGS], 0);
-    ASSERT_NE(m, MAP_FAILED);
-    r.base = static_cast<std::byte*>(m);
+    ASSERT_TRUE(r.map(*s));
     fgsr_ring_publish(r.hdr(r.rl.submit_header), uint64_t(r.capacity) + 5);
     auto why = s->poll();
     ASSERT_TRUE(why);

@@ -77,6 +77,8 @@ class Server {
     bool handle_message(Client& c, const std::byte* data, size_t size);
     bool send_reply(Client& c, const void* msg, size_t size, const int* fds = nullptr, size_t nfds = 0);
     bool create_session(Client& c, const CreateRequest& request);
+    // Sends a CREATE_SESSION refusal (and logs it); false when the client was dropped.
+    bool refuse_session(Client& c, uint32_t sequence, int32_t status, const std::string& reason);
     bool session_request(Client& c, const SessionRequest& request);
     void session_created(uint64_t client_id, uint32_t sequence, uint32_t session_id, int lane,
                          uint64_t memory, std::shared_ptr<std::unique_ptr<ServiceSession>> made,

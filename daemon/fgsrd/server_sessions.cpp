@@ -31,20 +31,23 @@ static uint64_t session_memory_estimate(const fgsr_session_desc& d, const fgsr_p
            out_px * (kEngineBytesPerOutputPixel + uint64_t(d.output_slots) * kBytesPerOutputImagePixel);
 }
 
+bool Server::refuse_session(Client& c, uint32_t sequence, int32_t status, const std::string& reason) {
+    log::info("client {} ({}): session refused: {}: {}", c.id, c.name, fgsr_status_string(status), reason);
+    fgsr_create_session_reply r{};
+    r.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), sequence);
+    r.epoch = epoch_;
+    r.status = status;
+    copy_reason(r.reason, sizeof(r.reason), reason);
+    if (send_reply(c, &r, sizeof(r))) return true;
+    drop_client(c.id, nullptr);
+    return false;
+}
+
 bool Server::create_session(Client& c, const CreateRequest& request) {
     const fgsr_session_desc& desc = request.desc;
     const uint32_t sequence = request.sequence;
     auto refuse = [&](int32_t status, const std::string& reason) {
-        log::info("client {} ({}): session refused: {}: {}", c.id, c.name, fgsr_status_string(status),
-                  reason);
-        fgsr_create_session_reply r{};
-        r.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), sequence);
-        r.epoch = epoch_;
-        r.status = status;
-        copy_reason(r.reason, sizeof(r.reason), reason);
-        if (send_reply(c, &r, sizeof(r))) return true;
-        drop_client(c.id, nullptr);
-        return false;
+        return refuse_session(c, sequence, status, reason);
     };
     fgsr_session_desc d;
     char why[128];
@@ -106,16 +109,7 @@ void Server::session_created(uint64_t client_id, uint32_t sequence, uint32_t id,
                 made->reset();
                 return Lane::Continuation{};
             });
-        if (cit == clients_.end()) return;
-        Client& c = *cit->second;
-        log::info("client {} ({}): session refused: {}: {}", c.id, c.name, fgsr_status_string(status),
-                  reason);
-        fgsr_create_session_reply r{};
-        r.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), sequence);
-        r.epoch = epoch_;
-        r.status = status;
-        copy_reason(r.reason, sizeof(r.reason), reason);
-        if (!send_reply(c, &r, sizeof(r))) drop_client(c.id, nullptr);
+        if (cit != clients_.end()) refuse_session(*cit->second, sequence, status, reason);
         return;
     }
     Client& c = *cit->second;
