@@ -109,6 +109,10 @@ struct fgsr_session {
     fgsr_status broken = FGSR_STATUS_OK; // DISCONNECTED or PROTOCOL_ERROR once it happened
     std::unique_ptr<fgsr::client::Recorder> recorder;
     std::string record_dir;
+    // Present reports not yet sent (fgsr_report_presents), and when the oldest was buffered.
+    std::vector<fgsr_present_report> reports;
+    uint64_t reports_since_ns = 0;
+    uint64_t reports_lost = 0; // dropped because the socket was full
 
     fgsr_status pump();
     fgsr_status wait_event(uint64_t deadline_ns);
@@ -117,4 +121,6 @@ struct fgsr_session {
         return s;
     }
     void stop_recording();
+    // Sends the buffered reports (FGSR_MSG_REPORT, no reply, never blocks).
+    fgsr_status flush_reports();
 };

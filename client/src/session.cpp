@@ -4,12 +4,16 @@
 // promises), mapping the pools and rings; destroy, layout, stats, and the recording switch.
 #include "client_internal.hpp"
 
+#include <fgsr/core/clock.hpp>
+
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <sys/mman.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -140,6 +144,7 @@ void fgsr_session_destroy(fgsr_session* session) {
     if (!session) return;
     (void)guarded([&]() -> fgsr_status {
         session->stop_recording();
+        (void)session->flush_reports();
         return session->conn->destroy_session(session->id);
     });
     delete session;
@@ -193,3 +198,52 @@ fgsr_status fgsr_session_record(fgsr_session* session, const char* dir) {
 }
 
 } // extern "C"
+
+fgsr_status fgsr_session::flush_reports() {
+    std::lock_guard<std::mutex> lock(conn->mutex);
+    if (conn->dead) {
+        reports.clear();
+        return FGSR_STATUS_DISCONNECTED;
+    }
+    size_t sent = 0;
+    while (sent < reports.size()) {
+        fgsr_report m{};
+        const uint32_t n = uint32_t(std::min<size_t>(FGSR_MAX_REPORTS_PER_MESSAGE, reports.size() - sent));
+        const uint32_t size = FGSR_REPORT_MESSAGE_SIZE(n);
+        m.header = fgsr_msg_header_for(FGSR_MSG_REPORT, size, 0);
+        m.session_id = id;
+        m.count = n;
+        std::memcpy(m.reports, reports.data() + sent, sizeof(fgsr_present_report) * n);
+        // No reply comes; a full socket drops the reports rather than block the caller's present.
+        const ssize_t w = ::send(conn->sock.get(), &m, size, MSG_DONTWAIT | MSG_NOSIGNAL);
+        if (w != ssize_t(size)) {
+            if (w < 0 && errno != EAGAIN && errno != EWOULDBLOCK) {
+                reports.clear();
+                return FGSR_STATUS_DISCONNECTED;
+            }
+            reports_lost += reports.size() - sent;
+            break;
+        }
+        sent += n;
+    }
+    reports.clear();
+    return FGSR_STATUS_OK;
+}
+
+fgsr_status fgsr_report_presents(fgsr_session* session, const fgsr_present_report* reports, uint32_t count) {
+    if (!session || (count > 0 && !reports)) return FGSR_STATUS_INVALID_ARGUMENT;
+    for (uint32_t i = 0; i < count; ++i)
+        if (reports[i].frame_type > FGSR_FRAME_EXTRAPOLATED) return FGSR_STATUS_INVALID_ARGUMENT;
+    if (session->conn->info.minor < 3) return FGSR_STATUS_UNSUPPORTED;
+    return guarded([&]() -> fgsr_status {
+        const uint64_t now = fgsr::monotonic_ns();
+        if (session->reports.empty()) session->reports_since_ns = now;
+        session->reports.insert(session->reports.end(), reports, reports + count);
+        // Batched: a message per 16 reports, or when the oldest has waited 50 ms.
+        constexpr uint64_t kMaxDelayNs = 50'000'000;
+        if (session->reports.size() >= FGSR_MAX_REPORTS_PER_MESSAGE ||
+            now - session->reports_since_ns >= kMaxDelayNs)
+            return session->flush_reports();
+        return FGSR_STATUS_OK;
+    });
+}

@@ -73,6 +73,18 @@ int main(int argc, char** argv) {
     app.add_flag("--allow-any-user", opt.allow_any_user,
                  "Serve clients of any uid (default: only this user, checked with SO_PEERCRED)");
     app.add_flag("--no-zero-copy", no_zero_copy, "Always copy inputs through a staging buffer");
+    app.add_option("--http", opt.http_address,
+                   "Serve the telemetry dashboard, /metrics and /trace.json on HOST:PORT (read-only; port 0 "
+                   "picks one; the URL is printed on stdout). Off by default");
+    app.add_flag("--http-allow-remote", opt.http_allow_remote,
+                 "Let --http listen on an address other machines can reach (default: loopback only)");
+    app.add_option("--telemetry-window", opt.telemetry_window_s,
+                   "Seconds of frames the dashboard and /trace.json keep")
+        ->check(CLI::Range(1.0, 3600.0))
+        ->capture_default_str();
+    app.add_option("--trace-seconds", opt.trace_seconds, "Default span of /trace.json, seconds")
+        ->check(CLI::Range(0.1, 3600.0))
+        ->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     opt.zero_copy = !no_zero_copy;
     opt.max_session_memory = session_mib << 20;

@@ -49,6 +49,18 @@ Request parse_request(const std::byte* data, size_t size, bool hello_done) {
         std::memcpy(&r.ref, data, sizeof(r.ref));
         return r;
     }
+    case FGSR_MSG_REPORT: {
+        if (size < FGSR_REPORT_MESSAGE_SIZE(1)) return truncated(FGSR_REPORT_MESSAGE_SIZE(1));
+        ReportRequest r;
+        std::memcpy(&r.session_id, data + sizeof(fgsr_msg_header), sizeof(r.session_id));
+        std::memcpy(&r.count, data + sizeof(fgsr_msg_header) + 4, sizeof(r.count));
+        if (r.count == 0 || r.count > FGSR_MAX_REPORTS_PER_MESSAGE)
+            return Violation{h.sequence, "report count " + std::to_string(r.count) + " is not 1.." +
+                                             std::to_string(FGSR_MAX_REPORTS_PER_MESSAGE)};
+        if (size < FGSR_REPORT_MESSAGE_SIZE(r.count)) return truncated(FGSR_REPORT_MESSAGE_SIZE(r.count));
+        std::memcpy(r.reports, data + FGSR_REPORT_MESSAGE_SIZE(0), sizeof(fgsr_present_report) * r.count);
+        return r;
+    }
     default:
         return Violation{h.sequence, "unknown message type " + std::to_string(h.type)};
     }

@@ -26,7 +26,12 @@ struct SessionRequest {
     uint16_t type = 0; // FGSR_MSG_DESTROY_SESSION or FGSR_MSG_STATS
     fgsr_session_ref ref;
 };
-using Request = std::variant<Violation, HelloRequest, CreateRequest, SessionRequest>;
+struct ReportRequest {
+    uint32_t session_id = 0;
+    uint32_t count = 0;              // 1..FGSR_MAX_REPORTS_PER_MESSAGE, checked against the packet
+    fgsr_present_report reports[FGSR_MAX_REPORTS_PER_MESSAGE]; // values unchecked (the hub checks)
+};
+using Request = std::variant<Violation, HelloRequest, CreateRequest, SessionRequest, ReportRequest>;
 
 // Every check of the wire format (daemon/fgsrd/README.md, "Protocol violations"): header size,
 // magic, header.size against the packet, truncation per type, HELLO first and once, known types,

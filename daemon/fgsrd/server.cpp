@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
@@ -32,6 +33,7 @@
 #include <mutex>
 #include <pthread.h>
 #include <random>
+#include <span>
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
 #include <sys/signalfd.h>
@@ -44,6 +46,25 @@
 namespace fgsrd {
 
 namespace detail {
+
+namespace {
+
+// The executable's name as the kernel keeps it (/proc/<pid>/comm), escaped for logs and pages;
+// empty when it cannot be read (another pid namespace, the process already gone).
+std::string process_name(pid_t pid) {
+    char path[64];
+    std::snprintf(path, sizeof(path), "/proc/%d/comm", int(pid));
+    FILE* f = std::fopen(path, "re");
+    if (!f) return {};
+    char name[64] = {};
+    const size_t n = std::fread(name, 1, sizeof(name) - 1, f);
+    std::fclose(f);
+    std::string s(name, n);
+    while (!s.empty() && (s.back() == '\n' || s.back() == '\0')) s.pop_back();
+    return log::printable(s);
+}
+
+} // namespace
 
 Server::~Server() {
     drain(UINT64_MAX);
@@ -146,6 +167,7 @@ void Server::destroy_session(Client& c, uint32_t session_id) {
               st.frames_rejected);
     const SessionRef ref = session_owner_.at(session_id);
     memory_ -= ref.memory;
+    if (hub_) hub_->session_closed(session_id);
     session_owner_.erase(session_id);
     // Destroyed on its lane, after a frame it may be running (jobs run in order).
     std::shared_ptr<ServiceSession> doomed(std::move(it->second));
@@ -175,6 +197,7 @@ void Server::accept_clients() {
         c->uid = cred.uid;
         c->pid = cred.pid;
         c->name = "pid " + std::to_string(cred.pid);
+        c->application = process_name(cred.pid);
         epoll_event ev{};
         ev.events = EPOLLIN | EPOLLRDHUP;
         ev.data.u64 = tag(kClient, c->id);
@@ -288,6 +311,10 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
     }
     if (const auto* create = std::get_if<CreateRequest>(&request)) return create_session(c, *create);
     if (const auto* session = std::get_if<SessionRequest>(&request)) return session_request(c, *session);
+    if (const auto* rep = std::get_if<ReportRequest>(&request)) {
+        report(c, *rep);
+        return true;
+    }
     const fgsr_hello& hello = std::get<HelloRequest>(request).hello;
     const uint32_t sequence = hello.header.sequence;
     // Kept escaped: it reaches logs and telemetry, and must not forge lines there.
@@ -321,6 +348,39 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
         drop_client(c.id, nullptr);
         return false;
     }
+    return true;
+}
+
+void Server::report(Client& c, const ReportRequest& request) {
+    if (!hub_) return;
+    if (c.sessions.find(request.session_id) == c.sessions.end()) {
+        log::debug("client {} ({}): reports for session {}, which it does not own: ignored", c.id, c.name,
+                   request.session_id);
+        return;
+    }
+    hub_->reports(request.session_id, std::span<const fgsr_present_report>(request.reports, request.count));
+}
+
+bool Server::start_http(const std::string& device) {
+    if (opt_.http_address.empty()) return true;
+    HubOptions ho;
+    ho.window_s = opt_.telemetry_window_s;
+    ho.title = "fgsrd on " + device;
+    hub_ = std::make_unique<TelemetryHub>(ho);
+    HttpOptions h;
+    h.address = opt_.http_address;
+    h.allow_remote = opt_.http_allow_remote;
+    h.trace_seconds = opt_.trace_seconds;
+    auto server = HttpServer::start(h, *hub_);
+    if (!server) {
+        log::error("{}", server.error().message);
+        return false;
+    }
+    http_ = std::move(*server);
+    log::info("dashboard at {}", http_->url());
+    // On stdout as well, for whoever started the daemon (and tests that ask for port 0).
+    std::printf("fgsrd: dashboard at %s\n", http_->url().c_str());
+    std::fflush(stdout);
     return true;
 }
 
@@ -401,6 +461,7 @@ int Server::run() {
     if (!listener.fd) return 1;
     listen_ = std::move(listener.fd);
     created_socket_ = listener.created_path;
+    if (!start_http(engine.device_name())) return 1;
     epoll_event ev{};
     ev.events = EPOLLIN;
     ev.data.u64 = tag(kListen, 0);
@@ -453,6 +514,8 @@ int Server::run() {
         if (!stop_) schedule();
     }
     log::info("stopping: {} clients", clients_.size());
+    if (hub_) hub_->stop();
+    http_.reset();
     // A frame cannot be interrupted (one Vulkan submission; a 4096x4096 session's can take a
     // minute on a CPU device). The clients are disconnected at once; past the grace period the
     // process exits without waiting for the running frames (the kernel frees their memory).

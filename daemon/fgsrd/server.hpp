@@ -41,6 +41,12 @@ struct Options {
     double shutdown_grace_s = 2.0;
     bool allow_any_user = false; // else only peers with the daemon's uid (SO_PEERCRED)
     bool zero_copy = true;       // import input pools into the device where it can
+    // The telemetry dashboard (http_server.hpp): off unless http_address is set ("HOST:PORT",
+    // loopback only unless http_allow_remote). The chosen URL is printed on stdout.
+    std::string http_address;
+    bool http_allow_remote = false;
+    double telemetry_window_s = 60; // frames the page and /trace.json can show
+    double trace_seconds = 10;      // /trace.json's default span
 };
 
 // Runs until SIGTERM or SIGINT. Returns the process exit status (0 after a clean shutdown).

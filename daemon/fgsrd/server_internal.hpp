@@ -2,6 +2,7 @@
 // event loop) and server_sessions.cpp (session creation, limits and frame scheduling).
 #pragma once
 
+#include "http_server.hpp"
 #include "lane.hpp"
 #include "messages.hpp"
 #include "server.hpp"
@@ -33,6 +34,7 @@ struct Client {
     uid_t uid = 0;
     pid_t pid = 0;
     std::string name; // "pid N" until HELLO names it
+    std::string application; // /proc/<pid>/comm at accept (telemetry), escaped
     bool hello_done = false;
     uint64_t connected_ns = 0; // CLOCK_MONOTONIC at accept (the HELLO deadline counts from it)
     uint64_t active_ns = 0;    // last message, submit or release
@@ -80,6 +82,11 @@ class Server {
     // Sends a CREATE_SESSION refusal (and logs it); false when the client was dropped.
     bool refuse_session(Client& c, uint32_t sequence, int32_t status, const std::string& reason);
     bool session_request(Client& c, const SessionRequest& request);
+    // Present reports go to the telemetry hub (when --http); reports of sessions the connection
+    // does not own are ignored.
+    void report(Client& c, const ReportRequest& request);
+    // --http: the hub and the dashboard's server; false when it cannot listen.
+    bool start_http(const std::string& device);
     void session_created(uint64_t client_id, uint32_t sequence, uint32_t session_id, int lane,
                          uint64_t memory, std::shared_ptr<std::unique_ptr<ServiceSession>> made,
                          int32_t status, const std::string& reason);
@@ -133,6 +140,9 @@ class Server {
     uint64_t epoch_ = 0;
     uint32_t caps_ = 0;
     bool stop_ = false;
+    // Declared last: the HTTP server stops (its threads read the hub) before the hub goes.
+    std::unique_ptr<TelemetryHub> hub_;
+    std::unique_ptr<HttpServer> http_;
 };
 
 // Copies s into a fixed-size, NUL-terminated reason field.

@@ -117,6 +117,11 @@ void Server::session_created(uint64_t client_id, uint32_t sequence, uint32_t id,
     const fgsr_session_desc& d = s.desc();
     // Registered before the reply, so that a failed reply tears it down like any other session.
     session_owner_[id] = SessionRef{client_id, lane_index, lanes_[size_t(lane_index)].vclock, memory, 0};
+    if (hub_) {
+        hub_->session_opened(id, TelemetryHub::SessionMeta{c.application, c.name, uint32_t(c.pid)}, d, s.layout());
+        s.set_completion_observer(
+            [hub = hub_.get(), id](const fgsr_completion_entry& entry) { hub->completion(id, entry); });
+    }
     c.sessions[id] = std::move(*made);
     fgsr_create_session_reply r{};
     r.header = fgsr_msg_header_for(FGSR_MSG_CREATE_SESSION_REPLY, sizeof(r), sequence);

@@ -312,6 +312,7 @@ bool ServiceSession::waiting_on_completion_ring() const {
 
 void ServiceSession::push_completion(const fgsr_completion_entry& c) {
     rings_.completion.push(completion_head_, c);
+    if (observer_) observer_(c);
 }
 
 bool ServiceSession::signal_complete() {

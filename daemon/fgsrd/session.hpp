@@ -17,6 +17,7 @@
 
 #include <array>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -92,6 +93,10 @@ class ServiceSession {
     // Completions were pushed since the last signal_complete().
     bool signal_pending() const { return signal_pending_; }
     fgsr_session_stats stats() const;
+    // Called with every completion pushed (on the server's thread): the telemetry hub.
+    void set_completion_observer(std::function<void(const fgsr_completion_entry&)> observer) {
+        observer_ = std::move(observer);
+    }
 
   private:
     struct Pending {
@@ -152,6 +157,7 @@ class ServiceSession {
     uint64_t last_sequence_ = 0;
     uint64_t previous_present_ns_ = 0; // present time of the last processed frame (0: unknown); lane only
     std::deque<Pending> pending_;
+    std::function<void(const fgsr_completion_entry&)> observer_;
 
     fgsr_session_stats stats_{};
     std::vector<uint64_t> latency_, gpu_, queue_wait_; // the most recent samples, for percentiles

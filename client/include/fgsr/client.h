@@ -127,6 +127,13 @@ fgsr_status fgsr_release_output(fgsr_session* session, uint32_t output_slot);
 /* Aggregates the daemon keeps for this session. Returns OK; DISCONNECTED; TIMEOUT. */
 fgsr_status fgsr_session_stats_get(fgsr_session* session, fgsr_session_stats* out);
 
+/* Tells the daemon what became of frames: presented when, or dropped (fgsr_present_report). The
+ * reports are buffered and sent without waiting (at most 50 ms late; at session destroy at the
+ * latest); a full socket drops them rather than block. Returns OK; INVALID_ARGUMENT (NULL with a
+ * count, or a frame_type out of range); UNSUPPORTED (the daemon predates protocol minor 3: the
+ * reports are dropped); DISCONNECTED. */
+fgsr_status fgsr_report_presents(fgsr_session* session, const fgsr_present_report* reports, uint32_t count);
+
 /* Starts (or stops, with dir NULL) recording every submitted frame to dir as an fgsr capture.
  * Returns OK; INVALID_ARGUMENT; UNSUPPORTED (cannot create dir or write there). */
 fgsr_status fgsr_session_record(fgsr_session* session, const char* dir);

@@ -80,6 +80,9 @@ class Session : public detail::Handle<fgsr_session, fgsr_session_destroy> {
     fgsr_status wait(uint32_t timeout_ms, fgsr_output& out) { return fgsr_wait(h_, timeout_ms, &out); }
     fgsr_status release_output(uint32_t slot) { return fgsr_release_output(h_, slot); }
     fgsr_status stats(fgsr_session_stats& out) { return fgsr_session_stats_get(h_, &out); }
+    fgsr_status report_presents(const fgsr_present_report* reports, uint32_t count) {
+        return fgsr_report_presents(h_, reports, count);
+    }
     fgsr_status record(const char* dir) { return fgsr_session_record(h_, dir); }
 };
 

@@ -320,6 +320,8 @@ void Swapchain::process(Item& item) {
             if (on_time && even && R)
                 on_time = sleep_until(std::min(intended, monotonic_ns() + P), max_waiting);
             if (!on_time) { // a newer frame waits: drop the rest
+                report_present(g.sequence, g.output_index, g.frame_type, g.submit_ns, g.received_ns, intended, 0,
+                               true);
                 release(g);
                 continue;
             }
@@ -341,6 +343,8 @@ void Swapchain::process(Item& item) {
             const uint64_t intended = even ? R + g.index * P / m : monotonic_ns();
             if (on_time && even) on_time = sleep_until(std::min(intended, monotonic_ns() + P), max_waiting);
             if (!on_time) {
+                report_present(g.sequence, g.output_index, g.frame_type, g.submit_ns, g.received_ns, intended, 0,
+                               true);
                 release(g);
                 continue;
             }
@@ -356,6 +360,10 @@ void Swapchain::present_real(const Item& item, uint64_t intended_ns) {
     last_real_ns_ = monotonic_ns();
     Report::get().present(PresentKind::real, item.app_present, item.entry_ns, intended_ns, last_real_ns_,
                           uint64_t(handle_));
+    // Interpolation submitted this frame before presenting it; extrapolation submits it after.
+    const uint64_t sequence = item.cfg.mode == Mode::interpolate ? last_sequence_ : 0;
+    report_present(sequence, FGSR_REPORT_APPLICATION, FGSR_FRAME_NONE, item.entry_ns, item.entry_ns, intended_ns,
+                   last_real_ns_, false);
 }
 
 std::vector<Swapchain::Generated> Swapchain::generate(const Item& item, uint64_t deadline_ns) {
@@ -442,8 +450,9 @@ bool Swapchain::collect(uint64_t sequence, uint32_t wanted, uint64_t deadline_ns
                             o.row_pitch >= extent_.width * FGSR_COLOR_FORMAT_BYTES(o.format) &&
                             o.output_index < wanted && o.pixels;
         if (usable) {
-            out.push_back(
-                Generated{o.output_slot, o.output_index + 1, o.telemetry.target_time, o.pixels, o.row_pitch});
+            out.push_back(Generated{o.output_slot, o.output_index + 1, o.telemetry.target_time, o.pixels,
+                                    o.row_pitch, o.sequence, o.output_index, o.telemetry.frame_type,
+                                    o.telemetry.submit_ns, monotonic_ns()});
         } else if (o.output_slot != FGSR_NO_SLOT) {
             fgsr_release_output(session, o.output_slot);
         }
@@ -515,9 +524,29 @@ bool Swapchain::present_generated(const Item& item, const Generated& g, uint64_t
     }
     upload_pending_[u] = true;
     note_result(call_present(item.queue, index, ready));
-    Report::get().present(PresentKind::generated, item.app_present, item.entry_ns, intended_ns,
-                          monotonic_ns(), uint64_t(handle_));
+    const uint64_t presented = monotonic_ns();
+    Report::get().present(PresentKind::generated, item.app_present, item.entry_ns, intended_ns, presented,
+                          uint64_t(handle_));
+    report_present(g.sequence, g.output_index, g.frame_type, g.submit_ns, g.received_ns, intended_ns, presented,
+                   false);
     return true;
+}
+
+void Swapchain::report_present(uint64_t sequence, uint32_t output_index, uint32_t frame_type, uint64_t submit_ns,
+                               uint64_t received_ns, uint64_t intended_ns, uint64_t presented_ns, bool dropped) {
+    fgsr_session* session = link_.session();
+    if (!session) return;
+    fgsr_present_report r{};
+    r.sequence = sequence;
+    r.output_index = output_index;
+    r.frame_type = frame_type;
+    r.flags = dropped ? FGSR_REPORT_DROPPED : 0u;
+    r.submit_ns = submit_ns;
+    r.received_ns = received_ns;
+    r.intended_ns = intended_ns;
+    r.presented_ns = presented_ns;
+    // UNSUPPORTED (an older daemon) and a full socket only lose the report.
+    (void)fgsr_report_presents(session, &r, 1);
 }
 
 } // namespace fgsr::layer

@@ -84,7 +84,15 @@ class Swapchain {
         float alpha;
         const void* pixels;
         uint32_t row_pitch;
+        uint64_t sequence = 0;       // the submit it came from
+        uint32_t output_index = 0;   // within that submit
+        uint32_t frame_type = 0;     // fgsr_frame_type
+        uint64_t submit_ns = 0, received_ns = 0;
     };
+    // Tells fgsrd what became of a frame (its dashboard's frame times and latencies); nothing when
+    // no session is up.
+    void report_present(uint64_t sequence, uint32_t output_index, uint32_t frame_type, uint64_t submit_ns,
+                        uint64_t received_ns, uint64_t intended_ns, uint64_t presented_ns, bool dropped);
 
     bool init_images();
     bool init_pools(uint32_t family);

@@ -26,8 +26,9 @@ extern "C" {
 #endif
 
 #define FGSR_PROTOCOL_MAJOR 1u
-#define FGSR_PROTOCOL_MINOR 2u /* 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE;
-                                * 2: FGSR_SESSION_NO_MVS, FGSR_SESSION_NO_DEPTH, motion passes */
+#define FGSR_PROTOCOL_MINOR 3u /* 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE;
+                                * 2: FGSR_SESSION_NO_MVS, FGSR_SESSION_NO_DEPTH, motion passes;
+                                * 3: present reports (fgsr_present_report, FGSR_MSG_REPORT) */
 
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
 #define FGSR_MAX_ALPHAS 8u          /* interpolated or extrapolated frames per submit, each */
@@ -268,6 +269,25 @@ typedef struct fgsr_telemetry {
     fgsr_pass_record passes[FGSR_MAX_PASSES];
 } fgsr_telemetry;
 FGSR_STATIC_ASSERT(sizeof(fgsr_telemetry) == 464, "fgsr_telemetry size");
+
+/* What the client did with a frame (minor 3): the application's own frame or an output, when it
+ * held it and when it was presented. fgsrd adds them to the session's telemetry (its dashboard,
+ * /metrics and /trace.json show them: frame times from present times, client-observed latency).
+ * All times CLOCK_MONOTONIC ns, 0 where unknown. */
+#define FGSR_REPORT_APPLICATION 0xffffffffu /* output_index of the application's own frame */
+#define FGSR_REPORT_DROPPED 0x1u            /* flags: the frame was not presented */
+typedef struct fgsr_present_report {
+    uint64_t sequence;     /* the submit the frame belongs to (0: a frame that was never submitted) */
+    uint32_t output_index; /* the output's index within the submit, or FGSR_REPORT_APPLICATION */
+    uint32_t frame_type;   /* fgsr_frame_type; FGSR_FRAME_NONE for the application's own frame */
+    uint32_t flags;        /* FGSR_REPORT_* */
+    uint32_t reserved;
+    uint64_t submit_ns;    /* the application's present call (own frame) or the submit (output) */
+    uint64_t received_ns;  /* the client held the output (fgsr_wait returned it) */
+    uint64_t intended_ns;  /* when the client's pacing meant to present it */
+    uint64_t presented_ns; /* when it was presented (the present call returned, or present-wait) */
+} fgsr_present_report;
+FGSR_STATIC_ASSERT(sizeof(fgsr_present_report) == 56, "fgsr_present_report size");
 
 /* Bits of fgsr_completion_entry.flags. */
 #define FGSR_COMPLETION_INPUT_RELEASED 0x1u /* input_slot is the client's again */

@@ -65,7 +65,8 @@ typedef enum fgsr_msg_type {
     FGSR_MSG_DESTROY_SESSION_REPLY = 6, /* daemon -> client: fgsr_reply */
     FGSR_MSG_STATS = 7,                 /* client -> daemon: fgsr_session_ref */
     FGSR_MSG_STATS_REPLY = 8,           /* daemon -> client: fgsr_stats_reply */
-    FGSR_MSG_ERROR = 9                  /* daemon -> client: fgsr_reply, then the daemon may close */
+    FGSR_MSG_ERROR = 9,                 /* daemon -> client: fgsr_reply, then the daemon may close */
+    FGSR_MSG_REPORT = 10                /* client -> daemon: fgsr_report (minor 3); no reply */
 } fgsr_msg_type;
 
 typedef struct fgsr_msg_header {
@@ -116,6 +117,21 @@ typedef struct fgsr_create_session {
     fgsr_session_desc desc;
 } fgsr_create_session;
 FGSR_STATIC_ASSERT(sizeof(fgsr_create_session) == 144, "fgsr_create_session size");
+
+/* Present reports (minor 3): the one request without a reply, so that a client can send them from
+ * its present path without waiting. The packet holds the header, session_id, count and `count`
+ * reports (it may be shorter than the struct). Sent only to a daemon that said minor >= 3; fgsrd
+ * ignores reports of sessions the connection does not own, and counts reports whose values are out
+ * of range (daemon/fgsrd/README.md). */
+#define FGSR_MAX_REPORTS_PER_MESSAGE 16u
+typedef struct fgsr_report {
+    fgsr_msg_header header;
+    uint32_t session_id;
+    uint32_t count; /* 1..FGSR_MAX_REPORTS_PER_MESSAGE */
+    fgsr_present_report reports[FGSR_MAX_REPORTS_PER_MESSAGE];
+} fgsr_report;
+FGSR_STATIC_ASSERT(sizeof(fgsr_report) == 920, "fgsr_report size");
+#define FGSR_REPORT_MESSAGE_SIZE(count) (24u + 56u * (count))
 
 /* Order of the fds sent with FGSR_MSG_CREATE_SESSION_REPLY. */
 enum {
