@@ -12,12 +12,16 @@ packages=(build-essential cmake pkg-config git glslang-tools spirv-tools libvulk
           vulkan-validationlayers libopenexr-dev libpng-dev libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
           libgtest-dev libusb-1.0-0-dev gnuplot-nox
           # the Vulkan layer (client/layer) and its test application: TOML, XCB
-          libtomlplusplus-dev libxcb1-dev)
+          libtomlplusplus-dev libxcb1-dev
+          # fgsrd's dashboard (--http): HTTP server, Prometheus text format, Chart.js (embedded at build)
+          libcpp-httplib-dev prometheus-cpp-dev libjs-chart.js)
 # Only the test suite needs these: python3-opencv runs the DIS reference (tools/reference/dis_vectors.py)
 # in its test; xvfb and vulkan-tools (vkcube) run the Vulkan layer's end-to-end tests. Blender
 # (tools/render) is needed by no test and is not installed here.
 # clang (with its libFuzzer runtime) builds the fuzz targets (tests/fuzz, preset fuzz).
-test_packages=(python3-opencv xvfb vulkan-tools clang)
+# chromium and chromium-driver load the dashboard in the dashboard's tests (headless, driven over
+# WebDriver); prometheus brings promtool, which checks /metrics.
+test_packages=(python3-opencv xvfb vulkan-tools clang chromium chromium-driver prometheus)
 
 install_missing() {
     local missing=()

@@ -2,7 +2,11 @@
 // (build/share in XDG_DATA_DIRS, enabled by FGSR_ENABLE=1) and a real fgsrd. Each test reads the
 // layer's stats file (FGSR_LAYER_STATS) and the application's output. Skipped only when Xvfb or
 // vkcube is not installed.
+#include <fgsr/core/presentmon.hpp>
 #include <fgsr/testing/fgsrd_process.hpp>
+
+#include <httplib.h>
+#include <cstring>
 
 #include <fcntl.h>
 
@@ -114,9 +118,21 @@ class LayerE2E : public ::testing::Test {
         if (!HasFailure()) std::filesystem::remove_all(dir_, ec);
     }
 
-    void start_daemon() {
-        daemon_ = FgsrdProcess::start({"--log-level", "info"});
+    void start_daemon(const std::vector<std::string>& extra = {}) {
+        std::vector<std::string> args = {"--log-level", "info"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        daemon_ = FgsrdProcess::start(args);
         ASSERT_TRUE(daemon_) << FgsrdProcess::last_error();
+    }
+    // fgsrd's /metrics (started with --http 127.0.0.1:0: the URL is in its log).
+    std::string daemon_metrics() {
+        const std::string log = daemon_->stderr_text();
+        const size_t at = log.find("dashboard at http://127.0.0.1:");
+        if (at == std::string::npos) return {};
+        const int port = std::atoi(log.c_str() + at + std::strlen("dashboard at http://127.0.0.1:"));
+        httplib::Client c("127.0.0.1", port);
+        auto r = c.Get("/metrics");
+        return r && r->status == 200 ? r->body : std::string();
     }
 
     // Runs `command` with the layer enabled (plus `env`, "NAME=value" words) on the test's display.
@@ -162,16 +178,17 @@ struct PresentRow {
     uint64_t app_present, app_ns, intended_ns, actual_ns;
 };
 
+// FGSR_LAYER_PRESENTS: PresentMon's columns (report.hpp).
 std::vector<PresentRow> read_presents(const std::string& path) {
     std::vector<PresentRow> rows;
-    std::ifstream f(path);
-    std::string line;
-    std::getline(f, line); // header
-    while (std::getline(f, line)) {
-        char kind[16] = {};
-        unsigned long long a = 0, b = 0, c = 0, d = 0;
-        if (std::sscanf(line.c_str(), "%15[a-z],%llu,%llu,%llu,%llu", kind, &a, &b, &c, &d) == 5)
-            rows.push_back({std::string(kind) == "real", a, b, c, d});
+    auto parsed = fgsr::parse_presentmon_csv(read_file(path));
+    EXPECT_TRUE(parsed) << (parsed ? "" : parsed.error().message);
+    if (!parsed) return rows;
+    for (const fgsr::PresentRow& p : *parsed) {
+        const auto ns = [](double s) { return uint64_t(std::llround(s * 1e9)); };
+        const uint64_t actual = ns(p.time_s);
+        rows.push_back({p.frame_type == "Application", p.sequence, actual - uint64_t(std::llround(p.ms_until_displayed * 1e6)),
+                        ns(p.intended_s), actual});
     }
     return rows;
 }
@@ -210,8 +227,14 @@ TEST_F(LayerE2E, VkcubePresentsDoubleWithValidationClean) {
     expect_multiplied(r, 2, 80);
 }
 
+// A labelled sample of a Prometheus text body (-1 when absent).
+double metric(const std::string& text, const std::string& sample) {
+    const size_t p = text.find("\n" + sample + " ");
+    return p == std::string::npos ? -1 : std::strtod(text.c_str() + p + sample.size() + 2, nullptr);
+}
+
 TEST_F(LayerE2E, AppInterpolatesThreeTimesWithValidationClean) {
-    start_daemon();
+    start_daemon({"--http", "127.0.0.1:0"});
     const std::string presents = (dir_ / "presents.csv").string();
     const AppRun r = run(app() + " --frames 75 --width 128 --height 72 --fps 8",
                          {"FGSR_MULTIPLIER=3", "FGSR_LAYER_PRESENTS=" + presents});
@@ -230,6 +253,18 @@ TEST_F(LayerE2E, AppInterpolatesThreeTimesWithValidationClean) {
         if (!rows[i].real) {
             EXPECT_EQ(rows[i].app_present, rows[i + 1].app_present) << "row " << i;
         }
+    // The layer's present records reached fgsrd's telemetry: its own frames and the generated
+    // ones, as the layer counted them (the last batch, at most 16 reports, may be cut by the exit).
+    const std::string m = daemon_metrics();
+    ASSERT_FALSE(m.empty()) << daemon_->stderr_text();
+    const double app = metric(m, "fgsr_presents_total{type=\"application\"}");
+    const double gen = metric(m, "fgsr_presents_total{type=\"interpolated\"}");
+    EXPECT_LE(app, 75);
+    EXPECT_GE(app, 75 - 16) << m;
+    EXPECT_LE(gen, json_number(r.stats, "generated"));
+    EXPECT_GE(gen, json_number(r.stats, "generated") - 16) << m;
+    EXPECT_EQ(metric(m, "fgsr_reports_invalid_total"), 0) << m;
+    EXPECT_GT(metric(m, "fgsr_latency_seconds_count{kind=\"displayed\"}"), 0) << m;
 }
 
 TEST_F(LayerE2E, AppExtrapolatesWithValidationClean) {

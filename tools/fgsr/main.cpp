@@ -6,6 +6,7 @@
 #include <fgsr/cli/eval.hpp>
 #include <fgsr/cli/lut_train.hpp>
 #include <fgsr/cli/replay.hpp>
+#include <fgsr/cli/report.hpp>
 #include <fgsr/cli/stress.hpp>
 
 #include <fgsr/capture/capture.hpp>
@@ -137,7 +138,9 @@ int main(int argc, char** argv) {
     replay->add_option("--fps", ro.fps,
                        "Submit at this many frames per second (default: as fast as possible)");
     replay->add_option("--out", replay_out, "Write the outputs here (eval --out layout, method fgsr)");
-    replay->add_option("--telemetry", replay_csv, "Write per-output telemetry to this CSV file");
+    replay->add_option("--telemetry", replay_csv,
+                       "Write the presents to this CSV file (PresentMon's columns, then fgsr's; one row per "
+                       "displayed frame, in display order)");
     replay->add_option("--alpha", ro.alpha, "Generated instant: alpha (interp) or 1+alpha (extrap)")
         ->capture_default_str();
     replay->add_option("--frames", ro.max_frames, "Replay at most this many targets (0: all)");
@@ -179,6 +182,10 @@ int main(int argc, char** argv) {
     // fgsr stress
     fgsr::cli::StressCli stress_opts;
     auto* stress = fgsr::cli::add_stress_command(app, stress_opts);
+
+    // fgsr report
+    fgsr::cli::ReportCli report_cli;
+    auto* report = fgsr::cli::add_report_command(app, report_cli);
 
     // fgsr devices
     auto* devices = app.add_subcommand("devices", "List Vulkan devices");
@@ -298,6 +305,7 @@ int main(int argc, char** argv) {
     if (*calibrate) return fgsr::cli::calibrate_main(cal, calibrate, argc, argv);
     if (*lut_train) return fgsr::cli::lut_train_main(lut_opts, argc, argv);
     if (*stress) return fgsr::cli::stress_main(stress_opts);
+    if (*report) return fgsr::cli::report_main(report_cli);
     if (*devices) {
         auto list = fgsr::Engine::list_devices();
         if (!list) return fail(list.error());

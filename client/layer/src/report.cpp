@@ -1,9 +1,14 @@
 // The layer's counters, present records, dumps and log (report.hpp).
 #include "report.hpp"
 
+#include <fgsr/core/presentmon.hpp>
+#include <fgsr/protocol.h>
+
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <mutex>
+#include <unistd.h>
 #include <vector>
 
 namespace fgsr::layer {
@@ -115,14 +120,29 @@ void Report::write_files() {
     }
     if (!s_->presents_path.empty()) {
         if (FILE* f = std::fopen(s_->presents_path.c_str(), "w")) {
-            std::fprintf(f, "kind,app_present,app_ns,intended_ns,actual_ns,swapchain\n");
-            for (const PresentRecord& r : s_->records)
-                std::fprintf(
-                    f, "%s,%llu,%llu,%llu,%llu,%llu\n", r.kind == PresentKind::real ? "real" : "generated",
-                    static_cast<unsigned long long>(r.app_present), static_cast<unsigned long long>(r.app_ns),
-                    static_cast<unsigned long long>(r.intended_ns),
-                    static_cast<unsigned long long>(r.actual_ns),
-                    static_cast<unsigned long long>(r.swapchain));
+            // PresentMon's columns (fgsr/core/presentmon.hpp), a row per present in present order.
+            std::string app = program_invocation_short_name ? program_invocation_short_name : "";
+            std::fprintf(f, "%s\n", presentmon_header().c_str());
+            std::map<uint64_t, uint64_t> previous; // per swapchain: the last present's time
+            for (const PresentRecord& r : s_->records) {
+                PresentRow row;
+                row.application = app;
+                row.process_id = uint32_t(getpid());
+                row.swapchain = r.swapchain;
+                row.frame_type = r.kind == PresentKind::real ? "Application"
+                                 : s_->config.mode == Mode::extrapolate ? presentmon_frame_type(FGSR_FRAME_EXTRAPOLATED)
+                                                                        : presentmon_frame_type(FGSR_FRAME_INTERPOLATED);
+                row.time_s = double(r.actual_ns) * 1e-9;
+                uint64_t& prev = previous[r.swapchain];
+                if (prev != 0 && r.actual_ns >= prev) row.ms_between_presents = double(r.actual_ns - prev) * 1e-6;
+                prev = r.actual_ns;
+                // From the application's present of the frame involved (generated frames: the real
+                // frame they were made with) to this present.
+                if (r.actual_ns >= r.app_ns) row.ms_until_displayed = double(r.actual_ns - r.app_ns) * 1e-6;
+                row.sequence = r.app_present; // the application's present counter
+                row.intended_s = double(r.intended_ns) * 1e-9;
+                std::fprintf(f, "%s\n", presentmon_row(row).c_str());
+            }
             std::fclose(f);
         }
     }

@@ -8,10 +8,13 @@
 // app_presents: vkQueuePresentKHR calls of the application; presents: presents the layer made
 // (real + generated); generated: generated frames presented; dropped: generated frames requested
 // but not presented (daemon late or gone, first frame of a session, no free image).
-// FGSR_LAYER_PRESENTS=FILE: CSV "kind,app_present,app_ns,intended_ns,actual_ns,swapchain" per
-// present (kind real|generated; CLOCK_MONOTONIC; app_ns: the application's vkQueuePresentKHR of
-// the real frame involved, so actual_ns - app_ns of a real row is the latency the layer adds;
-// actual = when the present call returned: VK_KHR_present_wait is detected, not used).
+// FGSR_LAYER_PRESENTS=FILE: a CSV row per present in PresentMon's columns (fgsr/core/presentmon.hpp):
+// FrameType Application (real) or fgsr-interpolated / fgsr-extrapolated, TimeInSeconds = when the
+// present call returned (CLOCK_MONOTONIC; VK_KHR_present_wait is detected, not used),
+// MsUntilDisplayed = from the application's vkQueuePresentKHR of the real frame involved (so, on
+// Application rows, the latency the layer adds), fgsr_sequence = the application's present
+// counter, fgsr_intended_s = when the pacing meant it to be presented, SwapChainAddress = the
+// VkSwapchainKHR. Each present also goes to fgsrd's telemetry (fgsr_report_presents).
 // FGSR_LAYER_DUMP. One process-wide Report; every member function is thread-safe.
 //
 // FGSR_LAYER_STATS=FILE, written at exit (and when the last device is destroyed):
@@ -20,10 +23,13 @@
 // app_presents: vkQueuePresentKHR calls of the application; presents: presents the layer made
 // (real + generated); generated: generated frames presented; dropped: generated frames requested
 // but not presented (daemon late or gone, first frame of a session, no free image).
-// FGSR_LAYER_PRESENTS=FILE: CSV "kind,app_present,app_ns,intended_ns,actual_ns,swapchain" per
-// present (kind real|generated; CLOCK_MONOTONIC; app_ns: the application's vkQueuePresentKHR of
-// the real frame involved, so actual_ns - app_ns of a real row is the latency the layer adds;
-// actual = when the present call returned: VK_KHR_present_wait is detected, not used).
+// FGSR_LAYER_PRESENTS=FILE: a CSV row per present in PresentMon's columns (fgsr/core/presentmon.hpp):
+// FrameType Application (real) or fgsr-interpolated / fgsr-extrapolated, TimeInSeconds = when the
+// present call returned (CLOCK_MONOTONIC; VK_KHR_present_wait is detected, not used),
+// MsUntilDisplayed = from the application's vkQueuePresentKHR of the real frame involved (so, on
+// Application rows, the latency the layer adds), fgsr_sequence = the application's present
+// counter, fgsr_intended_s = when the pacing meant it to be presented, SwapChainAddress = the
+// VkSwapchainKHR. Each present also goes to fgsrd's telemetry (fgsr_report_presents).
 // FGSR_LAYER_DUMP=DIR: each generated frame as DIR/gen_<app_present>_<j>.rgba (RGBA8 sRGB rows,
 // tightly packed) + .json {"width","height","app_present","index","alpha","mode","multiplier"};
 // interpolated frames lie between app presents app_present-1 and app_present at alpha, extrapolated

@@ -3,6 +3,7 @@
 #include <fgsr/cli/bench.hpp>
 
 #include "bench_internal.hpp"
+#include "plot_util.hpp"
 
 #include <fmt/format.h>
 
@@ -35,19 +36,7 @@ std::string passes_text(const std::map<std::string, double>& pass_ms, double mot
     return s;
 }
 
-Result<void> write_text(const std::filesystem::path& p, const std::string& text) {
-    std::ofstream f(p, std::ios::binary);
-    if (!f) return make_error(Errc::io, "cannot write " + p.string());
-    f << text;
-    if (!f) return make_error(Errc::io, "cannot write " + p.string());
-    return {};
-}
-
-std::string shell_quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using plot::write_text;
 
 // gnuplot data (one block per capture / mode, separated by two blank lines) and the script.
 struct PlotFiles {
@@ -289,15 +278,12 @@ Result<void> write_bench_outputs(const BenchOptions& o, const BenchReport& r) {
     FGSR_TRY(write_text(o.out / "front.dat", pf.front));
     FGSR_TRY(write_text(o.out / "passes.dat", pf.passes));
     FGSR_TRY(write_text(o.out / "plots.gp", pf.script));
-    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    if (!plot::gnuplot_available()) {
         progress(o, "gnuplot not found (Debian: gnuplot-nox): plots.gp written, plots not drawn");
         return {};
     }
     progress(o, "drawing plots (gnuplot)");
-    const std::string cmd = "cd " + shell_quote(o.out.string()) + " && gnuplot plots.gp";
-    if (std::system(cmd.c_str()) != 0)
-        return make_error(Errc::io, "gnuplot failed on " + (o.out / "plots.gp").string());
-    return {};
+    return plot::run_gnuplot(o.out, "plots.gp");
 }
 
 } // namespace fgsr::cli

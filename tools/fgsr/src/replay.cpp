@@ -3,7 +3,16 @@
 // The frames submitted and the outputs requested are those of in-process `fgsr eval` for the
 // "fgsr" method (same capture preparation, same halfway_targets, same alphas), so with rgba32f
 // outputs the scores are computed on bit-identical images by the same score_image/finish_means.
+//
+// Presents (replay_presents.hpp): replay has no display; it "presents" each frame as soon as it
+// holds it, in display order (per submit: interpolated outputs, the application's own frame, or
+// in sr mode the upscaled output in its place, then extrapolated outputs). Every present is
+// reported to fgsrd (fgsr_report_presents; a daemon before protocol minor 3 gets none) and, with
+// --telemetry, written as one row of PresentMon's columns (fgsr/core/presentmon.hpp); failed
+// outputs and dropped submits get a row with their fgsr_status and MsUntilDisplayed NA.
 #include <fgsr/cli/replay.hpp>
+
+#include "replay_presents.hpp"
 
 #include <fgsr/cli/capture_spec.hpp>
 
@@ -37,19 +46,6 @@ Error client_error(fgsr_status s, const std::string& what) {
                    : s == FGSR_STATUS_UNSUPPORTED    ? Errc::unsupported
                                                      : Errc::io;
     return make_error(c, what + ": " + fgsr_status_string(s));
-}
-
-const char* frame_type_name(uint32_t t) {
-    switch (t) {
-    case FGSR_FRAME_UPSCALED:
-        return "upscaled";
-    case FGSR_FRAME_INTERPOLATED:
-        return "interpolated";
-    case FGSR_FRAME_EXTRAPOLATED:
-        return "extrapolated";
-    default:
-        return "none";
-    }
 }
 
 double percentile_ms(std::vector<double> v, double q) {
@@ -195,11 +191,8 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
     if (o.telemetry) {
         st.csv = std::fopen(o.telemetry->c_str(), "w");
         if (!st.csv) return make_error(Errc::io, "cannot write " + o.telemetry->string());
-        std::fprintf(st.csv, "sequence,output_index,status,frame_type,target_time,gpu_ms");
-        for (uint32_t p = 0; p < FGSR_PASS_COUNT_; ++p) std::fprintf(st.csv, ",%s_ms", fgsr_pass_name(p));
-        std::fprintf(st.csv,
-                     ",queue_wait_ms,daemon_latency_ms,client_latency_ms,daemon_cpu_ms,skipped_passes\n");
     }
+    ReplayPresenter presenter(st.session, st.csv);
 
     // Completions are matched to plans by sequence (sequence = input index + 1).
     size_t finished = 0; // submits whose LAST completion arrived
@@ -217,20 +210,8 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
             st.latency_ms.push_back(client_ms);
             st.overhead_ms.push_back(client_ms - double(t.complete_ns - t.start_ns) * 1e-6);
         }
-        if (st.csv) {
-            double pass_ms[FGSR_PASS_COUNT_] = {};
-            for (uint32_t i = 0; i < t.pass_count && i < FGSR_MAX_PASSES; ++i)
-                if (t.passes[i].pass < FGSR_PASS_COUNT_)
-                    pass_ms[t.passes[i].pass] +=
-                        double(t.passes[i].gpu_end_ns - t.passes[i].gpu_begin_ns) * 1e-6;
-            std::fprintf(st.csv, "%llu,%u,%s,%s,%.6g,%.4f", (unsigned long long)out.sequence,
-                         out.output_index, fgsr_status_string(out.status), frame_type_name(t.frame_type),
-                         double(t.target_time), double(t.gpu_ns) * 1e-6);
-            for (double v : pass_ms) std::fprintf(st.csv, ",%.4f", v);
-            std::fprintf(st.csv, ",%.4f,%.4f,%.4f,%.4f,%u\n", double(t.queue_wait_ns) * 1e-6,
-                         double(t.complete_ns - t.submit_ns) * 1e-6, client_ms,
-                         double(t.daemon_cpu_ns) * 1e-6, t.skipped_passes);
-        }
+        presenter.completed(out, seen);
+        FGSR_TRY(presenter.flush());
         if (out.output_slot == FGSR_NO_SLOT) return {};
         ImageRGBA img = stress::output_image(out);
         st.summary.client_bytes_copied += img.rgba.size() * sizeof(float);
@@ -292,9 +273,13 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         si.extrap_count = uint32_t(p.extrap.size());
         si.extrap_alphas = p.extrap.data();
         si.user_data = i;
-        s = st.session.submit(si);
+        const uint64_t submit_ns = monotonic_ns();
+        uint64_t sequence = 0;
+        s = st.session.submit(si, &sequence);
         if (s != FGSR_STATUS_OK) return client_error(s, fmt::format("submit of frame {}", i));
         ++st.summary.submitted;
+        presenter.submitted(sequence, submit_ns, si.interp_count, p.want_sr);
+        FGSR_TRY(presenter.flush());
         // Whatever has completed meanwhile (the client keeps completions seen while acquiring).
         fgsr_output out{};
         while ((s = st.session.wait(0, out)) == FGSR_STATUS_OK) FGSR_TRY(handle(out));
@@ -316,6 +301,8 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         FGSR_TRY(handle(out));
     }
     if (o.progress) std::fprintf(stderr, "\n");
+    if (st.csv && std::fflush(st.csv) != 0)
+        return make_error(Errc::io, "cannot write " + o.telemetry->string());
     st.summary.wall_s = double(monotonic_ns() - t0) * 1e-9;
     st.summary.latency_p50_ms = percentile_ms(st.latency_ms, 0.5);
     st.summary.latency_p99_ms = percentile_ms(st.latency_ms, 0.99);

@@ -18,7 +18,7 @@ struct ReplayOptions {
     std::string socket;                             // empty: $FGSR_SOCKET, else the default path
     double fps = 0;                                 // 0: as fast as possible; else submits paced at fps
     std::optional<std::filesystem::path> out;       // outputs as eval --out writes them for "fgsr"
-    std::optional<std::filesystem::path> telemetry; // CSV, one row per output frame
+    std::optional<std::filesystem::path> telemetry; // PresentMon-style CSV, one row per present
     float alpha = 0.5f;
     int max_frames = 0; // 0: all
     bool prefer_lr = false;
