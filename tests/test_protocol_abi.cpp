@@ -247,6 +247,29 @@ TEST(ProtocolAbi, Layout_fgsr_release_entry) {
     FGSR_FIELD(fgsr_release_entry, reserved, 4, 4);
 }
 
+TEST(ProtocolAbi, Layout_fgsr_present_report) {
+    EXPECT_EQ(sizeof(fgsr_present_report), size_t(56));
+    EXPECT_EQ(alignof(fgsr_present_report), size_t(8));
+    FGSR_FIELD(fgsr_present_report, sequence, 0, 8);
+    FGSR_FIELD(fgsr_present_report, output_index, 8, 4);
+    FGSR_FIELD(fgsr_present_report, frame_type, 12, 4);
+    FGSR_FIELD(fgsr_present_report, flags, 16, 4);
+    FGSR_FIELD(fgsr_present_report, reserved, 20, 4);
+    FGSR_FIELD(fgsr_present_report, submit_ns, 24, 8);
+    FGSR_FIELD(fgsr_present_report, received_ns, 32, 8);
+    FGSR_FIELD(fgsr_present_report, intended_ns, 40, 8);
+    FGSR_FIELD(fgsr_present_report, presented_ns, 48, 8);
+}
+
+TEST(ProtocolAbi, Layout_fgsr_report) {
+    EXPECT_EQ(sizeof(fgsr_report), size_t(920));
+    EXPECT_EQ(alignof(fgsr_report), size_t(8));
+    FGSR_FIELD(fgsr_report, header, 0, 16);
+    FGSR_FIELD(fgsr_report, session_id, 16, 4);
+    FGSR_FIELD(fgsr_report, count, 20, 4);
+    FGSR_FIELD(fgsr_report, reports, 24, 16 * 56);
+}
+
 TEST(ProtocolAbi, Layout_fgsr_rings_layout) {
     EXPECT_EQ(sizeof(fgsr_rings_layout), size_t(56));
     EXPECT_EQ(alignof(fgsr_rings_layout), size_t(8));
@@ -301,6 +324,7 @@ TEST(ProtocolAbi, EnumValues) {
     EXPECT_EQ(int64_t(FGSR_MSG_STATS), int64_t(7));
     EXPECT_EQ(int64_t(FGSR_MSG_STATS_REPLY), int64_t(8));
     EXPECT_EQ(int64_t(FGSR_MSG_ERROR), int64_t(9));
+    EXPECT_EQ(int64_t(FGSR_MSG_REPORT), int64_t(10));
     EXPECT_EQ(int64_t(FGSR_FD_INPUT_POOL), int64_t(0));
     EXPECT_EQ(int64_t(FGSR_FD_OUTPUT_POOL), int64_t(1));
     EXPECT_EQ(int64_t(FGSR_FD_RINGS), int64_t(2));
@@ -331,7 +355,11 @@ TEST(ProtocolAbi, EnumValues) {
 TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAGIC), uint64_t(0x52534746u));
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAJOR), uint64_t(1u));
-    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(2u));
+    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(3u));
+    EXPECT_EQ(uint64_t(FGSR_REPORT_APPLICATION), uint64_t(0xffffffffu));
+    EXPECT_EQ(uint64_t(FGSR_REPORT_DROPPED), uint64_t(0x1u));
+    EXPECT_EQ(uint64_t(FGSR_MAX_REPORTS_PER_MESSAGE), uint64_t(16u));
+    EXPECT_EQ(uint64_t(FGSR_REPORT_MESSAGE_SIZE(3)), uint64_t(24u + 3u * 56u));
     EXPECT_EQ(uint64_t(FGSR_CACHE_LINE), uint64_t(64u));
     EXPECT_EQ(uint64_t(FGSR_PLANE_ALIGNMENT), uint64_t(4096u));
     EXPECT_EQ(uint64_t(FGSR_MAX_ALPHAS), uint64_t(8u));

@@ -65,6 +65,11 @@ demo)
         --telemetry out/interp/telemetry.csv
     build/bin/fgsr replay --capture builtin --mode extrap --socket "$sock" --out out/extrap \
         --telemetry out/extrap/telemetry.csv
+    # The recorded runs as the dashboard's page and plots (out/*/report/index.html, *.png).
+    for m in interp extrap; do
+        build/bin/fgsr report "out/$m/telemetry.csv" --out "out/$m/report" --quiet
+    done
+    echo "setup: dashboards of the two runs: out/interp/report/index.html, out/extrap/report/index.html" >&2
     ;;
 test)
     install_missing "${test_packages[@]}"
