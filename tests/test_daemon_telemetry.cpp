@@ -96,7 +96,8 @@ TEST(DaemonTelemetry, OutputsAreTheTimelineUntilPresentsAreReported) {
     EXPECT_TRUE(s["frames"][4]["ft"].is_null());
     EXPECT_NEAR(s["frames"][5]["ft"].get<double>(), 8.0, 1e-6);
     EXPECT_NEAR(s["frames"][5]["disp"].get<double>(), 6.0, 1e-6);
-    EXPECT_NEAR(s["frames"][5]["lat_c"].get<double>(), 1.0, 1e-6);
+    EXPECT_TRUE(s["frames"][5]["lat_c"].is_null()); // the application's own frame
+    EXPECT_NEAR(s["frames"][4]["lat_c"].get<double>(), 1.0, 1e-6);
     EXPECT_EQ(s["frames"][5]["type"], "Application");
     EXPECT_TRUE(s["frames"][6]["ft"].is_null());
     EXPECT_EQ(s["sessions"][0]["frames"], 4 + 2);
@@ -189,6 +190,37 @@ TEST(DaemonTelemetry, FramesSinceACursorAreEachSentOnce) {
     EXPECT_EQ(hub->frames_since(cursor)["frames"].size(), 0u);
     hub->completion(4, output(3, t0 + 20000000, t0 + 24000000));
     EXPECT_EQ(hub->frames_since(cursor)["frames"].size(), 1u);
+}
+
+TEST(DaemonTelemetry, ProbeSamplesAreClickToPhotonLatency) {
+    auto hub = hub_with_session(1);
+    const uint64_t now = fgsr::monotonic_ns();
+    std::vector<fgsr_probe_sample> s;
+    for (uint64_t i = 0; i < 10; ++i) // 20, 21, ... 29 ms
+        s.push_back({now - 1000000000 + i * 50000000, now - 1000000000 + i * 50000000 + (20 + i) * 1000000,
+                     FGSR_PROBE_MODE_INTERPOLATE, 42});
+    s.push_back({now - 5000000, now - 6000000, FGSR_PROBE_MODE_OFF, 0});   // photon before click
+    s.push_back({now - 5000000, now - 4000000, 9, 0});                      // mode out of range
+    s.push_back({now - 20'000'000'000ull, now - 1000000, FGSR_PROBE_MODE_OFF, 0}); // 20 s apart
+    EXPECT_EQ(hub->probe_samples(s), 10u);
+    const nlohmann::json st = hub->state(true);
+    const auto& c2p = st["summary"]["latency_ms"]["click_to_photon"];
+    EXPECT_NEAR(c2p["p50"].get<double>(), 24.0, 1e-6); // nearest rank of 20..29
+    EXPECT_NEAR(c2p["p99"].get<double>(), 29.0, 1e-6);
+    EXPECT_EQ(st["frames"].back()["k"], "probe");
+    const std::string m = hub->metrics_text();
+    EXPECT_NE(m.find("fgsr_click_to_photon_seconds_count{mode=\"interpolate\"} 10"), std::string::npos) << m;
+    EXPECT_NE(m.find("fgsr_reports_invalid_total 3"), std::string::npos);
+    fgsr_probe msg{};
+    msg.count = 1;
+    msg.samples[0] = s[0];
+    msg.header = fgsr_msg_header_for(FGSR_MSG_PROBE, FGSR_PROBE_MESSAGE_SIZE(1), 0);
+    auto r = fgsrd::parse_request(reinterpret_cast<const std::byte*>(&msg), FGSR_PROBE_MESSAGE_SIZE(1), true);
+    ASSERT_NE(std::get_if<fgsrd::ProbeRequest>(&r), nullptr);
+    EXPECT_EQ(std::get<fgsrd::ProbeRequest>(r).samples[0].photon_ns, s[0].photon_ns);
+    msg.count = 2; // more than the packet holds
+    r = fgsrd::parse_request(reinterpret_cast<const std::byte*>(&msg), FGSR_PROBE_MESSAGE_SIZE(1), true);
+    EXPECT_NE(std::get_if<fgsrd::Violation>(&r), nullptr);
 }
 
 TEST(DaemonTelemetry, ReportMessagesAreParsedAndCheckedAgainstThePacket) {

@@ -68,7 +68,8 @@ std::pair<std::string, int> host_port(const std::string& url) {
 // the round-trip time of each submit.
 class FrameSource {
   public:
-    FrameSource(const std::string& socket, double fps) : socket_(socket), fps_(fps) {
+    FrameSource(const std::string& socket, double fps, bool colour_only = false)
+        : socket_(socket), fps_(fps), colour_only_(colour_only) {
         thread_ = std::thread([this] { run(); });
     }
     ~FrameSource() { stop(); }
@@ -111,6 +112,7 @@ class FrameSource {
         if (conn.connect(socket_.c_str(), "dashboard-test") != FGSR_STATUS_OK) return fail("connect");
         fgsr::client::Session s;
         fgsr_session_desc d = fgsr::capture::session_desc(cap->format, fgsr::Params{}, FGSR_MODE_INTERPOLATE);
+        if (colour_only_) d.flags |= FGSR_SESSION_NO_MVS | FGSR_SESSION_NO_DEPTH; // fgsrd estimates motion
         if (s.create(conn, d) != FGSR_STATUS_OK) return fail("create");
         fgsr_pool_layout l{};
         (void)s.layout(l);
@@ -123,7 +125,8 @@ class FrameSource {
             const size_t rows = l.output_height, cb = f.color.size() / rows, db = f.depth.size() / rows;
             for (size_t y = 0; y < rows; ++y) {
                 std::memcpy(static_cast<char*>(in.color) + y * l.color.row_pitch, f.color.data() + y * cb, cb);
-                std::memcpy(static_cast<char*>(in.depth) + y * l.depth.row_pitch, f.depth.data() + y * db, db);
+                if (l.depth.size) // colour-only sessions have no depth plane
+                    std::memcpy(static_cast<char*>(in.depth) + y * l.depth.row_pitch, f.depth.data() + y * db, db);
             }
             fgsr_submit_info si{};
             si.struct_size = sizeof(si);
@@ -177,6 +180,7 @@ class FrameSource {
 
     std::string socket_;
     double fps_;
+    bool colour_only_;
     std::atomic<bool> stop_{false};
     std::atomic<size_t> outputs_{0};
     mutable std::mutex m_;
@@ -384,6 +388,18 @@ TEST_F(Dashboard, MetricsPassPromtoolAndCountWhatTheClientSaw) {
         source.stop();
         ASSERT_TRUE(source.error().empty()) << source.error();
         ASSERT_GE(source.outputs(), 20u);
+        // A probe's click-to-photon samples arrive without a session (fgsr probe sends them so).
+        fgsr::client::Connection probe;
+        ASSERT_EQ(probe.connect(daemon_->socket_path().c_str(), "probe-test"), FGSR_STATUS_OK);
+        const uint64_t now = fgsr::monotonic_ns();
+        const fgsr_probe_sample samples[] = {{now - 90000000, now - 60000000, FGSR_PROBE_MODE_EXTRAPOLATE, 0},
+                                             {now - 50000000, now - 25000000, FGSR_PROBE_MODE_EXTRAPOLATE, 0}};
+        ASSERT_EQ(probe.report_probe_samples(samples, 2), FGSR_STATUS_OK);
+        for (int i = 0; i < 100; ++i) { // no reply comes: wait until the daemon has read them
+            auto m = http_->Get("/metrics");
+            if (m && m->body.find("fgsr_click_to_photon_seconds_count") != std::string::npos) break;
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
         auto r = http_->Get("/metrics");
         ASSERT_TRUE(r);
         ASSERT_EQ(r->status, 200);
@@ -393,6 +409,8 @@ TEST_F(Dashboard, MetricsPassPromtoolAndCountWhatTheClientSaw) {
         EXPECT_NE(r->body.find("fgsr_presents_total{type=\"interpolated\"} " + std::to_string(source.outputs())),
                   std::string::npos);
         EXPECT_NE(r->body.find("fgsr_latency_seconds_bucket{kind=\"client\""), std::string::npos);
+        EXPECT_NE(r->body.find("fgsr_click_to_photon_seconds_count{mode=\"extrapolate\"} 2"), std::string::npos)
+            << r->body;
         if (access("/usr/bin/promtool", X_OK) != 0) GTEST_SKIP() << "promtool (Debian prometheus) is not installed";
         const std::string file = daemon_->dir() + "/metrics.txt";
         std::ofstream(file) << r->body;
@@ -402,7 +420,8 @@ TEST_F(Dashboard, MetricsPassPromtoolAndCountWhatTheClientSaw) {
 }
 
 TEST_F(Dashboard, TraceHoldsOneCompleteEventPerPassOfEveryOutput) {
-    FrameSource source(daemon_->socket_path(), 60);
+    // Colour-only: fgsrd estimates motion, and its passes belong to each output as well.
+    FrameSource source(daemon_->socket_path(), 60, true);
     for (int i = 0; i < 400 && source.outputs() < 12; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     source.stop();
     ASSERT_GE(source.outputs(), 12u) << source.error();
@@ -418,7 +437,12 @@ TEST_F(Dashboard, TraceHoldsOneCompleteEventPerPassOfEveryOutput) {
             e["name"].get<std::string>());
     }
     // The client's own record of each output's passes (from its completion ring) is the reference.
-    EXPECT_EQ(seen, source.passes());
+    const auto client = source.passes();
+    EXPECT_EQ(seen, client);
+    size_t with_motion = 0;
+    for (const auto& [frame, names] : client)
+        with_motion += names.count("luma") && names.count("match") && names.count("flow") ? 1 : 0;
+    EXPECT_EQ(with_motion, client.size()) << "every output of a colour-only session names its motion passes";
     EXPECT_EQ(http_->Get("/trace.json?seconds=-1")->status, 400);
 }
 

@@ -270,6 +270,23 @@ TEST(ProtocolAbi, Layout_fgsr_report) {
     FGSR_FIELD(fgsr_report, reports, 24, 16 * 56);
 }
 
+TEST(ProtocolAbi, Layout_fgsr_probe_sample) {
+    EXPECT_EQ(sizeof(fgsr_probe_sample), size_t(24));
+    EXPECT_EQ(alignof(fgsr_probe_sample), size_t(8));
+    FGSR_FIELD(fgsr_probe_sample, click_ns, 0, 8);
+    FGSR_FIELD(fgsr_probe_sample, photon_ns, 8, 8);
+    FGSR_FIELD(fgsr_probe_sample, mode, 16, 4);
+    FGSR_FIELD(fgsr_probe_sample, pid, 20, 4);
+}
+
+TEST(ProtocolAbi, Layout_fgsr_probe) {
+    EXPECT_EQ(sizeof(fgsr_probe), size_t(792));
+    FGSR_FIELD(fgsr_probe, header, 0, 16);
+    FGSR_FIELD(fgsr_probe, count, 16, 4);
+    FGSR_FIELD(fgsr_probe, reserved, 20, 4);
+    FGSR_FIELD(fgsr_probe, samples, 24, 32 * 24);
+}
+
 TEST(ProtocolAbi, Layout_fgsr_rings_layout) {
     EXPECT_EQ(sizeof(fgsr_rings_layout), size_t(56));
     EXPECT_EQ(alignof(fgsr_rings_layout), size_t(8));
@@ -325,6 +342,7 @@ TEST(ProtocolAbi, EnumValues) {
     EXPECT_EQ(int64_t(FGSR_MSG_STATS_REPLY), int64_t(8));
     EXPECT_EQ(int64_t(FGSR_MSG_ERROR), int64_t(9));
     EXPECT_EQ(int64_t(FGSR_MSG_REPORT), int64_t(10));
+    EXPECT_EQ(int64_t(FGSR_MSG_PROBE), int64_t(11));
     EXPECT_EQ(int64_t(FGSR_FD_INPUT_POOL), int64_t(0));
     EXPECT_EQ(int64_t(FGSR_FD_OUTPUT_POOL), int64_t(1));
     EXPECT_EQ(int64_t(FGSR_FD_RINGS), int64_t(2));
@@ -360,6 +378,12 @@ TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_REPORT_DROPPED), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_MAX_REPORTS_PER_MESSAGE), uint64_t(16u));
     EXPECT_EQ(uint64_t(FGSR_REPORT_MESSAGE_SIZE(3)), uint64_t(24u + 3u * 56u));
+    EXPECT_EQ(uint64_t(FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE), uint64_t(32u));
+    EXPECT_EQ(uint64_t(FGSR_PROBE_MESSAGE_SIZE(2)), uint64_t(24u + 2u * 24u));
+    EXPECT_EQ(uint64_t(FGSR_PROBE_MODE_UNKNOWN), uint64_t(0u));
+    EXPECT_EQ(uint64_t(FGSR_PROBE_MODE_OFF), uint64_t(1u));
+    EXPECT_EQ(uint64_t(FGSR_PROBE_MODE_INTERPOLATE), uint64_t(2u));
+    EXPECT_EQ(uint64_t(FGSR_PROBE_MODE_EXTRAPOLATE), uint64_t(3u));
     EXPECT_EQ(uint64_t(FGSR_CACHE_LINE), uint64_t(64u));
     EXPECT_EQ(uint64_t(FGSR_PLANE_ALIGNMENT), uint64_t(4096u));
     EXPECT_EQ(uint64_t(FGSR_MAX_ALPHAS), uint64_t(8u));

@@ -247,3 +247,30 @@ fgsr_status fgsr_report_presents(fgsr_session* session, const fgsr_present_repor
         return FGSR_STATUS_OK;
     });
 }
+
+fgsr_status fgsr_report_probe_samples(fgsr_connection* connection, const fgsr_probe_sample* samples,
+                                      uint32_t count) {
+    if (!connection || (count > 0 && !samples)) return FGSR_STATUS_INVALID_ARGUMENT;
+    for (uint32_t i = 0; i < count; ++i)
+        if (samples[i].photon_ns < samples[i].click_ns || samples[i].mode > FGSR_PROBE_MODE_EXTRAPOLATE)
+            return FGSR_STATUS_INVALID_ARGUMENT;
+    if (connection->info.minor < 3) return FGSR_STATUS_UNSUPPORTED;
+    return guarded([&]() -> fgsr_status {
+        std::lock_guard<std::mutex> lock(connection->mutex);
+        if (connection->dead) return FGSR_STATUS_DISCONNECTED;
+        for (uint32_t sent = 0; sent < count;) {
+            fgsr_probe m{};
+            const uint32_t n = std::min(FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE, count - sent);
+            const uint32_t size = FGSR_PROBE_MESSAGE_SIZE(n);
+            m.header = fgsr_msg_header_for(FGSR_MSG_PROBE, size, 0);
+            m.count = n;
+            std::memcpy(m.samples, samples + sent, sizeof(fgsr_probe_sample) * n);
+            // No reply comes; a full socket drops the samples rather than block.
+            const ssize_t w = ::send(connection->sock.get(), &m, size, MSG_DONTWAIT | MSG_NOSIGNAL);
+            if (w < 0 && errno != EAGAIN && errno != EWOULDBLOCK) return FGSR_STATUS_DISCONNECTED;
+            if (w != ssize_t(size)) return FGSR_STATUS_OK; // dropped
+            sent += n;
+        }
+        return FGSR_STATUS_OK;
+    });
+}

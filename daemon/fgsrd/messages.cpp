@@ -61,6 +61,17 @@ Request parse_request(const std::byte* data, size_t size, bool hello_done) {
         std::memcpy(r.reports, data + FGSR_REPORT_MESSAGE_SIZE(0), sizeof(fgsr_present_report) * r.count);
         return r;
     }
+    case FGSR_MSG_PROBE: {
+        if (size < FGSR_PROBE_MESSAGE_SIZE(1)) return truncated(FGSR_PROBE_MESSAGE_SIZE(1));
+        ProbeRequest r;
+        std::memcpy(&r.count, data + sizeof(fgsr_msg_header), sizeof(r.count));
+        if (r.count == 0 || r.count > FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE)
+            return Violation{h.sequence, "probe sample count " + std::to_string(r.count) + " is not 1.." +
+                                             std::to_string(FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE)};
+        if (size < FGSR_PROBE_MESSAGE_SIZE(r.count)) return truncated(FGSR_PROBE_MESSAGE_SIZE(r.count));
+        std::memcpy(r.samples, data + FGSR_PROBE_MESSAGE_SIZE(0), sizeof(fgsr_probe_sample) * r.count);
+        return r;
+    }
     default:
         return Violation{h.sequence, "unknown message type " + std::to_string(h.type)};
     }

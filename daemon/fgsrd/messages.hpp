@@ -31,7 +31,11 @@ struct ReportRequest {
     uint32_t count = 0;              // 1..FGSR_MAX_REPORTS_PER_MESSAGE, checked against the packet
     fgsr_present_report reports[FGSR_MAX_REPORTS_PER_MESSAGE]; // values unchecked (the hub checks)
 };
-using Request = std::variant<Violation, HelloRequest, CreateRequest, SessionRequest, ReportRequest>;
+struct ProbeRequest {
+    uint32_t count = 0; // 1..FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE, checked against the packet
+    fgsr_probe_sample samples[FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE]; // values unchecked (the hub checks)
+};
+using Request = std::variant<Violation, HelloRequest, CreateRequest, SessionRequest, ReportRequest, ProbeRequest>;
 
 // Every check of the wire format (daemon/fgsrd/README.md, "Protocol violations"): header size,
 // magic, header.size against the packet, truncation per type, HELLO first and once, known types,

@@ -315,6 +315,13 @@ bool Server::handle_message(Client& c, const std::byte* data, size_t size) {
         report(c, *rep);
         return true;
     }
+    if (const auto* probe = std::get_if<ProbeRequest>(&request)) {
+        if (hub_) {
+            const size_t kept = hub_->probe_samples(std::span<const fgsr_probe_sample>(probe->samples, probe->count));
+            log::debug("client {} ({}): {} probe samples, {} kept", c.id, c.name, probe->count, kept);
+        }
+        return true;
+    }
     const fgsr_hello& hello = std::get<HelloRequest>(request).hello;
     const uint32_t sequence = hello.header.sequence;
     // Kept escaped: it reaches logs and telemetry, and must not forge lines there.

@@ -433,6 +433,9 @@ void ServiceSession::execute(FrameJob& job) {
     }
     if (!import_) job.bytes_copied = view.color.size() + view.depth.size() + view.mv.size();
     const fgsr::PassTiming ingest = engine_session_->last_ingest_timing();
+    // Colour-only sessions: the motion passes of this submit (luma, match, flow) belong to every
+    // output made from it, as ingest does.
+    const std::vector<fgsr::PassTiming> motion = engine_session_->last_motion_timings();
     if (view.reset) previous_present_ns_ = 0;
 
     // Every requested output in presentation order: interpolated, upscaled, extrapolated.
@@ -507,7 +510,7 @@ void ServiceSession::execute(FrameJob& job) {
         t.dequeue_ns = p.dequeue_ns;
         t.start_ns = start_ns;
         t.queue_wait_ns = start_ns - p.dequeue_ns;
-        // Passes: this frame's ingest, then the output's own passes.
+        // Passes: this frame's ingest and motion estimation, then the output's own passes.
         auto add_pass = [&](const fgsr::PassTiming& pt) {
             if (t.pass_count >= FGSR_MAX_PASSES) return;
             fgsr_pass_record& r = t.passes[t.pass_count++];
@@ -522,6 +525,7 @@ void ServiceSession::execute(FrameJob& job) {
             t.gpu_ns += uint64_t(std::llround(pt.ms * 1e6));
         };
         add_pass(ingest);
+        for (const fgsr::PassTiming& pt : motion) add_pass(pt);
         if (o.status == FGSR_STATUS_OK && o.frame) {
             for (const fgsr::PassTiming& pt : o.frame->passes) add_pass(pt);
             const uint32_t out_slot = job.slots[written++]; // begin() reserved one per output

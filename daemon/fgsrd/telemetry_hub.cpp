@@ -62,6 +62,7 @@ struct TelemetryHub::Metrics {
     prometheus::Family<prometheus::Histogram>& latency;
     prometheus::Family<prometheus::Histogram>& gpu;
     prometheus::Histogram& frame_time;
+    prometheus::Family<prometheus::Histogram>& click_to_photon;
 
     explicit Metrics(prometheus::Registry& r)
         : outputs(prometheus::BuildCounter()
@@ -118,7 +119,12 @@ struct TelemetryHub::Metrics {
                          .Help("Time between consecutive frames of a session's timeline (presents when the "
                                "client reports them, else outputs)")
                          .Register(r)
-                         .Add({}, latency_buckets())) {}
+                         .Add({}, latency_buckets())),
+          click_to_photon(prometheus::BuildHistogram()
+                              .Name("fgsr_click_to_photon_seconds")
+                              .Help("Click-to-photon latency measured by a hardware probe (fgsr probe), by the "
+                                    "measured application's frame-generation mode")
+                              .Register(r)) {}
 };
 
 TelemetryHub::TelemetryHub(HubOptions options)
@@ -276,7 +282,9 @@ size_t TelemetryHub::reports(uint32_t session, std::span<const fgsr_present_repo
         r.sequence = p.sequence;
         r.output_index = p.output_index;
         r.t_s = seconds(std::max(p.presented_ns, epoch_ns_));
-        r.lat_c_ms = ms(p.submit_ns, p.received_ns);
+        // Client-observed latency is the output's (submit to the client holding it); an application
+        // frame is the client's own from the start.
+        if (p.frame_type != FGSR_FRAME_NONE) r.lat_c_ms = ms(p.submit_ns, p.received_ns);
         r.disp_ms = ms(p.submit_ns, p.presented_ns);
         if (s.last_timeline_ns != 0) r.ft_ms = ms(s.last_timeline_ns, p.presented_ns);
         s.last_timeline_ns = p.presented_ns;
@@ -287,6 +295,30 @@ size_t TelemetryHub::reports(uint32_t session, std::span<const fgsr_present_repo
             metrics_->latency.Add({{"kind", "client"}}, latency_buckets()).Observe(r.lat_c_ms * 1e-3);
         if (std::isfinite(r.disp_ms))
             metrics_->latency.Add({{"kind", "displayed"}}, latency_buckets()).Observe(r.disp_ms * 1e-3);
+        add(std::move(e));
+    }
+    return kept;
+}
+
+size_t TelemetryHub::probe_samples(std::span<const fgsr_probe_sample> samples) {
+    static const char* const kModes[] = {"unknown", "off", "interpolate", "extrapolate"};
+    const uint64_t now = monotonic_ns();
+    constexpr uint64_t kMaxLatencyNs = 10'000'000'000ull;
+    size_t kept = 0;
+    std::lock_guard lock(mutex_);
+    for (const fgsr_probe_sample& p : samples) {
+        const bool valid = p.mode <= FGSR_PROBE_MODE_EXTRAPOLATE && p.click_ns != 0 && p.photon_ns >= p.click_ns &&
+                           p.photon_ns - p.click_ns <= kMaxLatencyNs && p.photon_ns <= now + kFutureSlackNs;
+        if (!valid) {
+            metrics_->reports_invalid.Increment();
+            continue;
+        }
+        ++kept;
+        Entry e;
+        e.record.kind = Kind::probe;
+        e.record.t_s = seconds(std::max(p.photon_ns, epoch_ns_));
+        e.record.c2p_ms = double(p.photon_ns - p.click_ns) * 1e-6;
+        metrics_->click_to_photon.Add({{"mode", kModes[p.mode]}}, latency_buckets()).Observe(e.record.c2p_ms * 1e-3);
         add(std::move(e));
     }
     return kept;
@@ -402,6 +434,12 @@ nlohmann::json TelemetryHub::trace(double window) const {
                             {"tiles_total", p.tiles_total},
                             {"tiles_skipped", p.tiles_skipped}}}});
         const uint64_t at = r.kind == Kind::output ? e.complete_ns : epoch_ns_ + uint64_t(r.t_s * 1e9);
+        if (std::isfinite(r.c2p_ms))
+            ev.push_back({{"name", "click to photon"},
+                          {"ph", "C"},
+                          {"ts", us(at)},
+                          {"pid", pid},
+                          {"args", {{"ms", r.c2p_ms}}}});
         nlohmann::json lat = nlohmann::json::object();
         if (std::isfinite(r.lat_d_ms)) lat["daemon_ms"] = r.lat_d_ms;
         if (std::isfinite(r.lat_c_ms)) lat["client_ms"] = r.lat_c_ms;

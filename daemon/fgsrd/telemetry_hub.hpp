@@ -55,6 +55,9 @@ class TelemetryHub {
     void completion(uint32_t session, const fgsr_completion_entry& c);
     // Returns the number of reports kept (the others were invalid).
     size_t reports(uint32_t session, std::span<const fgsr_present_report> reports);
+    // Click-to-photon samples of a hardware probe; returns the number kept (photon before click,
+    // more than 10 s apart, in the future or a mode out of range: counted as invalid).
+    size_t probe_samples(std::span<const fgsr_probe_sample> samples);
 
     // The HTTP server's threads.
     // The page's State object; with the frames of the window when with_frames, and then

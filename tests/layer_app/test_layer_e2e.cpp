@@ -267,6 +267,53 @@ TEST_F(LayerE2E, AppInterpolatesThreeTimesWithValidationClean) {
     EXPECT_GT(metric(m, "fgsr_latency_seconds_count{kind=\"displayed\"}"), 0) << m;
 }
 
+// VK_KHR_present_wait, where the driver has it (here emulated by a test layer below the fgsr layer,
+// tests/layer_app/present_wait_emulation.cpp, which declares each present displayed 15 ms after
+// its call returned): the layer enables it, and the time of each present becomes its display time.
+TEST_F(LayerE2E, PresentWaitGivesDisplayTimes) {
+    start_daemon();
+    const std::string presents = (dir_ / "presents.csv").string();
+    const AppRun r = run(app() + " --frames 40 --width 128 --height 72 --fps 8",
+                         {"FGSR_MULTIPLIER=2", "FGSR_LAYER_PRESENTS=" + presents,
+                          "VK_ADD_LAYER_PATH=" FGSR_TEST_LAYER_DIR,
+                          "VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation:VK_LAYER_FGSR_test_present_wait",
+                          "FGSR_TEST_DISPLAY_DELAY_MS=15"});
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
+    EXPECT_NE(r.stats.find("\"present_wait\": true"), std::string::npos) << r.stats << r.log;
+    const double total = json_number(r.stats, "presents");
+    const double displayed = json_number(r.stats, "displayed_by_present_wait");
+    EXPECT_GE(displayed, 0.9 * total) << r.stats; // the last presents may end with the swapchain
+    auto parsed = fgsr::parse_presentmon_csv(read_file(presents));
+    ASSERT_TRUE(parsed) << parsed.error().message;
+    ASSERT_EQ(parsed->size(), size_t(total));
+    std::vector<double> after_call; // display time minus the present call's return, ms
+    for (const fgsr::PresentRow& p : *parsed) after_call.push_back((p.time_s - p.call_s) * 1e3);
+    std::sort(after_call.begin(), after_call.end());
+    const double median = after_call[after_call.size() / 2];
+    std::printf("[ present  ] display time after the present call: median %.2f ms (emulated delay 15 ms)\n",
+                median);
+    // Displayed no sooner than the driver said, and found within a few polls of it.
+    EXPECT_GE(median, 15.0);
+    EXPECT_LT(median, 15.0 + 10.0);
+    size_t early = 0;
+    for (double d : after_call) early += d < 14.9 ? 1 : 0;
+    EXPECT_LE(double(early), total - displayed) << "only fallbacks carry their call time";
+}
+
+TEST_F(LayerE2E, WithoutPresentWaitTimesAreThePresentCalls) {
+    start_daemon();
+    const std::string presents = (dir_ / "presents.csv").string();
+    const AppRun r = run(app() + " --frames 12 --width 128 --height 72 --fps 10",
+                         {"FGSR_MULTIPLIER=2", "FGSR_LAYER_PRESENTS=" + presents});
+    ASSERT_EQ(r.status, 0) << r.log;
+    EXPECT_NE(r.stats.find("\"present_wait\": false"), std::string::npos) << r.stats; // lavapipe has none
+    auto parsed = fgsr::parse_presentmon_csv(read_file(presents));
+    ASSERT_TRUE(parsed) << parsed.error().message;
+    ASSERT_FALSE(parsed->empty());
+    for (const fgsr::PresentRow& p : *parsed) EXPECT_NEAR(p.time_s, p.call_s, 1e-6);
+}
+
 TEST_F(LayerE2E, AppExtrapolatesWithValidationClean) {
     start_daemon();
     const std::string presents = (dir_ / "presents.csv").string();

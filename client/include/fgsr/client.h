@@ -134,6 +134,13 @@ fgsr_status fgsr_session_stats_get(fgsr_session* session, fgsr_session_stats* ou
  * reports are dropped); DISCONNECTED. */
 fgsr_status fgsr_report_presents(fgsr_session* session, const fgsr_present_report* reports, uint32_t count);
 
+/* Sends click-to-photon samples of a hardware probe to the daemon (its dashboard, /metrics and
+ * /trace.json show them), without a session. Sent at once, without waiting for a reply; a full
+ * socket drops them. Returns OK; INVALID_ARGUMENT (NULL with a count, photon before click, a mode
+ * out of range); UNSUPPORTED (the daemon predates protocol minor 3); DISCONNECTED. */
+fgsr_status fgsr_report_probe_samples(fgsr_connection* connection, const fgsr_probe_sample* samples,
+                                      uint32_t count);
+
 /* Starts (or stops, with dir NULL) recording every submitted frame to dir as an fgsr capture.
  * Returns OK; INVALID_ARGUMENT; UNSUPPORTED (cannot create dir or write there). */
 fgsr_status fgsr_session_record(fgsr_session* session, const char* dir);

@@ -61,6 +61,9 @@ class Connection : public detail::Handle<fgsr_connection, fgsr_disconnect> {
         return fgsr_connect(&info, &h_);
     }
     fgsr_status daemon_info(fgsr_daemon_info& out) const { return fgsr_daemon_info_get(h_, &out); }
+    fgsr_status report_probe_samples(const fgsr_probe_sample* samples, uint32_t count) {
+        return fgsr_report_probe_samples(h_, samples, count);
+    }
 };
 
 class Session : public detail::Handle<fgsr_session, fgsr_session_destroy> {

@@ -23,10 +23,13 @@ struct InstanceDispatch {
     PFN_vkEnumerateDeviceExtensionProperties EnumerateDeviceExtensionProperties;
     PFN_vkGetPhysicalDeviceMemoryProperties GetPhysicalDeviceMemoryProperties;
     PFN_vkGetPhysicalDeviceSurfaceCapabilitiesKHR GetPhysicalDeviceSurfaceCapabilitiesKHR;
+    PFN_vkGetPhysicalDeviceProperties GetPhysicalDeviceProperties;
+    PFN_vkGetPhysicalDeviceFeatures2 GetPhysicalDeviceFeatures2; // null before Vulkan 1.1
 };
 
 struct InstanceData {
     VkInstance instance;
+    uint32_t api_version; // the application's VkApplicationInfo::apiVersion (1.0 when absent)
     InstanceDispatch vk;
 };
 
@@ -71,6 +74,7 @@ struct DeviceDispatch {
     PFN_vkResetFences ResetFences;
     PFN_vkCreateSemaphore CreateSemaphore;
     PFN_vkDestroySemaphore DestroySemaphore;
+    PFN_vkWaitForPresentKHR WaitForPresentKHR; // null unless use_present_wait
 };
 
 struct DeviceData {
@@ -81,6 +85,7 @@ struct DeviceData {
     PFN_vkSetDeviceLoaderData set_loader_data;
     VkPhysicalDeviceMemoryProperties memory;
     bool has_present_wait;  // VK_KHR_present_id + VK_KHR_present_wait offered by the driver
+    bool use_present_wait;  // and enabled by the layer (its presents carry ids; display times)
     std::mutex queue_mutex; // every queue operation of this device, from any thread
     std::mutex families_mutex;
     std::unordered_map<VkQueue, uint32_t> queue_family; // guarded by families_mutex

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -128,6 +129,10 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateInstance(const VkInstanceCreateInfo* ci,
     FGSR_INSTANCE_FN(EnumerateDeviceExtensionProperties);
     FGSR_INSTANCE_FN(GetPhysicalDeviceMemoryProperties);
     FGSR_INSTANCE_FN(GetPhysicalDeviceSurfaceCapabilitiesKHR);
+    FGSR_INSTANCE_FN(GetPhysicalDeviceProperties);
+    d->api_version = ci->pApplicationInfo && ci->pApplicationInfo->apiVersion ? ci->pApplicationInfo->apiVersion
+                                                                              : VK_API_VERSION_1_0;
+    if (d->api_version >= VK_API_VERSION_1_1) FGSR_INSTANCE_FN(GetPhysicalDeviceFeatures2);
 #undef FGSR_INSTANCE_FN
     current_config(); // loads and logs the configuration once per process
     std::lock_guard l(g().mutex);
@@ -151,6 +156,57 @@ VKAPI_ATTR void VKAPI_CALL DestroyInstance(VkInstance instance, const VkAllocati
     Report::get().write_files();
 }
 
+// Whether the layer can enable VK_KHR_present_id and VK_KHR_present_wait for itself: the driver
+// offers both extensions and both features (queried with Vulkan 1.1's vkGetPhysicalDeviceFeatures2,
+// so the application's instance and the device must be 1.1 or later), and the application does
+// not use either (its present ids and the layer's would mix on the same swapchains).
+struct PresentWaitSupport {
+    bool offered = false, usable = false;
+    std::string why; // when offered but not usable
+};
+
+PresentWaitSupport present_wait_support(const InstanceData& inst, VkPhysicalDevice physical,
+                                        const VkDeviceCreateInfo& ci) {
+    PresentWaitSupport s;
+    uint32_t n = 0;
+    inst.vk.EnumerateDeviceExtensionProperties(physical, nullptr, &n, nullptr);
+    std::vector<VkExtensionProperties> exts(n);
+    inst.vk.EnumerateDeviceExtensionProperties(physical, nullptr, &n, exts.data());
+    exts.resize(n);
+    bool id = false, wait = false;
+    for (const VkExtensionProperties& e : exts) {
+        id |= std::strcmp(e.extensionName, VK_KHR_PRESENT_ID_EXTENSION_NAME) == 0;
+        wait |= std::strcmp(e.extensionName, VK_KHR_PRESENT_WAIT_EXTENSION_NAME) == 0;
+    }
+    s.offered = id && wait;
+    if (!s.offered) return s;
+    for (uint32_t i = 0; i < ci.enabledExtensionCount; ++i)
+        if (std::strcmp(ci.ppEnabledExtensionNames[i], VK_KHR_PRESENT_ID_EXTENSION_NAME) == 0 ||
+            std::strcmp(ci.ppEnabledExtensionNames[i], VK_KHR_PRESENT_WAIT_EXTENSION_NAME) == 0) {
+            s.why = "the application uses it itself";
+            return s;
+        }
+    for (auto* p = static_cast<const VkBaseInStructure*>(ci.pNext); p; p = p->pNext)
+        if (p->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PRESENT_ID_FEATURES_KHR ||
+            p->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PRESENT_WAIT_FEATURES_KHR) {
+            s.why = "the application uses it itself";
+            return s;
+        }
+    VkPhysicalDeviceProperties props{};
+    inst.vk.GetPhysicalDeviceProperties(physical, &props);
+    if (!inst.vk.GetPhysicalDeviceFeatures2 || props.apiVersion < VK_API_VERSION_1_1) {
+        s.why = "needs Vulkan 1.1 (application and device) to query its features";
+        return s;
+    }
+    VkPhysicalDevicePresentWaitFeaturesKHR wf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PRESENT_WAIT_FEATURES_KHR};
+    VkPhysicalDevicePresentIdFeaturesKHR idf{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PRESENT_ID_FEATURES_KHR, &wf};
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &idf};
+    inst.vk.GetPhysicalDeviceFeatures2(physical, &f2);
+    s.usable = idf.presentId && wf.presentWait;
+    if (!s.usable) s.why = "the device does not offer its features";
+    return s;
+}
+
 VKAPI_ATTR VkResult VKAPI_CALL CreateDevice(VkPhysicalDevice physical, const VkDeviceCreateInfo* ci,
                                             const VkAllocationCallbacks* alloc, VkDevice* out) {
     InstanceData* inst = instance_of(physical);
@@ -164,8 +220,27 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateDevice(VkPhysicalDevice physical, const VkD
     link->u.pLayerInfo = link->u.pLayerInfo->pNext;
     auto create = reinterpret_cast<PFN_vkCreateDevice>(gipa(inst->instance, "vkCreateDevice"));
     if (!create) return VK_ERROR_INITIALIZATION_FAILED;
-    // The layer needs nothing beyond Vulkan 1.0 and the application's swapchain extension.
-    const VkResult r = create(physical, ci, alloc, out);
+    // The layer needs nothing beyond Vulkan 1.0 and the application's swapchain extension, and
+    // uses VK_KHR_present_id + VK_KHR_present_wait where it can (present_wait.hpp).
+    PresentWaitSupport pw = present_wait_support(*inst, physical, *ci);
+    VkDeviceCreateInfo mine = *ci;
+    std::vector<const char*> extensions(ci->ppEnabledExtensionNames,
+                                        ci->ppEnabledExtensionNames + ci->enabledExtensionCount);
+    VkPhysicalDevicePresentIdFeaturesKHR id_features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PRESENT_ID_FEATURES_KHR};
+    VkPhysicalDevicePresentWaitFeaturesKHR wait_features{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PRESENT_WAIT_FEATURES_KHR};
+    if (pw.usable) {
+        extensions.push_back(VK_KHR_PRESENT_ID_EXTENSION_NAME);
+        extensions.push_back(VK_KHR_PRESENT_WAIT_EXTENSION_NAME);
+        mine.enabledExtensionCount = uint32_t(extensions.size());
+        mine.ppEnabledExtensionNames = extensions.data();
+        id_features.presentId = VK_TRUE;
+        id_features.pNext = const_cast<void*>(ci->pNext);
+        wait_features.presentWait = VK_TRUE;
+        wait_features.pNext = &id_features;
+        mine.pNext = &wait_features;
+    }
+    const VkResult r = create(physical, &mine, alloc, out);
     if (r != VK_SUCCESS) return r;
     auto* d = new DeviceData{};
     d->device = *out;
@@ -215,19 +290,13 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateDevice(VkPhysicalDevice physical, const VkD
     FGSR_DEVICE_FN(DestroySemaphore);
 #undef FGSR_DEVICE_FN
     inst->vk.GetPhysicalDeviceMemoryProperties(physical, &d->memory);
-    // VK_KHR_present_wait would give the actual present times; detected and reported (lavapipe
-    // has neither extension; actual times are when the present call returned).
-    uint32_t n = 0;
-    inst->vk.EnumerateDeviceExtensionProperties(physical, nullptr, &n, nullptr);
-    std::vector<VkExtensionProperties> exts(n);
-    inst->vk.EnumerateDeviceExtensionProperties(physical, nullptr, &n, exts.data());
-    bool id = false, wait = false;
-    for (const VkExtensionProperties& e : exts) {
-        id |= std::strcmp(e.extensionName, VK_KHR_PRESENT_ID_EXTENSION_NAME) == 0;
-        wait |= std::strcmp(e.extensionName, VK_KHR_PRESENT_WAIT_EXTENSION_NAME) == 0;
-    }
-    d->has_present_wait = id && wait;
-    Report::get().set_present_wait(d->has_present_wait);
+    d->has_present_wait = pw.offered;
+    d->use_present_wait = pw.usable;
+    if (pw.usable) d->vk.WaitForPresentKHR = reinterpret_cast<PFN_vkWaitForPresentKHR>(gdpa(*out, "vkWaitForPresentKHR"));
+    if (!d->vk.WaitForPresentKHR) d->use_present_wait = false;
+    if (pw.offered && !pw.usable) log_line("VK_KHR_present_wait: " + pw.why + "; present times are when the "
+                                           "present call returned");
+    Report::get().set_present_wait(d->use_present_wait);
     std::lock_guard l(g().mutex);
     g().devices[dispatch_key(*out)] = d;
     return VK_SUCCESS;
@@ -358,7 +427,7 @@ VKAPI_ATTR VkResult VKAPI_CALL QueuePresentKHR(VkQueue queue, const VkPresentInf
     }
     const uint64_t t = monotonic_ns();
     for (uint32_t i = 0; i < info->swapchainCount; ++i)
-        Report::get().present(PresentKind::real, 0, entry, t, t, uint64_t(info->pSwapchains[i]));
+        Report::get().present(PresentKind::real, 0, entry, t, t, t, uint64_t(info->pSwapchains[i]));
     return r;
 }
 

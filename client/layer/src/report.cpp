@@ -20,12 +20,13 @@ void log_line(const std::string& message) {
 
 struct PresentRecord {
     PresentKind kind;
-    uint64_t app_present, app_ns, intended_ns, actual_ns, swapchain;
+    uint64_t app_present, app_ns, intended_ns, actual_ns, call_ns, swapchain;
 };
 
 struct Report::State {
     std::mutex m;
     uint64_t app_presents = 0, presents = 0, generated = 0, dropped = 0, cpu_ns = 0;
+    uint64_t displayed = 0, display_fallbacks = 0; // records completed by present wait / without
     std::vector<PresentRecord> records; // kept only with FGSR_LAYER_PRESENTS
     std::string stats_path, presents_path, dump_dir;
     LayerConfig config;
@@ -49,12 +50,12 @@ void Report::app_present() {
 }
 
 void Report::present(PresentKind kind, uint64_t app_present, uint64_t app_ns, uint64_t intended_ns,
-                     uint64_t actual_ns, uint64_t swapchain) {
+                     uint64_t actual_ns, uint64_t call_ns, uint64_t swapchain) {
     std::lock_guard l(s_->m);
     ++s_->presents;
     if (kind == PresentKind::generated) ++s_->generated;
     if (!s_->presents_path.empty() && s_->records.size() < (1u << 22))
-        s_->records.push_back({kind, app_present, app_ns, intended_ns, actual_ns, swapchain});
+        s_->records.push_back({kind, app_present, app_ns, intended_ns, actual_ns, call_ns, swapchain});
 }
 
 void Report::dropped(uint32_t n) {
@@ -75,6 +76,11 @@ void Report::set_config(const LayerConfig& c) {
 void Report::set_present_wait(bool available) {
     std::lock_guard l(s_->m);
     s_->present_wait = available;
+}
+
+void Report::display_time(bool from_present_wait) {
+    std::lock_guard l(s_->m);
+    ++(from_present_wait ? s_->displayed : s_->display_fallbacks);
 }
 
 bool Report::dumping() const {
@@ -110,11 +116,14 @@ void Report::write_files() {
                 f,
                 "{\"app_presents\": %llu, \"presents\": %llu, \"generated\": %llu, \"dropped\": %llu, "
                 "\"mode\": \"%s\", \"multiplier\": %u, \"present_wait\": %s, "
+                "\"displayed_by_present_wait\": %llu, \"present_wait_fallbacks\": %llu, "
                 "\"layer_cpu_ns_per_present\": %.0f}\n",
                 static_cast<unsigned long long>(s_->app_presents),
                 static_cast<unsigned long long>(s_->presents), static_cast<unsigned long long>(s_->generated),
                 static_cast<unsigned long long>(s_->dropped), mode_name(s_->config.mode),
-                s_->config.multiplier, s_->present_wait ? "true" : "false", cpu);
+                s_->config.multiplier, s_->present_wait ? "true" : "false",
+                static_cast<unsigned long long>(s_->displayed),
+                static_cast<unsigned long long>(s_->display_fallbacks), cpu);
             std::fclose(f);
         }
     }
@@ -141,6 +150,7 @@ void Report::write_files() {
                 if (r.actual_ns >= r.app_ns) row.ms_until_displayed = double(r.actual_ns - r.app_ns) * 1e-6;
                 row.sequence = r.app_present; // the application's present counter
                 row.intended_s = double(r.intended_ns) * 1e-9;
+                row.call_s = double(r.call_ns) * 1e-9;
                 std::fprintf(f, "%s\n", presentmon_row(row).c_str());
             }
             std::fclose(f);

@@ -135,13 +135,21 @@ VkResult Swapchain::acquire(uint64_t timeout_ns, VkSemaphore semaphore, VkFence 
     }
 }
 
-VkResult Swapchain::call_present(VkQueue queue, uint32_t index, VkSemaphore wait) {
+VkResult Swapchain::call_present(VkQueue queue, uint32_t index, VkSemaphore wait, uint64_t* id) {
     VkPresentInfoKHR pi{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
     pi.waitSemaphoreCount = wait ? 1 : 0;
     pi.pWaitSemaphores = &wait;
     pi.swapchainCount = 1;
     pi.pSwapchains = &handle_;
     pi.pImageIndices = &index;
+    const uint64_t present_id = display_.next_id();
+    VkPresentIdKHR pid{VK_STRUCTURE_TYPE_PRESENT_ID_KHR};
+    if (present_id != 0) { // VK_KHR_present_id: the display time comes from VK_KHR_present_wait
+        pid.swapchainCount = 1;
+        pid.pPresentIds = &present_id;
+        pi.pNext = &pid;
+    }
+    if (id) *id = present_id;
     std::lock_guard l(dev_.queue_mutex);
     return dev_.vk.QueuePresentKHR(queue, &pi);
 }
@@ -160,7 +168,7 @@ VkResult Swapchain::pass_through(VkQueue queue, const VkPresentInfoKHR& info, ui
         r = dev_.vk.QueuePresentKHR(queue, &pi);
     }
     const uint64_t t = monotonic_ns();
-    Report::get().present(PresentKind::real, app_present, last_entry_ns_, t, t, uint64_t(handle_));
+    Report::get().present(PresentKind::real, app_present, last_entry_ns_, t, t, t, uint64_t(handle_));
     const VkResult pending = pending_result_.exchange(VK_SUCCESS);
     return r == VK_SUCCESS ? pending : r;
 }
@@ -251,8 +259,18 @@ void Swapchain::thread_main() {
         Item item;
         {
             std::unique_lock l(mutex_);
+            while (display_.pending() && queue_.empty() && !stop_) { // display times still to come
+                cv_.wait_for(l, std::chrono::milliseconds(1));
+                l.unlock();
+                display_.poll();
+                l.lock();
+            }
             cv_.wait(l, [&] { return !queue_.empty() || stop_; });
-            if (stop_) return;
+            if (stop_) {
+                l.unlock();
+                display_.poll(true); // the swapchain may be going: no more Vulkan calls
+                return;
+            }
             item = queue_.front();
             queue_.pop_front();
             busy_ = true;
@@ -275,7 +293,15 @@ bool Swapchain::sleep_until(uint64_t t_ns, size_t max_waiting) {
         if (queue_.size() > max_waiting || stop_) return false;
         const uint64_t now = monotonic_ns();
         if (now >= t_ns) return true;
-        cv_.wait_for(l, std::chrono::nanoseconds(t_ns - now));
+        if (!display_.pending()) {
+            cv_.wait_for(l, std::chrono::nanoseconds(t_ns - now));
+            continue;
+        }
+        // Presents waiting for their display time: look every millisecond.
+        cv_.wait_for(l, std::chrono::nanoseconds(std::min<uint64_t>(t_ns - now, 1'000'000)));
+        l.unlock();
+        display_.poll();
+        l.lock();
     }
 }
 
@@ -355,15 +381,19 @@ void Swapchain::process(Item& item) {
 }
 
 void Swapchain::present_real(const Item& item, uint64_t intended_ns) {
-    const VkResult r = call_present(item.queue, item.image_index, image_ready_[item.image_index].get());
+    uint64_t id = 0;
+    const VkResult r = call_present(item.queue, item.image_index, image_ready_[item.image_index].get(), &id);
     note_result(r);
-    last_real_ns_ = monotonic_ns();
-    Report::get().present(PresentKind::real, item.app_present, item.entry_ns, intended_ns, last_real_ns_,
-                          uint64_t(handle_));
+    last_real_ns_ = monotonic_ns(); // the pacing follows the present calls
     // Interpolation submitted this frame before presenting it; extrapolation submits it after.
     const uint64_t sequence = item.cfg.mode == Mode::interpolate ? last_sequence_ : 0;
-    report_present(sequence, FGSR_REPORT_APPLICATION, FGSR_FRAME_NONE, item.entry_ns, item.entry_ns, intended_ns,
-                   last_real_ns_, false);
+    const uint64_t call = last_real_ns_;
+    display_.add(id, call, [this, item, intended_ns, call, sequence](uint64_t shown) {
+        Report::get().present(PresentKind::real, item.app_present, item.entry_ns, intended_ns, shown, call,
+                              uint64_t(handle_));
+        report_present(sequence, FGSR_REPORT_APPLICATION, FGSR_FRAME_NONE, item.entry_ns, 0, intended_ns, shown,
+                       false);
+    });
 }
 
 std::vector<Swapchain::Generated> Swapchain::generate(const Item& item, uint64_t deadline_ns) {
@@ -523,12 +553,15 @@ bool Swapchain::present_generated(const Item& item, const Generated& g, uint64_t
         return false;
     }
     upload_pending_[u] = true;
-    note_result(call_present(item.queue, index, ready));
-    const uint64_t presented = monotonic_ns();
-    Report::get().present(PresentKind::generated, item.app_present, item.entry_ns, intended_ns, presented,
-                          uint64_t(handle_));
-    report_present(g.sequence, g.output_index, g.frame_type, g.submit_ns, g.received_ns, intended_ns, presented,
-                   false);
+    uint64_t id = 0;
+    note_result(call_present(item.queue, index, ready, &id));
+    const uint64_t call = monotonic_ns();
+    display_.add(id, call, [this, item, g, intended_ns, call](uint64_t shown) {
+        Report::get().present(PresentKind::generated, item.app_present, item.entry_ns, intended_ns, shown, call,
+                              uint64_t(handle_));
+        report_present(g.sequence, g.output_index, g.frame_type, g.submit_ns, g.received_ns, intended_ns, shown,
+                       false);
+    });
     return true;
 }
 

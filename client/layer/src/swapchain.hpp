@@ -30,6 +30,7 @@
 #include "dispatch.hpp"
 #include "gpu.hpp"
 #include "pixels.hpp"
+#include "present_wait.hpp"
 
 #include <atomic>
 #include <condition_variable>
@@ -97,7 +98,8 @@ class Swapchain {
     bool init_images();
     bool init_pools(uint32_t family);
     VkResult pass_through(VkQueue queue, const VkPresentInfoKHR& info, uint32_t index, uint64_t app_present);
-    VkResult call_present(VkQueue queue, uint32_t index, VkSemaphore wait);
+    // A present of the layer's own; *id (when given) gets its present id (0: present wait unused).
+    VkResult call_present(VkQueue queue, uint32_t index, VkSemaphore wait, uint64_t* id = nullptr);
     void thread_main();
     void process(Item& item);
     // Sends the item's frame to fgsrd and collects the generated frames (within the deadline).
@@ -147,6 +149,7 @@ class Swapchain {
 
     // Present thread only.
     DaemonLink link_;
+    DisplayClock display_{dev_, handle_, acquire_mutex_};
     uint64_t last_real_ns_ = 0;
     uint64_t last_sequence_ = 0;
 };

@@ -40,6 +40,7 @@ enum Col : int {
     kStatus,
     kTargetTime,
     kIntended,
+    kCall,
     kDaemonLatency,
     kClientLatency,
     kQueueWait,
@@ -55,7 +56,8 @@ constexpr const char* kColumns[kFirstPass] = {
     "PresentMode",       "FrameType",          "TimeInSeconds",          "MsBetweenPresents",
     "MsBetweenDisplayChange", "MsInPresentAPI", "MsUntilRenderComplete", "MsUntilDisplayed",
     "MsGPUTime",         "MsClickToPhotonLatency", "fgsr_sequence",      "fgsr_output_index",
-    "fgsr_status",       "fgsr_target_time",   "fgsr_intended_s",        "fgsr_daemon_latency_ms",
+    "fgsr_status",       "fgsr_target_time",   "fgsr_intended_s",        "fgsr_call_s",
+    "fgsr_daemon_latency_ms",
     "fgsr_client_latency_ms", "fgsr_queue_wait_ms", "fgsr_daemon_cpu_ms", "fgsr_skipped_passes",
     "fgsr_tiles_total",  "fgsr_tiles_skipped"};
 
@@ -138,7 +140,7 @@ PresentRow::PresentRow()
     : time_s(kNA), ms_between_presents(kNA), ms_between_display_change(kNA), ms_in_present_api(kNA),
       ms_until_render_complete(kNA), ms_until_displayed(kNA), ms_gpu_time(kNA), ms_click_to_photon(kNA),
       target_time(kNA), daemon_latency_ms(kNA), client_latency_ms(kNA), queue_wait_ms(kNA), daemon_cpu_ms(kNA),
-      intended_s(kNA) {
+      intended_s(kNA), call_s(kNA) {
     pass_ms.fill(kNA);
 }
 
@@ -193,6 +195,8 @@ std::string presentmon_row(const PresentRow& r) {
     put_number(o, app ? kNA : r.target_time, "%.6g");
     o += ',';
     put_number(o, r.intended_s, "%.9f");
+    o += ',';
+    put_number(o, r.call_s, "%.9f");
     for (double v : {r.daemon_latency_ms, r.client_latency_ms, r.queue_wait_ms, r.daemon_cpu_ms}) {
         o += ',';
         put_number(o, v, "%.4f");
@@ -266,6 +270,7 @@ Result<std::vector<PresentRow>> parse_presentmon_csv(std::string_view text) {
             case kStatus: r.status = v; break;
             case kTargetTime: ok = parse_double(v, r.target_time); break;
             case kIntended: ok = parse_double(v, r.intended_s); break;
+            case kCall: ok = parse_double(v, r.call_s); break;
             case kDaemonLatency: ok = parse_double(v, r.daemon_latency_ms); break;
             case kClientLatency: ok = parse_double(v, r.client_latency_ms); break;
             case kQueueWait: ok = parse_double(v, r.queue_wait_ms); break;

@@ -289,6 +289,21 @@ typedef struct fgsr_present_report {
 } fgsr_present_report;
 FGSR_STATIC_ASSERT(sizeof(fgsr_present_report) == 56, "fgsr_present_report size");
 
+/* A click-to-photon measurement of a hardware latency probe (minor 3; `fgsr probe`, docs/PROBE.md):
+ * the probe injected a click and its photodiode saw the screen change. fgsrd's dashboard shows them
+ * as click-to-photon latency. Times CLOCK_MONOTONIC ns (the probe's clock mapped onto it). */
+#define FGSR_PROBE_MODE_UNKNOWN 0u
+#define FGSR_PROBE_MODE_OFF 1u         /* frame generation off */
+#define FGSR_PROBE_MODE_INTERPOLATE 2u
+#define FGSR_PROBE_MODE_EXTRAPOLATE 3u
+typedef struct fgsr_probe_sample {
+    uint64_t click_ns;  /* the click was injected */
+    uint64_t photon_ns; /* the photodiode saw the change (>= click_ns) */
+    uint32_t mode;      /* FGSR_PROBE_MODE_* of the measured application */
+    uint32_t pid;       /* the measured application's process (0: unknown) */
+} fgsr_probe_sample;
+FGSR_STATIC_ASSERT(sizeof(fgsr_probe_sample) == 24, "fgsr_probe_sample size");
+
 /* Bits of fgsr_completion_entry.flags. */
 #define FGSR_COMPLETION_INPUT_RELEASED 0x1u /* input_slot is the client's again */
 #define FGSR_COMPLETION_LAST 0x2u           /* the last completion of this submit */

@@ -66,7 +66,8 @@ typedef enum fgsr_msg_type {
     FGSR_MSG_STATS = 7,                 /* client -> daemon: fgsr_session_ref */
     FGSR_MSG_STATS_REPLY = 8,           /* daemon -> client: fgsr_stats_reply */
     FGSR_MSG_ERROR = 9,                 /* daemon -> client: fgsr_reply, then the daemon may close */
-    FGSR_MSG_REPORT = 10                /* client -> daemon: fgsr_report (minor 3); no reply */
+    FGSR_MSG_REPORT = 10,               /* client -> daemon: fgsr_report (minor 3); no reply */
+    FGSR_MSG_PROBE = 11                 /* client -> daemon: fgsr_probe (minor 3); no reply */
 } fgsr_msg_type;
 
 typedef struct fgsr_msg_header {
@@ -132,6 +133,18 @@ typedef struct fgsr_report {
 } fgsr_report;
 FGSR_STATIC_ASSERT(sizeof(fgsr_report) == 920, "fgsr_report size");
 #define FGSR_REPORT_MESSAGE_SIZE(count) (24u + 56u * (count))
+
+/* Click-to-photon samples of a hardware probe (minor 3; `fgsr probe`), not tied to a session; no
+ * reply. The packet holds the header, count, reserved and `count` samples. */
+#define FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE 32u
+typedef struct fgsr_probe {
+    fgsr_msg_header header;
+    uint32_t count; /* 1..FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE */
+    uint32_t reserved;
+    fgsr_probe_sample samples[FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE];
+} fgsr_probe;
+FGSR_STATIC_ASSERT(sizeof(fgsr_probe) == 792, "fgsr_probe size");
+#define FGSR_PROBE_MESSAGE_SIZE(count) (24u + 24u * (count))
 
 /* Order of the fds sent with FGSR_MSG_CREATE_SESSION_REPLY. */
 enum {

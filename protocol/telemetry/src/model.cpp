@@ -97,7 +97,7 @@ Summary summarize(std::span<const FrameRecord> frames, std::span<const SessionIn
 
 nlohmann::json record_json(const FrameRecord& r) {
     nlohmann::json j = {{"s", r.session},
-                        {"k", r.kind == Kind::present ? "present" : "output"},
+                        {"k", r.kind == Kind::present ? "present" : r.kind == Kind::output ? "output" : "probe"},
                         {"t", rounded(r.t_s, 1e6)},
                         {"type", frame_type_label(r.type)},
                         {"ft", rounded(r.ft_ms, 1000)},

@@ -54,6 +54,8 @@ struct PresentRow {
     double target_time = 0; // fgsr_target_time: alpha, 1 + alpha, 1 (upscaled); NA for Application
     double daemon_latency_ms = 0, client_latency_ms = 0, queue_wait_ms = 0, daemon_cpu_ms = 0;
     double intended_s = 0; // fgsr_intended_s: when the pacing meant it to be presented
+    double call_s = 0;     // fgsr_call_s: when the present call returned (TimeInSeconds may be later:
+                           // the display time, where the driver tells it)
     uint32_t skipped_passes = 0, tiles_total = 0, tiles_skipped = 0;
     std::array<double, kPresentMonPasses> pass_ms{}; // fgsr_<pass>_ms
     PresentRow();                                    // every number NA (NaN) except the ids

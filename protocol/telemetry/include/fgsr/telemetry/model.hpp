@@ -19,8 +19,9 @@
 namespace fgsr::telemetry {
 
 // A frame the hub heard of: a present the client reported (kind present: displayed, real or
-// generated) or an output the daemon wrote (kind output). Milliseconds; NaN where unknown.
-enum class Kind : uint8_t { present, output };
+// generated), an output the daemon wrote (kind output), or a hardware probe's click-to-photon
+// sample (kind probe: session 0, c2p_ms set). Milliseconds; NaN where unknown.
+enum class Kind : uint8_t { present, output, probe };
 
 struct FrameRecord {
     uint32_t session = 0;
