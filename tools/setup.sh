@@ -14,7 +14,9 @@ packages=(build-essential cmake pkg-config git glslang-tools spirv-tools libvulk
           # the Vulkan layer (client/layer) and its test application: TOML, XCB
           libtomlplusplus-dev libxcb1-dev
           # fgsrd's dashboard (--http): HTTP server, Prometheus text format, Chart.js (embedded at build)
-          libcpp-httplib-dev prometheus-cpp-dev libjs-chart.js)
+          libcpp-httplib-dev prometheus-cpp-dev libjs-chart.js
+          # `fgsr probe`'s tests, built with the rest: umockdev emulates USB probes at the usbfs level
+          umockdev libumockdev-dev)
 # Only the test suite needs these: python3-opencv runs the DIS reference (tools/reference/dis_vectors.py)
 # in its test; xvfb and vulkan-tools (vkcube) run the Vulkan layer's end-to-end tests. Blender
 # (tools/render) is needed by no test and is not installed here.

@@ -5,10 +5,12 @@
 //   fgsr_layer_app [--frames 60] [--width 1280 --height 720] [--fps 0] [--dt 0.0333]
 //                  [--format bgra8|rgba8|bgra8-srgb|rgba8-srgb|rgba16f|a2b10g10r10]
 //                  [--present-mode fifo|mailbox|immediate] [--resize-at K:WxH] [--windows 1|2]
-//                  [--no-destroy] [--one-present]
+//                  [--no-destroy] [--one-present] [--flash-on-click]
 //   fgsr_layer_app --score DIR [--dt 0.0333] [--write-exact]
 //                  (no Vulkan: scores DIR's gen_*.json/.rgba; --write-exact writes gen_*.exact.rgba)
 //
+// --flash-on-click (for `fgsr probe --run-command`, docs/PROBE.md): each mouse button or key press
+// in a window turns the next frame white, for a photodiode latency probe to see the click.
 // Prints one JSON line: run: {"frames", "seconds", "fps", "format", "extent", "recreations"}; score:
 // {"generated", "psnr_generated", "psnr_blend", "psnr_repeat", "psnr_generated_min"} (mean PSNR in dB
 // of the RGB display values against the exact frame at each generated frame's instant; blend: the
@@ -33,6 +35,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace fgsr::layer_app {
@@ -46,7 +49,11 @@ struct Options {
     bool destroy = true;
     bool one_present = false; // all windows in one vkQueuePresentKHR
     bool write_exact = false; // --score: also write DIR/gen_*.exact.rgba
+    bool flash_on_click = false;
 };
+
+// --flash-on-click: set by a button or key press, cleared by the frame it turns white.
+bool g_flash_pending = false;
 
 #define CHECK(expr)                                                                                          \
     do {                                                                                                     \
@@ -90,10 +97,12 @@ Format parse_format(const std::string& s) {
 
 // Writes the scene at t into `dst` (rows w * bpp bytes) in the swapchain's format.
 void render(const Scene& scene, float t, uint32_t w, uint32_t h, VkFormat f, uint8_t* dst) {
+    const bool flash = std::exchange(g_flash_pending, false);
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
             float c[3];
             scene.shade(t, w, h, x, y, c);
+            if (flash) c[0] = c[1] = c[2] = 1.0f;
             for (float& v : c) v = std::clamp(v, 0.0f, 1.0f);
             const size_t i = size_t(y) * w + x;
             switch (f) {
@@ -219,6 +228,42 @@ int score(const Options& o) {
 
 #include "vk_window.hpp"
 
+namespace fgsr::layer_app {
+
+// run() with the windows listening for button and key presses (the probe's click), each of which
+// turns the next frame white; one JSON line as run() prints it.
+int run_flash_on_click(const Options& o) {
+    App app(o);
+    if (const int r = app.init(); r != 0) return r;
+    const uint32_t mask = XCB_EVENT_MASK_BUTTON_PRESS | XCB_EVENT_MASK_KEY_PRESS;
+    for (Window& w : app.windows) xcb_change_window_attributes(app.xcb, w.xid, XCB_CW_EVENT_MASK, &mask);
+    xcb_flush(app.xcb);
+    const auto start = std::chrono::steady_clock::now();
+    for (uint32_t f = 0; f < o.frames; ++f) {
+        while (xcb_generic_event_t* e = xcb_poll_for_event(app.xcb)) {
+            const uint8_t type = e->response_type & 0x7f;
+            if (type == XCB_BUTTON_PRESS || type == XCB_KEY_PRESS) g_flash_pending = true;
+            std::free(e);
+        }
+        if (o.fps > 0)
+            std::this_thread::sleep_until(start + std::chrono::duration<double>(double(f) / o.fps));
+        for (Window& w : app.windows)
+            for (int attempt = 0; attempt < 10 && !app.frame(w, f); ++attempt) {
+            }
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf(
+        "{\"frames\": %u, \"seconds\": %.3f, \"fps\": %.2f, \"format\": \"%s\", \"extent\": \"%ux%u\", "
+        "\"recreations\": %u}\n",
+        o.frames, seconds, double(o.frames) / seconds, o.format.c_str(), app.windows[0].extent.width,
+        app.windows[0].extent.height, app.recreations);
+    std::fflush(stdout);
+    app.destroy();
+    return 0;
+}
+
+} // namespace fgsr::layer_app
+
 int main(int argc, char** argv) {
     using namespace fgsr::layer_app;
     Options o;
@@ -253,6 +298,8 @@ int main(int argc, char** argv) {
             o.one_present = true;
         else if (a == "--write-exact")
             o.write_exact = true;
+        else if (a == "--flash-on-click")
+            o.flash_on_click = true;
         else if (a == "--score")
             o.score_dir = next();
         else if (a == "--resize-at") {
@@ -267,5 +314,6 @@ int main(int argc, char** argv) {
         }
     }
     if (!o.score_dir.empty()) return score(o);
+    if (o.flash_on_click) return run_flash_on_click(o);
     return run(o);
 }

@@ -5,6 +5,7 @@
 #include <fgsr/cli/cli_util.hpp>
 #include <fgsr/cli/eval.hpp>
 #include <fgsr/cli/lut_train.hpp>
+#include <fgsr/cli/probe.hpp>
 #include <fgsr/cli/replay.hpp>
 #include <fgsr/cli/report.hpp>
 #include <fgsr/cli/stress.hpp>
@@ -187,6 +188,10 @@ int main(int argc, char** argv) {
     fgsr::cli::ReportCli report_cli;
     auto* report = fgsr::cli::add_report_command(app, report_cli);
 
+    // fgsr probe
+    fgsr::cli::ProbeCli probe_cli;
+    auto* probe = fgsr::cli::add_probe_command(app, probe_cli);
+
     // fgsr devices
     auto* devices = app.add_subcommand("devices", "List Vulkan devices");
 
@@ -306,6 +311,7 @@ int main(int argc, char** argv) {
     if (*lut_train) return fgsr::cli::lut_train_main(lut_opts, argc, argv);
     if (*stress) return fgsr::cli::stress_main(stress_opts);
     if (*report) return fgsr::cli::report_main(report_cli);
+    if (*probe) return fgsr::cli::probe_main(probe_cli);
     if (*devices) {
         auto list = fgsr::Engine::list_devices();
         if (!list) return fail(list.error());
