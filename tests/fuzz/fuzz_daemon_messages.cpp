@@ -2,7 +2,8 @@
 // that reads every packet a client sends, before and after HELLO. Checks what the parser promises:
 // an accepted request came from a packet at least as long as its struct whose header agrees with
 // the packet; a HELLO name is NUL-terminated; a session description's struct_size lies within the
-// packet; every violation names a reason.
+// packet; a report or probe message holds 1..max entries, all within the packet; every violation
+// names a reason.
 #include "fuzz_support.hpp"
 
 #include "messages.hpp"
@@ -31,6 +32,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             FGSR_FUZZ_CHECK(hello_done && size >= sizeof(fgsr_create_session));
             FGSR_FUZZ_CHECK(create->desc.struct_size >= sizeof(fgsr_session_desc));
             FGSR_FUZZ_CHECK(create->desc.struct_size <= size - sizeof(fgsr_msg_header));
+        } else if (const auto* report = std::get_if<fgsrd::ReportRequest>(&r)) {
+            FGSR_FUZZ_CHECK(hello_done && report->count >= 1 && report->count <= FGSR_MAX_REPORTS_PER_MESSAGE);
+            FGSR_FUZZ_CHECK(size >= FGSR_REPORT_MESSAGE_SIZE(report->count));
+        } else if (const auto* probe = std::get_if<fgsrd::ProbeRequest>(&r)) {
+            FGSR_FUZZ_CHECK(hello_done && probe->count >= 1 && probe->count <= FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE);
+            FGSR_FUZZ_CHECK(size >= FGSR_PROBE_MESSAGE_SIZE(probe->count));
         } else {
             const auto& ref = std::get<fgsrd::SessionRequest>(r);
             FGSR_FUZZ_CHECK(hello_done && size >= sizeof(fgsr_session_ref));

@@ -163,6 +163,24 @@ int main(int argc, char** argv) {
         write_seed(out / "fuzz_daemon_messages" / "stats", 0, false, bytes_of(r));
         r.header = fgsr_msg_header_for(FGSR_MSG_DESTROY_SESSION, sizeof(r), 4);
         write_seed(out / "fuzz_daemon_messages" / "destroy", 0, false, bytes_of(r));
+        fgsr_report rep;
+        std::memset(&rep, 0, sizeof(rep));
+        rep.header = fgsr_msg_header_for(FGSR_MSG_REPORT, FGSR_REPORT_MESSAGE_SIZE(2), 0);
+        rep.session_id = 1;
+        rep.count = 2;
+        rep.reports[0].output_index = FGSR_REPORT_APPLICATION;
+        rep.reports[1].frame_type = FGSR_FRAME_INTERPOLATED;
+        std::vector<uint8_t> rb = bytes_of(rep);
+        rb.resize(FGSR_REPORT_MESSAGE_SIZE(2));
+        write_seed(out / "fuzz_daemon_messages" / "report", 0, false, rb);
+        fgsr_probe pr;
+        std::memset(&pr, 0, sizeof(pr));
+        pr.header = fgsr_msg_header_for(FGSR_MSG_PROBE, FGSR_PROBE_MESSAGE_SIZE(1), 0);
+        pr.count = 1;
+        pr.samples[0] = {1000, 21000, FGSR_PROBE_MODE_OFF, 0};
+        std::vector<uint8_t> pb = bytes_of(pr);
+        pb.resize(FGSR_PROBE_MESSAGE_SIZE(1));
+        write_seed(out / "fuzz_daemon_messages" / "probe", 0, false, pb);
     }
     // fuzz_session_rings: shape (2 input and 2 output slots, ring of 4, FIFO), then chunks of
     // (position u16 LE, length u8, bytes): a valid submit entry wanting one interpolation, its
