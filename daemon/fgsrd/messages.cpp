@@ -1,6 +1,7 @@
 #include "messages.hpp"
 
 #include <cstring>
+#include <optional>
 
 namespace fgsrd {
 
@@ -17,6 +18,19 @@ Request parse_request(const std::byte* data, size_t size, bool hello_done) {
         return Violation{h.sequence, "message type " + std::to_string(h.type) + " truncated to " +
                                          std::to_string(size) + " bytes (needs " + std::to_string(need) +
                                          ")"};
+    };
+    // Messages of a head (`head` bytes, the entry count at `count_at`) and 1..max entries of
+    // `entry` bytes: the count is checked against the packet, the entries copied to dst.
+    auto counted = [&](size_t head, size_t count_at, uint32_t max, size_t entry, const char* what,
+                       uint32_t& count, void* dst) -> std::optional<Violation> {
+        if (size < head + entry) return truncated(head + entry);
+        std::memcpy(&count, data + count_at, sizeof(count));
+        if (count == 0 || count > max)
+            return Violation{h.sequence, std::string(what) + " " + std::to_string(count) + " is not 1.." +
+                                             std::to_string(max)};
+        if (size < head + entry * count) return truncated(head + entry * count);
+        std::memcpy(dst, data + head, entry * count);
+        return std::nullopt;
     };
     if (!hello_done && h.type != FGSR_MSG_HELLO)
         return Violation{h.sequence, "the first message must be HELLO"};
@@ -50,26 +64,18 @@ Request parse_request(const std::byte* data, size_t size, bool hello_done) {
         return r;
     }
     case FGSR_MSG_REPORT: {
-        if (size < FGSR_REPORT_MESSAGE_SIZE(1)) return truncated(FGSR_REPORT_MESSAGE_SIZE(1));
         ReportRequest r;
+        if (auto v = counted(FGSR_REPORT_MESSAGE_SIZE(0), sizeof(fgsr_msg_header) + 4, FGSR_MAX_REPORTS_PER_MESSAGE,
+                             sizeof(fgsr_present_report), "report count", r.count, r.reports))
+            return *v;
         std::memcpy(&r.session_id, data + sizeof(fgsr_msg_header), sizeof(r.session_id));
-        std::memcpy(&r.count, data + sizeof(fgsr_msg_header) + 4, sizeof(r.count));
-        if (r.count == 0 || r.count > FGSR_MAX_REPORTS_PER_MESSAGE)
-            return Violation{h.sequence, "report count " + std::to_string(r.count) + " is not 1.." +
-                                             std::to_string(FGSR_MAX_REPORTS_PER_MESSAGE)};
-        if (size < FGSR_REPORT_MESSAGE_SIZE(r.count)) return truncated(FGSR_REPORT_MESSAGE_SIZE(r.count));
-        std::memcpy(r.reports, data + FGSR_REPORT_MESSAGE_SIZE(0), sizeof(fgsr_present_report) * r.count);
         return r;
     }
     case FGSR_MSG_PROBE: {
-        if (size < FGSR_PROBE_MESSAGE_SIZE(1)) return truncated(FGSR_PROBE_MESSAGE_SIZE(1));
         ProbeRequest r;
-        std::memcpy(&r.count, data + sizeof(fgsr_msg_header), sizeof(r.count));
-        if (r.count == 0 || r.count > FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE)
-            return Violation{h.sequence, "probe sample count " + std::to_string(r.count) + " is not 1.." +
-                                             std::to_string(FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE)};
-        if (size < FGSR_PROBE_MESSAGE_SIZE(r.count)) return truncated(FGSR_PROBE_MESSAGE_SIZE(r.count));
-        std::memcpy(r.samples, data + FGSR_PROBE_MESSAGE_SIZE(0), sizeof(fgsr_probe_sample) * r.count);
+        if (auto v = counted(FGSR_PROBE_MESSAGE_SIZE(0), sizeof(fgsr_msg_header), FGSR_MAX_PROBE_SAMPLES_PER_MESSAGE,
+                             sizeof(fgsr_probe_sample), "probe sample count", r.count, r.samples))
+            return *v;
         return r;
     }
     default:

@@ -10,6 +10,7 @@
 #include <prometheus/text_serializer.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -124,7 +125,26 @@ struct TelemetryHub::Metrics {
                               .Name("fgsr_click_to_photon_seconds")
                               .Help("Click-to-photon latency measured by a hardware probe (fgsr probe), by the "
                                     "measured application's frame-generation mode")
-                              .Register(r)) {}
+                              .Register(r)) {
+        // Every labelled series made once, here: the server's thread then only increments and
+        // observes (no label lookups, no bucket vectors per frame).
+        for (uint32_t t = FGSR_FRAME_UPSCALED; t <= FGSR_FRAME_EXTRAPOLATED; ++t)
+            outputs_by_type[t] = &outputs.Add({{"type", type_label(t)}});
+        for (uint32_t t = FGSR_FRAME_NONE; t <= FGSR_FRAME_EXTRAPOLATED; ++t)
+            presents_by_type[t] = &presents.Add({{"type", type_label(t)}});
+        for (uint32_t p = 0; p < FGSR_PASS_COUNT_; ++p)
+            gpu_by_pass[p] = &gpu.Add({{"pass", fgsr_pass_name(p)}}, gpu_buckets());
+        latency_daemon = &latency.Add({{"kind", "daemon"}}, latency_buckets());
+        latency_client = &latency.Add({{"kind", "client"}}, latency_buckets());
+        latency_displayed = &latency.Add({{"kind", "displayed"}}, latency_buckets());
+        static const char* const kModes[] = {"unknown", "off", "interpolate", "extrapolate"};
+        for (uint32_t m = FGSR_PROBE_MODE_UNKNOWN; m <= FGSR_PROBE_MODE_EXTRAPOLATE; ++m)
+            c2p_by_mode[m] = &click_to_photon.Add({{"mode", kModes[m]}}, latency_buckets());
+    }
+    std::array<prometheus::Counter*, 4> outputs_by_type{}, presents_by_type{}; // by fgsr_frame_type
+    std::array<prometheus::Histogram*, FGSR_PASS_COUNT_> gpu_by_pass{};
+    prometheus::Histogram *latency_daemon = nullptr, *latency_client = nullptr, *latency_displayed = nullptr;
+    std::array<prometheus::Histogram*, 4> c2p_by_mode{}; // by FGSR_PROBE_MODE_*
 };
 
 TelemetryHub::TelemetryHub(HubOptions options)
@@ -210,11 +230,11 @@ void TelemetryHub::completion(uint32_t session, const fgsr_completion_entry& c) 
             r.tiles_total += p.tiles_total;
             r.tiles_skipped += p.tiles_skipped;
             e.passes.push_back({p.pass, p.tiles_total, p.tiles_skipped, p.gpu_begin_ns, p.gpu_end_ns});
-            metrics_->gpu.Add({{"pass", fgsr_pass_name(p.pass)}}, gpu_buckets()).Observe(double(dur) * 1e-9);
+            metrics_->gpu_by_pass[p.pass]->Observe(double(dur) * 1e-9);
         }
-        metrics_->outputs.Add({{"type", type_label(t.frame_type)}}).Increment();
-        if (std::isfinite(r.lat_d_ms))
-            metrics_->latency.Add({{"kind", "daemon"}}, latency_buckets()).Observe(r.lat_d_ms * 1e-3);
+        if (t.frame_type >= FGSR_FRAME_UPSCALED && t.frame_type <= FGSR_FRAME_EXTRAPOLATED)
+            metrics_->outputs_by_type[t.frame_type]->Increment();
+        if (std::isfinite(r.lat_d_ms)) metrics_->latency_daemon->Observe(r.lat_d_ms * 1e-3);
         metrics_->tiles_total.Increment(double(r.tiles_total));
         metrics_->tiles_skipped.Increment(double(r.tiles_skipped));
     } else if (c.status == FGSR_STATUS_DROPPED) {
@@ -289,19 +309,18 @@ size_t TelemetryHub::reports(uint32_t session, std::span<const fgsr_present_repo
         if (s.last_timeline_ns != 0) r.ft_ms = ms(s.last_timeline_ns, p.presented_ns);
         s.last_timeline_ns = p.presented_ns;
         ++s.info.frames;
-        metrics_->presents.Add({{"type", type_label(p.frame_type)}}).Increment();
+        metrics_->presents_by_type[p.frame_type]->Increment(); // frame_type checked above
         if (std::isfinite(r.ft_ms)) metrics_->frame_time.Observe(r.ft_ms * 1e-3);
         if (std::isfinite(r.lat_c_ms))
-            metrics_->latency.Add({{"kind", "client"}}, latency_buckets()).Observe(r.lat_c_ms * 1e-3);
+            metrics_->latency_client->Observe(r.lat_c_ms * 1e-3);
         if (std::isfinite(r.disp_ms))
-            metrics_->latency.Add({{"kind", "displayed"}}, latency_buckets()).Observe(r.disp_ms * 1e-3);
+            metrics_->latency_displayed->Observe(r.disp_ms * 1e-3);
         add(std::move(e));
     }
     return kept;
 }
 
 size_t TelemetryHub::probe_samples(std::span<const fgsr_probe_sample> samples) {
-    static const char* const kModes[] = {"unknown", "off", "interpolate", "extrapolate"};
     const uint64_t now = monotonic_ns();
     constexpr uint64_t kMaxLatencyNs = 10'000'000'000ull;
     size_t kept = 0;
@@ -318,7 +337,7 @@ size_t TelemetryHub::probe_samples(std::span<const fgsr_probe_sample> samples) {
         e.record.kind = Kind::probe;
         e.record.t_s = seconds(std::max(p.photon_ns, epoch_ns_));
         e.record.c2p_ms = double(p.photon_ns - p.click_ns) * 1e-6;
-        metrics_->click_to_photon.Add({{"mode", kModes[p.mode]}}, latency_buckets()).Observe(e.record.c2p_ms * 1e-3);
+        metrics_->c2p_by_mode[p.mode]->Observe(e.record.c2p_ms * 1e-3); // mode checked above
         add(std::move(e));
     }
     return kept;

@@ -228,42 +228,6 @@ int score(const Options& o) {
 
 #include "vk_window.hpp"
 
-namespace fgsr::layer_app {
-
-// run() with the windows listening for button and key presses (the probe's click), each of which
-// turns the next frame white; one JSON line as run() prints it.
-int run_flash_on_click(const Options& o) {
-    App app(o);
-    if (const int r = app.init(); r != 0) return r;
-    const uint32_t mask = XCB_EVENT_MASK_BUTTON_PRESS | XCB_EVENT_MASK_KEY_PRESS;
-    for (Window& w : app.windows) xcb_change_window_attributes(app.xcb, w.xid, XCB_CW_EVENT_MASK, &mask);
-    xcb_flush(app.xcb);
-    const auto start = std::chrono::steady_clock::now();
-    for (uint32_t f = 0; f < o.frames; ++f) {
-        while (xcb_generic_event_t* e = xcb_poll_for_event(app.xcb)) {
-            const uint8_t type = e->response_type & 0x7f;
-            if (type == XCB_BUTTON_PRESS || type == XCB_KEY_PRESS) g_flash_pending = true;
-            std::free(e);
-        }
-        if (o.fps > 0)
-            std::this_thread::sleep_until(start + std::chrono::duration<double>(double(f) / o.fps));
-        for (Window& w : app.windows)
-            for (int attempt = 0; attempt < 10 && !app.frame(w, f); ++attempt) {
-            }
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf(
-        "{\"frames\": %u, \"seconds\": %.3f, \"fps\": %.2f, \"format\": \"%s\", \"extent\": \"%ux%u\", "
-        "\"recreations\": %u}\n",
-        o.frames, seconds, double(o.frames) / seconds, o.format.c_str(), app.windows[0].extent.width,
-        app.windows[0].extent.height, app.recreations);
-    std::fflush(stdout);
-    app.destroy();
-    return 0;
-}
-
-} // namespace fgsr::layer_app
-
 int main(int argc, char** argv) {
     using namespace fgsr::layer_app;
     Options o;
@@ -314,6 +278,5 @@ int main(int argc, char** argv) {
         }
     }
     if (!o.score_dir.empty()) return score(o);
-    if (o.flash_on_click) return run_flash_on_click(o);
     return run(o);
 }

@@ -350,8 +350,20 @@ struct App {
 int run(const Options& o) {
     App app(o);
     if (const int r = app.init(); r != 0) return r;
+    if (o.flash_on_click) { // the windows listen for the probe's click (button or key press)
+        const uint32_t mask = XCB_EVENT_MASK_BUTTON_PRESS | XCB_EVENT_MASK_KEY_PRESS;
+        for (Window& w : app.windows) xcb_change_window_attributes(app.xcb, w.xid, XCB_CW_EVENT_MASK, &mask);
+        xcb_flush(app.xcb);
+    }
     const auto start = std::chrono::steady_clock::now();
     for (uint32_t f = 0; f < o.frames; ++f) {
+        while (o.flash_on_click) { // each press turns the next frame white (render())
+            xcb_generic_event_t* e = xcb_poll_for_event(app.xcb);
+            if (!e) break;
+            const uint8_t type = e->response_type & 0x7f;
+            if (type == XCB_BUTTON_PRESS || type == XCB_KEY_PRESS) g_flash_pending = true;
+            std::free(e);
+        }
         if (int(f) == o.resize_at)
             for (Window& w : app.windows) app.resize(w, o.resize_w, o.resize_h);
         if (o.fps > 0)

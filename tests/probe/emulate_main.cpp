@@ -36,6 +36,15 @@ int usage() {
 
 } // namespace
 
+// --fault NAME on either emulated probe (their scenarios name the faults alike).
+template <class Scenario> void apply_fault(Scenario& s, const std::string& fault) {
+    s.never_answer = fault == "silent-handshake";
+    if (fault == "unplug") s.unplug_after = 5;
+    if (fault == "stall") s.stall_after = 5;
+    if (fault == "timeout") s.silent_after = 5;
+    if (fault == "garbage") s.garbage_after = 5;
+}
+
 int main(int argc, char** argv) {
     std::string gadget = "fgsr", fault = "none";
     size_t count = 200;
@@ -71,11 +80,7 @@ int main(int argc, char** argv) {
         for (uint32_t m : ms) s.latencies_ticks.push_back(m * 1000 + 250);
         s.drift_ppm = 120;
         s.run_scale = {1.0, 1.45, 0.95}; // measurement mode: off, interpolate (a frame later), extrapolate
-        s.never_answer = fault == "silent-handshake";
-        if (fault == "unplug") s.unplug_after = 5;
-        if (fault == "stall") s.stall_after = 5;
-        if (fault == "timeout") s.silent_after = 5;
-        if (fault == "garbage") s.garbage_after = 5;
+        apply_fault(s, fault);
         devices.push_back(
             std::make_unique<EmulatedDevice>(std::make_unique<VendorGadget>(s), DriverBinding{}));
         testbed.add(1, 9, fgsr_identity(), *devices.back());
@@ -86,11 +91,7 @@ int main(int argc, char** argv) {
             s.latencies_us.push_back(ms[k % ms.size()] * 1000 + 120 + 5 * uint32_t(k % 7));
         s.samples = 9000;
         s.interval_ms = 20;
-        s.never_answer = fault == "silent-handshake";
-        if (fault == "unplug") s.unplug_after = 5;
-        if (fault == "stall") s.stall_after = 5;
-        if (fault == "timeout") s.silent_after = 5;
-        if (fault == "garbage") s.garbage_after = 5;
+        apply_fault(s, fault);
         devices.push_back(
             std::make_unique<EmulatedDevice>(std::make_unique<OslttGadget>(s), osltt_drivers()));
         testbed.add(1, 7, osltt_identity(), *devices.back());
