@@ -85,6 +85,7 @@
 #define MATCH_DST 1   // pyramid of the frame searched
 #define MATCH_FIELD 2 // block vectors of every level and both directions (vec4: v.xy, cost, 0)
 #define MATCH_COUNT 3
+#define MATCH_TEXELS ((1u << MATCH_SRC) | (1u << MATCH_DST)) // read with texelFetch (variants.hpp)
 
 #define FLOW_CUR 0   // pyramid of the current frame (level 0 read)
 #define FLOW_PREV 1  // pyramid of the previous frame
@@ -92,6 +93,7 @@
 #define FLOW_MV 3    // the current frame's vectors (vec2, internal convention)
 #define FLOW_DEPTH 4 // the current frame's depth (written only as a proxy)
 #define FLOW_COUNT 5
+#define FLOW_TEXELS ((1u << FLOW_CUR) | (1u << FLOW_PREV) | (1u << FLOW_FIELD))
 
 // classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current
 // vectors, GEN_DEPTH1 = current depth, GEN_DEPTH0 = previous depth), then:

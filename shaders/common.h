@@ -181,22 +181,26 @@ struct MatchParams {
     float lambda; // cost per pixel of distance from the prediction (luma units)
     uint same_offset;     // MOTION_NONE, or this level's blocks of a first pass: propagation
     uint temporal_offset; // MOTION_NONE, or this level's blocks of the previous submit
+    uint store; // MATCH_STORE_* bits: what the pass stores besides the integer vector and its cost
 };
+#define MATCH_STORE_CONTRAST 1u // the block's contrast (read by the fill stage, flow.h's check field)
+#define MATCH_STORE_SUBPIXEL 2u // a sub-pixel vector (else integer: a first pass's, read rounded)
+#define MATCH_STORE_SAD 4u      // the full block's SAD instead of the cost (level 0: the cut test)
 #define MOTION_NONE 0xffffffffu
 
 struct FlowParams {
     uint width;
     uint height;
-    uint blocks_x; // level-0 block grid
+    uint blocks_x; // the finest matched level's block grid (motion_first_level)
     uint blocks_y;
-    uint back_offset; // level-0 blocks of the current -> previous field
-    uint fwd_offset;  // level-0 blocks of the previous -> current field
+    uint back_offset; // its blocks of the current -> previous field
+    uint fwd_offset;  // its blocks of the previous -> current field
     float global_x;   // dominant motion, pixels, current -> previous
     float global_y;
     float fb_tolerance; // forward-backward mismatch (pixels) beyond which a pixel is occluded
     float depth_scale;  // motion difference from the dominant one (pixels) that halves the proxy
     uint write_depth;   // 1: write the depth proxy (the session has no depth)
-    uint pad0;
+    uint block_shift;   // the finest matched level: blocks of MOTION_BLOCK << shift pixels, vectors x 2^shift
 };
 
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
@@ -228,7 +232,7 @@ static_assert(sizeof(IngestParams) == 52 && sizeof(GenParams) == 48 && sizeof(Sr
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
-static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 56 && sizeof(FlowParams) == 48,
+static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 60 && sizeof(FlowParams) == 48,
               "motion push constants");
 } // namespace fgsr::gpu
 #endif

@@ -4,15 +4,15 @@
 #include "bindings.h"
 layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
 layout(push_constant) uniform Push { FlowParams p; } pc;
-layout(std430, binding = FLOW_CUR) readonly buffer Cur { float cur[]; };
-layout(std430, binding = FLOW_PREV) readonly buffer Prev { float prev[]; };
-layout(std430, binding = FLOW_FIELD) readonly buffer Field { vec4 field[]; };
+layout(binding = FLOW_CUR) uniform samplerBuffer cur; // texel buffers, as in match.comp
+layout(binding = FLOW_PREV) uniform samplerBuffer prev;
+layout(binding = FLOW_FIELD) uniform samplerBuffer field; // RGBA32F texels
 layout(std430, binding = FLOW_MV) writeonly buffer Mv { vec2 mv[]; };
 layout(std430, binding = FLOW_DEPTH) writeonly buffer Depth { float depth[]; };
 
-float load_cur(uint i) { return cur[i]; }
-float load_prev(uint i) { return prev[i]; }
-vec4 load_field(uint i) { return field[i]; }
+float load_cur(uint i) { return texelFetch(cur, int(i)).x; }
+float load_prev(uint i) { return texelFetch(prev, int(i)).x; }
+vec4 load_field(uint i) { return texelFetch(field, int(i)); }
 void store_flow(uint i, vec2 m, float d, bool write_depth) {
     mv[i] = m;
     if (write_depth) depth[i] = d;

@@ -36,15 +36,16 @@
 #define FLOW_AGREE 0.25f     // pixels: blocks this close to their blend need no per-pixel choice
 #define FLOW_PROXY_RANGE 0.04f // depth proxies lie in (1 - range, 1]
 
+// A block's vector in pixels of the frame (blocks of a coarser level hold vectors of theirs).
 FGSR_INLINE vec2 flow_block(ivec2 b, uint offset, FlowParams p) {
     b = clamp(b, ivec2(0), ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1));
     vec4 f = load_field(offset + uint(b.y) * p.blocks_x + uint(b.x));
-    return vec2(f.x, f.y);
+    return vec2(f.x, f.y) * float(1u << p.block_shift);
 }
 
 // The field at a position in pixels, bilinear between block centres.
 FGSR_INLINE vec2 flow_bilinear(vec2 pos, uint offset, FlowParams p) {
-    vec2 b = pos * (1.0f / float(MOTION_BLOCK)) - 0.5f;
+    vec2 b = pos * (1.0f / float(MOTION_BLOCK << p.block_shift)) - 0.5f;
     vec2 i = floor(b);
     vec2 f = b - i;
     ivec2 c = ivec2(i);
@@ -74,7 +75,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     ivec2 q = ivec2(u);
     vec2 pos = vec2(q) + 0.5f;
     vec2 g = vec2(p.global_x, p.global_y);
-    vec2 b = pos * (1.0f / float(MOTION_BLOCK)) - 0.5f;
+    vec2 b = pos * (1.0f / float(MOTION_BLOCK << p.block_shift)) - 0.5f;
     vec2 fb = floor(b);
     vec2 f = b - fb;
     ivec2 c = ivec2(fb);

@@ -30,6 +30,18 @@
 //   void  store_field(uint index, vec4 value)
 
 #define MATCH_GOOD 0.003f // mean absolute luma difference of a match that needs no search
+#define MATCH_STILL 1.0e-5f // ... of a block that has not changed at all: zero motion, nothing else tried
+
+// The block's contrast (mean absolute deviation): what a cut's mismatch is measured against, and
+// what tells the fill stage which blocks have texture.
+FGSR_INLINE float match_contrast(float blk[64]) {
+    float mean = 0.0f;
+    FGSR_UNROLL for (int k = 0; k < 64; ++k) mean += blk[k];
+    mean *= 1.0f / 64.0f;
+    float contrast = 0.0f;
+    FGSR_UNROLL for (int k = 0; k < 64; ++k) contrast += abs(blk[k] - mean);
+    return contrast * (1.0f / 64.0f);
+}
 
 FGSR_INLINE float match_dst(ivec2 q, MatchParams p) {
     q = clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
@@ -72,6 +84,62 @@ FGSR_INLINE float match_subpixel(float cm, float c0, float cp) {
     return slope > 1.0e-7f ? clamp(0.5f * (cm - cp) / slope, -0.5f, 0.5f) : 0.0f;
 }
 
+// The best displacement within +-R of `centre` (R <= MATCH_WINDOW_R; a constant after inlining, so
+// that every index below is one) from a single read of the (8 + 2R)^2 destination pixels the
+// search covers: each cost is then a sum over values already read instead of 32 reads (on
+// llvmpipe a read is a gather, the sum a few vector instructions). The costs, their order and
+// their tie-breaking are those of the direct search (match_cost). `around` returns the costs at
+// the best displacement -+1 in x, then -+1 in y, or -1 where they fall outside the window.
+#define MATCH_WINDOW_R 2
+#define MATCH_WINDOW_W (8 + 2 * MATCH_WINDOW_R)
+struct MatchSearch {
+    ivec2 best;
+    float cost; // match cost plus the regularising term
+    float raw;  // match cost
+    vec4 around;
+};
+
+FGSR_INLINE MatchSearch match_search_window(float blk[64], ivec2 origin, MatchSearch s, vec2 pred, bool search,
+                                            int R, MatchParams p) {
+    float win[MATCH_WINDOW_W * MATCH_WINDOW_W];
+    ivec2 centre = s.best;
+    FGSR_UNROLL for (int y = 0; y < 8 + 2 * R; ++y)
+        FGSR_UNROLL for (int x = 0; x < 8 + 2 * R; ++x)
+            win[y * MATCH_WINDOW_W + x] = match_dst(origin + centre + ivec2(x - R, y - R), p);
+    float costs[(2 * MATCH_WINDOW_R + 1) * (2 * MATCH_WINDOW_R + 1)];
+    FGSR_UNROLL for (int oy = 0; oy <= 2 * R; ++oy)
+        FGSR_UNROLL for (int ox = 0; ox <= 2 * R; ++ox) {
+            float c = 0.0f;
+            FGSR_UNROLL for (int y = 0; y < 8; ++y)
+                FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) c += abs(blk[y * 8 + x] - win[(y + oy) * MATCH_WINDOW_W + x + ox]);
+            costs[oy * (2 * MATCH_WINDOW_R + 1) + ox] = c * (1.0f / 32.0f);
+        }
+    if (search)
+        FGSR_UNROLL for (int oy = 0; oy <= 2 * R; ++oy)
+            FGSR_UNROLL for (int ox = 0; ox <= 2 * R; ++ox) {
+                if (ox == R && oy == R) continue;
+                ivec2 d = centre + ivec2(ox - R, oy - R);
+                float r = costs[oy * (2 * MATCH_WINDOW_R + 1) + ox];
+                float cost = r + p.lambda * length(vec2(d) - pred);
+                if (cost < s.cost) {
+                    s.cost = cost;
+                    s.raw = r;
+                    s.best = d;
+                }
+            }
+    s.around = vec4(-1.0f);
+    FGSR_UNROLL for (int oy = 0; oy <= 2 * R; ++oy)
+        FGSR_UNROLL for (int ox = 0; ox <= 2 * R; ++ox) {
+            ivec2 o = centre + ivec2(ox - R, oy - R) - s.best;
+            float r = costs[oy * (2 * MATCH_WINDOW_R + 1) + ox];
+            if (o.y == 0 && o.x == -1) s.around.x = r;
+            if (o.y == 0 && o.x == 1) s.around.y = r;
+            if (o.x == 0 && o.y == -1) s.around.z = r;
+            if (o.x == 0 && o.y == 1) s.around.w = r;
+        }
+    return s;
+}
+
 FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
     ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
@@ -82,10 +150,18 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
             ivec2 q = min(origin + ivec2(x, y), last);
             blk[y * 8 + x] = load_src(p.src_offset + uint(q.y) * p.width + uint(q.x));
         }
+    uint at = p.field_offset + b.y * p.blocks_x + b.x;
+    // Each candidate's cost is evaluated once: `raw` keeps the best one's match cost, so that a new
+    // prediction only changes the regularising term.
     vec2 pred = vec2(0.0f);
     if (p.same_offset != MOTION_NONE) pred = match_same(ivec2(b), p.same_offset, p);
     ivec2 best = ivec2(0);
-    float best_cost = match_cost(blk, origin, best, p) + p.lambda * length(pred);
+    float raw = match_cost(blk, origin, best, p);
+    if (raw <= MATCH_STILL) { // an unchanged block (a still part of the scene): zero, nothing tried
+        store_field(at, vec4(0.0f, 0.0f, raw, (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f));
+        return;
+    }
+    float best_cost = raw + p.lambda * length(pred);
     if (p.same_offset != MOTION_NONE) {
         // Propagation: this block's own first-pass vector and its four neighbours', so that a
         // good match spreads along a structure (a pole, a floor) that single blocks miss.
@@ -93,9 +169,12 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
             ivec2 c = ivec2(b) + (k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1)))));
             vec2 v = match_same(c, p.same_offset, p);
             ivec2 d = ivec2(floor(v + 0.5f));
-            float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+            if (d == best) continue;
+            float r = match_cost(blk, origin, d, p);
+            float cost = r + p.lambda * length(vec2(d) - pred);
             if (cost < best_cost) {
                 best_cost = cost;
+                raw = r;
                 best = d;
             }
         }
@@ -104,56 +183,77 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
         // The previous submit's vector of this block: motion is coherent in time.
         vec2 v = match_same(ivec2(b), p.temporal_offset, p);
         ivec2 d = ivec2(floor(v + 0.5f));
-        float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
-        if (cost < best_cost) {
-            best_cost = cost;
-            best = d;
+        if (d != best) {
+            float r = match_cost(blk, origin, d, p);
+            float cost = r + p.lambda * length(vec2(d) - pred);
+            if (cost < best_cost) {
+                best_cost = cost;
+                raw = r;
+                best = d;
+            }
         }
     }
     if (p.coarse_blocks_x > 0u) {
         ivec2 parent = ivec2(b) / 2;
         ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
         pred = match_coarse(parent, p);
-        best_cost = match_cost(blk, origin, best, p) + p.lambda * length(vec2(best) - pred);
+        best_cost = raw + p.lambda * length(vec2(best) - pred);
         for (int k = 0; k < 4; ++k) {
             ivec2 c = parent + ivec2((k & 1) != 0 ? side.x : 0, (k & 2) != 0 ? side.y : 0);
             vec2 v = match_coarse(c, p);
             ivec2 d = ivec2(floor(v + 0.5f));
-            float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
+            if (d == best) continue;
+            float r = match_cost(blk, origin, d, p);
+            float cost = r + p.lambda * length(vec2(d) - pred);
             if (cost < best_cost) {
                 best_cost = cost;
+                raw = r;
                 best = d;
             }
         }
     }
     // A candidate that already matches to within MATCH_GOOD needs no search around it (most blocks
     // of a smooth motion, after the first levels): only its sub-pixel fit.
-    ivec2 centre = best;
-    int radius = best_cost < MATCH_GOOD ? 0 : p.radius;
-    for (int dy = -radius; dy <= radius; ++dy)
-        for (int dx = -radius; dx <= radius; ++dx) {
-            if (dx == 0 && dy == 0) continue;
-            ivec2 d = centre + ivec2(dx, dy);
-            float cost = match_cost(blk, origin, d, p) + p.lambda * length(vec2(d) - pred);
-            if (cost < best_cost) {
-                best_cost = cost;
-                best = d;
-            }
+    bool search = best_cost >= MATCH_GOOD;
+    bool subpixel = (p.store & MATCH_STORE_SUBPIXEL) != 0u;
+    MatchSearch s;
+    s.best = best;
+    s.cost = best_cost;
+    s.raw = raw;
+    s.around = vec4(-1.0f);
+    if (p.radius <= MATCH_WINDOW_R) {
+        if (search || subpixel) {
+            if (p.radius == 1) s = match_search_window(blk, origin, s, pred, search, 1, p);
+            else if (p.radius == 2) s = match_search_window(blk, origin, s, pred, search, 2, p);
         }
-    // The block's contrast (mean absolute deviation): what a cut's mismatch is measured against.
-    float mean = 0.0f;
-    FGSR_UNROLL for (int k = 0; k < 64; ++k) mean += blk[k];
-    mean *= 1.0f / 64.0f;
-    float contrast = 0.0f;
-    FGSR_UNROLL for (int k = 0; k < 64; ++k) contrast += abs(blk[k] - mean);
-    contrast *= 1.0f / 64.0f;
-    float c0 = match_sad(blk, origin, best, p);
-    float h0 = match_cost(blk, origin, best, p);
-    float sx = match_subpixel(match_cost(blk, origin, best - ivec2(1, 0), p), h0,
-                              match_cost(blk, origin, best + ivec2(1, 0), p));
-    float sy = match_subpixel(match_cost(blk, origin, best - ivec2(0, 1), p), h0,
-                              match_cost(blk, origin, best + ivec2(0, 1), p));
-    store_field(p.field_offset + b.y * p.blocks_x + b.x, vec4(float(best.x) + sx, float(best.y) + sy, c0, contrast));
+    } else if (search) {
+        ivec2 centre = best;
+        for (int dy = -p.radius; dy <= p.radius; ++dy)
+            for (int dx = -p.radius; dx <= p.radius; ++dx) {
+                if (dx == 0 && dy == 0) continue;
+                ivec2 d = centre + ivec2(dx, dy);
+                float r = match_cost(blk, origin, d, p);
+                float cost = r + p.lambda * length(vec2(d) - pred);
+                if (cost < s.cost) {
+                    s.cost = cost;
+                    s.raw = r;
+                    s.best = d;
+                }
+            }
+    }
+    float contrast = (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f;
+    float z = (p.store & MATCH_STORE_SAD) != 0u ? match_sad(blk, origin, s.best, p) : s.raw;
+    if (!subpixel) {
+        store_field(at, vec4(vec2(s.best), z, contrast));
+        return;
+    }
+    vec4 n = s.around;
+    if (n.x < 0.0f) n.x = match_cost(blk, origin, s.best - ivec2(1, 0), p);
+    if (n.y < 0.0f) n.y = match_cost(blk, origin, s.best + ivec2(1, 0), p);
+    if (n.z < 0.0f) n.z = match_cost(blk, origin, s.best - ivec2(0, 1), p);
+    if (n.w < 0.0f) n.w = match_cost(blk, origin, s.best + ivec2(0, 1), p);
+    vec2 v = vec2(s.best) + vec2(match_subpixel(n.x, s.raw, n.y), match_subpixel(n.z, s.raw, n.w));
+    store_field(at, vec4(v, z, contrast));
 }
 
 // Stage fill (the match_fill build, after level 0): blocks without texture (contrast below
@@ -163,6 +263,9 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
 // none, they keep their own. Reads the level's final blocks (same_offset), writes field_offset.
 #define MOTION_FILL_CONTRAST 0.01f
 #define MOTION_FILL_RADIUS 3
+#ifndef MATCH_MEDIAN
+#define MATCH_MEDIAN 1
+#endif
 
 FGSR_INLINE void fill_block(uvec2 b, MatchParams p) {
     if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
@@ -181,6 +284,31 @@ FGSR_INLINE void fill_block(uvec2 b, MatchParams p) {
                 weight += t * t;
             }
         if (weight > 1.0e-8f) result = vec4(sum / weight, own.z, own.w);
+    } else if (MATCH_MEDIAN != 0) {
+        float xs[9];
+        float ys[9];
+        int n = 0;
+        for (int y = -1; y <= 1; ++y)
+            for (int x = -1; x <= 1; ++x) {
+                ivec2 c = clamp(ivec2(b) + ivec2(x, y), ivec2(0), ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1));
+                vec4 f = load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x));
+                xs[n] = f.x;
+                ys[n] = f.y;
+                ++n;
+            }
+        float mx = own.x, my = own.y;
+        for (int i = 0; i < 9; ++i) {
+            int lx = 0, ex = 0, ly = 0, ey = 0;
+            for (int j = 0; j < 9; ++j) {
+                lx += xs[j] < xs[i] ? 1 : 0;
+                ex += xs[j] == xs[i] ? 1 : 0;
+                ly += ys[j] < ys[i] ? 1 : 0;
+                ey += ys[j] == ys[i] ? 1 : 0;
+            }
+            if (lx <= 4 && lx + ex > 4) mx = xs[i];
+            if (ly <= 4 && ly + ey > 4) my = ys[i];
+        }
+        result = vec4(mx, my, own.z, own.w);
     }
     store_field(p.field_offset + b.y * p.blocks_x + b.x, result);
 }

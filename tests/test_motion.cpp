@@ -75,8 +75,7 @@ double psnr(const std::vector<float>& a, const std::vector<glm::vec4>& b) {
     return 10.0 * std::log10(1.0 / std::max(se / double(b.size() * 3), 1e-12));
 }
 
-TEST(Motion, GpuPassesMatchTheCpuReference) {
-    const uint32_t w = 150, h = 94; // not multiples of the block size: edge blocks are clamped
+void expect_gpu_matches_cpu(uint32_t w, uint32_t h) {
     auto s = session_of(colour_only(w, h));
     ASSERT_TRUE(s);
     const RawFrame f0 = render(w, h, [](glm::vec2 p) { return texture(p, 1); });
@@ -107,7 +106,29 @@ TEST(Motion, GpuPassesMatchTheCpuReference) {
     }
     // Float rounding may flip a tie between two candidates of equal cost in a handful of pixels.
     EXPECT_LE(differ, size_t(w) * h / 500) << "pixels where GPU and CPU differ";
+    // Both found the motion the frames were made with (interior pixels; content enters at the edges).
+    size_t near = 0, counted = 0;
+    for (uint32_t y = 16; y + 16 < h; ++y)
+        for (uint32_t x = 16; x + 16 < w; ++x, ++counted) {
+            const size_t i = size_t(y) * w + x;
+            near += glm::length(glm::vec2(gpu->mv[2 * i], gpu->mv[2 * i + 1]) - glm::vec2(4.3f, -2.6f)) < 0.5f;
+        }
+    EXPECT_GT(double(near), 0.9 * double(counted)) << "pixels within 0.5 px of the true motion";
     expect_no_validation_errors();
+}
+
+TEST(Motion, GpuPassesMatchTheCpuReference) {
+    const uint32_t w = 150, h = 94; // not multiples of the block size: edge blocks are clamped
+    ASSERT_EQ(ref::motion_first_level(ref::motion_levels(w, h)), 0u);
+    expect_gpu_matches_cpu(w, h);
+}
+
+TEST(Motion, GpuPassesMatchTheCpuReferenceAboveTheHalfResolutionThreshold) {
+    // Above kMotionHalfResPixels block matching stops at level 1 (16x16-pixel blocks) and the flow
+    // pass reads that level's blocks, doubled.
+    const uint32_t w = 1282, h = 722;
+    ASSERT_EQ(ref::motion_first_level(ref::motion_levels(w, h)), 1u);
+    expect_gpu_matches_cpu(w, h);
 }
 
 struct Errors {

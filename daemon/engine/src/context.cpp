@@ -34,7 +34,8 @@ Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
         const VariantInfo& info = kVariants[v];
         const std::string shader = std::string(info.shader) + "_g" + std::to_string(impl->group);
         auto pipe =
-            vk::Pipeline::create(*impl->ctx, shader, variant_bindings(Variant(v)), pass_push(info.pass));
+            vk::Pipeline::create(*impl->ctx, shader, variant_bindings(Variant(v)), pass_push(info.pass),
+                                 variant_texels(Variant(v)));
         if (!pipe) return pipe.error();
         impl->pipelines[v] = std::move(*pipe);
     }

@@ -37,11 +37,17 @@ uint32_t ref::motion_field_blocks(const std::vector<MotionLevel>& levels) {
     return levels.empty() ? 0 : levels.back().field_offset + levels.back().blocks_x * levels.back().blocks_y;
 }
 
+size_t ref::motion_first_level(const std::vector<MotionLevel>& levels) {
+    if (levels.size() < 3) return 0;
+    return uint64_t(levels[0].width) * levels[0].height > kMotionHalfResPixels ? 1 : 0;
+}
+
 gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward,
                                    bool propagate, bool temporal) {
     const MotionLevel& l = levels[k];
     const uint32_t half = motion_field_blocks(levels);
     const uint32_t dir = forward ? half : 0, first_pass = 2 * half + dir;
+    const size_t finest = motion_first_level(levels);
     gpu::MatchParams m{};
     m.width = l.width;
     m.height = l.height;
@@ -55,19 +61,25 @@ gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_
         m.field_offset = l.field_offset + dir;
         m.same_offset = l.field_offset + first_pass;
         m.radius = kMotionRadiusFine;
-        m.lambda = kMotionLambda;
+        m.lambda = k == finest ? kMotionLambdaFine : kMotionLambda;
+        // The finest level's final blocks: their contrast for the fill stage, their SAD for the cut test.
+        m.store = MATCH_STORE_SUBPIXEL | (k == finest ? MATCH_STORE_CONTRAST | MATCH_STORE_SAD : 0u);
         return m;
     }
     // The previous -> current field only checks the vectors (flow.h): one pass, straight into the
     // final region.
     m.field_offset = l.field_offset + (forward ? dir : first_pass);
+    // A first pass's vectors are read rounded by the propagation; the level-0 check field is read
+    // against a tolerance of pixels (flow.h): neither needs a sub-pixel fit. The coarser levels of
+    // the check field seed the next level (doubled, rounded): they do.
+    m.store = !forward ? 0u : (k == finest ? MATCH_STORE_CONTRAST : MATCH_STORE_SUBPIXEL);
     if (temporal && !forward) m.temporal_offset = 4 * half + l.field_offset;
     if (k + 1 < levels.size()) {
         m.coarse_offset = levels[k + 1].field_offset + dir;
         m.coarse_blocks_x = levels[k + 1].blocks_x;
         m.coarse_blocks_y = levels[k + 1].blocks_y;
-        m.radius = k == 0 ? kMotionRadiusFine : kMotionRadiusMiddle;
-        m.lambda = kMotionLambda;
+        m.radius = k == finest ? kMotionRadiusFine : kMotionRadiusMiddle;
+        m.lambda = k == finest ? kMotionLambdaFine : kMotionLambda;
     } else {
         m.radius = kMotionRadiusCoarsest;
         m.lambda = kMotionLambdaCoarsest;
@@ -76,20 +88,22 @@ gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_
 }
 
 gpu::MatchParams ref::fill_params(const std::vector<MotionLevel>& levels, bool forward) {
-    gpu::MatchParams m = match_params(levels, 0, forward, true, false);
+    gpu::MatchParams m = match_params(levels, motion_first_level(levels), forward, true, false);
     std::swap(m.field_offset, m.same_offset); // final blocks in, first-pass region out
     return m;
 }
 
 gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth) {
     gpu::FlowParams f{};
+    const size_t finest = motion_first_level(levels);
     f.width = levels[0].width;
     f.height = levels[0].height;
-    f.blocks_x = levels[0].blocks_x;
-    f.blocks_y = levels[0].blocks_y;
-    // The filled level-0 blocks (fill_params): the first-pass regions, free after propagation.
-    f.back_offset = 2 * motion_field_blocks(levels);
-    f.fwd_offset = 3 * motion_field_blocks(levels);
+    f.blocks_x = levels[finest].blocks_x;
+    f.blocks_y = levels[finest].blocks_y;
+    f.block_shift = uint32_t(finest);
+    // The filled finest blocks (fill_params): the first-pass regions, free after propagation.
+    f.back_offset = 2 * motion_field_blocks(levels) + levels[finest].field_offset;
+    f.fwd_offset = 3 * motion_field_blocks(levels) + levels[finest].field_offset;
     f.global_x = global.x;
     f.global_y = global.y;
     f.fb_tolerance = kMotionFbTolerance;
@@ -131,6 +145,14 @@ ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, floa
     return s;
 }
 
+ref::MotionSummary ref::summarise_motion(const std::vector<MotionLevel>& levels, const glm::vec4* field,
+                                         float typical_share) {
+    const MotionLevel& l = levels[motion_first_level(levels)];
+    MotionSummary s = summarise_motion({field + l.field_offset, size_t(l.blocks_x) * l.blocks_y}, typical_share);
+    s.global *= float(1u << motion_first_level(levels));
+    return s;
+}
+
 Result<void> Session::Impl::init_motion() {
     estimator.levels = ref::motion_levels(format.width, format.height);
     const uint32_t floats =
@@ -139,6 +161,7 @@ Result<void> Session::Impl::init_motion() {
         auto r = vk::Buffer::create(*ctx, VkDeviceSize(floats) * 4, false);
         if (!r) return r.error();
         b = std::move(*r);
+        FGSR_TRY(b.make_texel_view()); // match and flow read the pyramids with texelFetch
     }
     // Host-visible: the host summarises the level-0 current -> previous blocks between the two
     // command buffers of a submit (a few hundred KB at 1080p).
@@ -146,7 +169,7 @@ Result<void> Session::Impl::init_motion() {
         *ctx, VkDeviceSize(ref::motion_field_blocks(estimator.levels)) * ref::kFieldRegions * 16, true);
     if (!f) return f.error();
     estimator.field = std::move(*f);
-    return {};
+    return estimator.field.make_texel_view(VK_FORMAT_R32G32B32A32_SFLOAT); // flow reads it with texelFetch
 }
 
 Result<void> Session::Impl::record_luma(int slot) {
@@ -178,7 +201,8 @@ Result<void> Session::Impl::record_match(int cur, int prev) {
         vkCmdCopyBuffer(rec.cmd(), estimator.field.handle(), estimator.field.handle(), 1, &region);
         rec.barrier();
     }
-    for (size_t k = estimator.levels.size(); k-- > 0;) {
+    const size_t finest = ref::motion_first_level(estimator.levels);
+    for (size_t k = estimator.levels.size(); k-- > finest;) {
         const ref::MotionLevel& l = estimator.levels[k];
         const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false, false, temporal);
         const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true, false, temporal);
@@ -191,17 +215,16 @@ Result<void> Session::Impl::record_match(int cur, int prev) {
     }
     const gpu::MatchParams fb = ref::fill_params(estimator.levels, false),
                            ff = ref::fill_params(estimator.levels, true);
-    const ref::MotionLevel& l0 = estimator.levels[0];
-    FGSR_TRY(rec.dispatch_pixels(Variant::match_fill, back, &fb, l0.blocks_x, l0.blocks_y));
-    FGSR_TRY(rec.dispatch_pixels(Variant::match_fill, fwd, &ff, l0.blocks_x, l0.blocks_y));
+    const ref::MotionLevel& lf = estimator.levels[finest];
+    FGSR_TRY(rec.dispatch_pixels(Variant::match_fill, back, &fb, lf.blocks_x, lf.blocks_y));
+    FGSR_TRY(rec.dispatch_pixels(Variant::match_fill, fwd, &ff, lf.blocks_x, lf.blocks_y));
     rec.barrier();
     return {};
 }
 
 ref::MotionSummary Session::Impl::summarise_motion() const {
-    const ref::MotionLevel& l = estimator.levels[0];
     const auto* blocks = static_cast<const glm::vec4*>(estimator.field.mapped());
-    return ref::summarise_motion({blocks, size_t(l.blocks_x) * l.blocks_y}, estimator.typical_share);
+    return ref::summarise_motion(estimator.levels, blocks, estimator.typical_share);
 }
 
 Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global) {

@@ -94,12 +94,12 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     if (temporal)
         std::copy(field.begin(), field.begin() + std::ptrdiff_t(half),
                   field.begin() + std::ptrdiff_t(4 * half));
-    for (size_t k = levels.size(); k-- > 0;) {
+    for (size_t k = levels.size(); k-- > motion_first_level(levels);) {
         match_level(p1, p0, field, match_params(levels, k, false, false, temporal));
         match_level(p0, p1, field, match_params(levels, k, true, false, temporal));
         match_level(p1, p0, field, match_params(levels, k, false, true, temporal));
     }
-    const MotionSummary s = summarise_motion({field.data(), size_t(levels[0].blocks_x) * levels[0].blocks_y});
+    const MotionSummary s = summarise_motion(levels, field.data());
     if (s.cut) {
         field.clear();
         return s;

@@ -35,11 +35,12 @@ Result<void> Recorder::init(vk::Context& ctx, const Pipelines& pipelines, uint32
     FGSR_VK(vkAllocateCommandBuffers(ctx.device, &ai, &cmd_), "vkAllocateCommandBuffers");
     VkFenceCreateInfo fi{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     FGSR_VK(vkCreateFence(ctx.device, &fi, nullptr, &fence_), "vkCreateFence");
-    VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, max_sets * kMaxBindings};
+    const std::array<VkDescriptorPoolSize, 2> ps{{{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, max_sets * kMaxBindings},
+                                                  {VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, max_sets * kMaxBindings}}};
     VkDescriptorPoolCreateInfo di{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     di.maxSets = max_sets;
-    di.poolSizeCount = 1;
-    di.pPoolSizes = &ps;
+    di.poolSizeCount = uint32_t(ps.size());
+    di.pPoolSizes = ps.data();
     FGSR_VK(vkCreateDescriptorPool(ctx.device, &di, nullptr, &desc_pool_), "vkCreateDescriptorPool");
     VkQueryPoolCreateInfo qi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
@@ -122,10 +123,17 @@ Result<void> Recorder::bind_slots(Variant v, PassId pass, Layout layout, std::sp
     if (info.pass != pass || info.layout != layout || slots.size() != variant_bindings(v))
         return make_error(Errc::invalid_argument, "internal: " + std::string(info.shader) +
                                                       " dispatched with the bindings of another pass");
-    for (size_t i = 0; i < slots.size(); ++i)
-        if (slots[i].buffer == VK_NULL_HANDLE)
+    const uint32_t texels = variant_texels(v);
+    for (size_t i = 0; i < slots.size(); ++i) {
+        const bool texel = (texels >> i) & 1u;
+        if (slots[i].buffer == VK_NULL_HANDLE || (texel && slots[i].view == VK_NULL_HANDLE))
             return make_error(Errc::invalid_argument, "internal: " + std::string(info.shader) + " binding " +
-                                                          std::to_string(i) + " is unbound");
+                                                          std::to_string(i) + " is unbound" +
+                                                          (texel ? " (or has no texel view)" : ""));
+        if (texel && (slots[i].offset != 0 || slots[i].range != VK_WHOLE_SIZE))
+            return make_error(Errc::invalid_argument, "internal: " + std::string(info.shader) + " binding " +
+                                                          std::to_string(i) + ": a texel binding is a whole buffer");
+    }
     const vk::Pipeline& p = (*pipelines_)[uint32_t(v)];
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     ai.descriptorPool = desc_pool_;
@@ -143,8 +151,13 @@ Result<void> Recorder::bind_slots(Variant v, PassId pass, Layout layout, std::sp
         writes[i].dstSet = set;
         writes[i].dstBinding = i;
         writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &infos[i];
+        if ((texels >> i) & 1u) {
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+            writes[i].pTexelBufferView = &b.view;
+        } else {
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            writes[i].pBufferInfo = &infos[i];
+        }
         ++i;
     }
     vkUpdateDescriptorSets(ctx_->device, i, writes.data(), 0, nullptr);

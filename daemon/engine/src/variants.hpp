@@ -124,6 +124,19 @@ constexpr uint32_t pass_push(PassId p) {
     return 0;
 }
 
+// Bindings a pass reads as uniform texel buffers (R32_SFLOAT, texelFetch), one bit per binding
+// number; every other binding is a storage buffer (shaders/bindings.h, <PASS>_TEXELS).
+constexpr uint32_t pass_texels(PassId p) {
+    switch (p) {
+    case PassId::match:
+        return MATCH_TEXELS;
+    case PassId::flow:
+        return FLOW_TEXELS;
+    default:
+        return 0;
+    }
+}
+
 constexpr uint32_t layout_bindings(PassId p, Layout l) {
     return pass_bindings(p) + (l == Layout::TILED ? uint32_t(TILED_EXTRA) : 0u);
 }
@@ -132,6 +145,9 @@ constexpr const VariantInfo& variant_info(Variant v) {
 }
 constexpr uint32_t variant_bindings(Variant v) {
     return layout_bindings(variant_info(v).pass, variant_info(v).layout);
+}
+constexpr uint32_t variant_texels(Variant v) {
+    return pass_texels(variant_info(v).pass);
 }
 
 // Every variant names a pass, fits the descriptor writes of Recorder::bind, and has a push block.
@@ -149,9 +165,10 @@ static_assert(variants_valid());
 // Default-constructed it is unbound, which Recorder::bind refuses.
 struct BufRef {
     BufRef() = default;
-    BufRef(const vk::Buffer& b) : buffer(b.handle()) {}
+    BufRef(const vk::Buffer& b) : buffer(b.handle()), view(b.texel_view()) {}
     BufRef(VkBuffer b, VkDeviceSize o = 0, VkDeviceSize r = VK_WHOLE_SIZE) : buffer(b), offset(o), range(r) {}
     VkBuffer buffer = VK_NULL_HANDLE;
+    VkBufferView view = VK_NULL_HANDLE; // the whole buffer's texel view, for texel bindings
     VkDeviceSize offset = 0;
     VkDeviceSize range = VK_WHOLE_SIZE;
 };

@@ -306,6 +306,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
         ctx_ = std::exchange(o.ctx_, nullptr);
         buffer_ = std::exchange(o.buffer_, VK_NULL_HANDLE);
         memory_ = std::exchange(o.memory_, VK_NULL_HANDLE);
+        view_ = std::exchange(o.view_, VK_NULL_HANDLE);
         size_ = std::exchange(o.size_, 0);
         mapped_ = std::exchange(o.mapped_, nullptr);
         imported_ = std::exchange(o.imported_, false);
@@ -316,13 +317,35 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 void Buffer::release() {
     if (!ctx_) return;
     if (mapped_ && !imported_) vkUnmapMemory(ctx_->device, memory_);
+    if (view_) vkDestroyBufferView(ctx_->device, view_, nullptr);
     if (buffer_) vkDestroyBuffer(ctx_->device, buffer_, nullptr);
     if (memory_) vkFreeMemory(ctx_->device, memory_, nullptr);
     ctx_ = nullptr;
     buffer_ = VK_NULL_HANDLE;
     memory_ = VK_NULL_HANDLE;
+    view_ = VK_NULL_HANDLE;
     mapped_ = nullptr;
     imported_ = false;
+}
+
+Result<void> Buffer::make_texel_view(VkFormat format) {
+    if (view_) return {};
+    if (!ctx_ || imported_)
+        return make_error(Errc::invalid_argument, "internal: a texel view of an imported or empty buffer");
+    const VkDeviceSize texel = format == VK_FORMAT_R32G32B32A32_SFLOAT ? 16 : 4;
+    if (format != VK_FORMAT_R32_SFLOAT && format != VK_FORMAT_R32G32B32A32_SFLOAT)
+        return make_error(Errc::invalid_argument, "internal: texel views are R32 or R32G32B32A32 floats");
+    if (size_ / texel > ctx_->props.limits.maxTexelBufferElements)
+        return make_error(Errc::unsupported, "a texel buffer of " + std::to_string(size_ / texel) +
+                                                 " texels exceeds maxTexelBufferElements (" +
+                                                 std::to_string(ctx_->props.limits.maxTexelBufferElements) + ")");
+    VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    vi.buffer = buffer_;
+    vi.format = format;
+    vi.offset = 0;
+    vi.range = VK_WHOLE_SIZE;
+    FGSR_VK(vkCreateBufferView(ctx_->device, &vi, nullptr, &view_), "vkCreateBufferView");
+    return {};
 }
 
 Result<Buffer> Buffer::import_host(Context& ctx, void* data, VkDeviceSize size) {
@@ -378,7 +401,8 @@ Result<Buffer> Buffer::create(Context& ctx, VkDeviceSize size, bool host) {
     VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     bi.size = std::max<VkDeviceSize>(size, 16);
     bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
     bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     FGSR_VK(vkCreateBuffer(ctx.device, &bi, nullptr, &b.buffer_), "vkCreateBuffer");
     VkMemoryRequirements req;
@@ -430,7 +454,7 @@ void Pipeline::release() {
 }
 
 Result<Pipeline> Pipeline::create(Context& ctx, std::string_view shader, uint32_t bindings,
-                                  uint32_t push_size) {
+                                  uint32_t push_size, uint32_t texels) {
     std::span<const uint32_t> code = shaders::spirv(shader);
     if (code.empty())
         return make_error(Errc::unsupported, "no embedded SPIR-V for pass '" + std::string(shader) + "'");
@@ -445,7 +469,8 @@ Result<Pipeline> Pipeline::create(Context& ctx, std::string_view shader, uint32_
     std::vector<VkDescriptorSetLayoutBinding> b(bindings);
     for (uint32_t i = 0; i < bindings; ++i) {
         b[i].binding = i;
-        b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        b[i].descriptorType = (texels >> i) & 1u ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
+                                                 : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         b[i].descriptorCount = 1;
         b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }

@@ -70,12 +70,19 @@ class Buffer {
     VkBuffer handle() const { return buffer_; }
     VkDeviceSize size() const { return size_; }
     void* mapped() const { return mapped_; }
+    // A view of the whole buffer as texels of `format` (R32_SFLOAT, R32G32B32A32_SFLOAT), for
+    // passes that read it as a uniform texel buffer (texelFetch): on llvmpipe a texel fetch is a
+    // vector gather, while a storage-buffer load at a per-invocation index is a loop over the SIMD
+    // lanes. Created once; lives as long as the buffer. VK_NULL_HANDLE until make_texel_view().
+    Result<void> make_texel_view(VkFormat format = VK_FORMAT_R32_SFLOAT);
+    VkBufferView texel_view() const { return view_; }
 
   private:
     void release();
     Context* ctx_ = nullptr;
     VkBuffer buffer_ = VK_NULL_HANDLE;
     VkDeviceMemory memory_ = VK_NULL_HANDLE;
+    VkBufferView view_ = VK_NULL_HANDLE;
     VkDeviceSize size_ = 0;
     void* mapped_ = nullptr;
     bool imported_ = false;
@@ -93,8 +100,9 @@ class Pipeline {
     ~Pipeline() { release(); }
 
     // `shader` names an embedded SPIR-V module ("<pass>_g<group>").
+    // Bindings whose bit is set in `texels` are uniform texel buffers, the others storage buffers.
     static Result<Pipeline> create(Context& ctx, std::string_view shader, uint32_t bindings,
-                                   uint32_t push_size);
+                                   uint32_t push_size, uint32_t texels = 0);
     VkPipeline handle() const { return pipeline_; }
     VkPipelineLayout layout() const { return layout_; }
     VkDescriptorSetLayout set_layout() const { return set_layout_; }

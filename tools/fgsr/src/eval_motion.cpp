@@ -2,6 +2,7 @@
 #include <fgsr/cli/eval_motion.hpp>
 
 #include <fgsr/capture/flow_io.hpp>
+#include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/engine/params.hpp>
 #include <fgsr/engine/reference.hpp>
@@ -143,6 +144,20 @@ Result<CaptureVectors> replace_vectors_from(capture::Capture& cap, const std::fi
     cap.format.conventions.mv_y_up = false;
     cap.format.has_depth = false;
     return own;
+}
+
+Result<void> write_vectors(const std::filesystem::path& dir, size_t k, uint32_t width, uint32_t height,
+                           const std::vector<float>& mv, const std::vector<uint8_t>& visible) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir / "flow", ec);
+    if (ec) return make_error(Errc::io, "cannot create " + (dir / "flow").string() + ": " + ec.message());
+    const std::string stem = fmt::format("{:04d}", k);
+    FGSR_TRY(capture::write_flo(dir / "flow" / (stem + ".flo"), capture::FlowField{width, height, mv}));
+    if (visible.empty()) return {};
+    ImageRGBA mask{width, height, std::vector<float>(visible.size() * 4, 1.0f)};
+    for (size_t i = 0; i < visible.size(); ++i)
+        for (size_t c = 0; c < 3; ++c) mask.rgba[4 * i + c] = visible[i] ? 1.0f : 0.0f;
+    return capture::write_png(dir / "flow" / (stem + "-visible.png"), mask);
 }
 
 FrameView reference_view(const capture::Frame& frame, const CaptureVectors* own, size_t k) {

@@ -115,7 +115,11 @@ inline constexpr int kMotionRadiusMiddle = 2;   // around the best candidate, le
 inline constexpr int kMotionRadiusFine = 1;     // around the best candidate, level 0
 // Cost per pixel away from the coarse prediction; on the coarsest level, which has none, away from
 // zero (it settles the near-ties of flat regions, which would otherwise drift to the window's edge).
-inline constexpr float kMotionLambda = 0.004f;
+// None on level 0: there the pull toward the parent's vector costs more than it settles (a zoom's
+// field changes within a parent block; the fill and median stages settle flat regions instead).
+// Chosen on the development captures only (docs/MOTION.md).
+inline constexpr float kMotionLambda = 0.002f;
+inline constexpr float kMotionLambdaFine = 0.0f;
 inline constexpr float kMotionLambdaCoarsest = 0.004f;
 inline constexpr float kMotionFbTolerance = 2.0f; // forward-backward mismatch (pixels) of occlusion
 inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) at half the proxy's range
@@ -143,6 +147,11 @@ struct MotionLevel {
 };
 std::vector<MotionLevel> motion_levels(uint32_t width, uint32_t height);
 uint32_t motion_field_blocks(const std::vector<MotionLevel>& levels); // blocks of one direction
+// The finest level block matching reaches: 0, or 1 for frames above kMotionHalfResPixels, whose
+// blocks then cover 16x16 pixels of the frame (as DIS's MEDIUM preset stops at half resolution);
+// the flow pass still chooses per pixel at full resolution. Measured in docs/MOTION.md.
+inline constexpr uint32_t kMotionHalfResPixels = 1280 * 720 - 1;
+size_t motion_first_level(const std::vector<MotionLevel>& levels);
 inline constexpr uint32_t kFieldRegions = 5;
 // Push constants of level k's first pass (propagate false) or propagation pass (forward:
 // previous -> current; temporal: the temporal region holds the previous submit's field), and of
@@ -150,7 +159,7 @@ inline constexpr uint32_t kFieldRegions = 5;
 MatchParams match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward, bool propagate,
                          bool temporal);
 FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth);
-// The fill stage of level 0 (match.h fill_block): final blocks in, first-pass region out.
+// The fill stage of the first level (match.h fill_block): final blocks in, first-pass region out.
 MatchParams fill_params(const std::vector<MotionLevel>& levels, bool forward);
 
 // What the host reads from the level-0 current -> previous blocks between the match and flow
@@ -163,6 +172,10 @@ struct MotionSummary {
 };
 // typical_share: the session's running mean share (negative: no history yet).
 MotionSummary summarise_motion(std::span<const glm::vec4> blocks, float typical_share = -1.f);
+// The same over the final current -> previous blocks of motion_first_level in `field` (the whole
+// field buffer), with the dominant motion in pixels of the frame.
+MotionSummary summarise_motion(const std::vector<MotionLevel>& levels, const glm::vec4* field,
+                               float typical_share = -1.f);
 // The running mean after a frame: updated by frames that were not cuts; a cut re-seeds it with its
 // own share (the new scene's baseline: content that never matches well is cut once and then
 // judged against itself, not cut at every frame). It outlives restarts.

@@ -60,6 +60,8 @@ class VectorReference {
     bool scorable() const { return scorable_; }
     // The visible pixels of the newest input (capture::visible_in_both); empty when not scorable.
     const std::vector<uint8_t>& visible() const { return visible_; }
+    // The newest input's vectors in the internal convention (2 floats per pixel).
+    const std::vector<float>& vectors() const { return mv_; }
 
     // EPE of the newest frame of `session` (read_frame(1).mv) against the newest input, appended
     // to score.epe; nothing when the input is not scorable or no pixel is visible.
@@ -90,6 +92,12 @@ struct CaptureVectors {
 };
 Result<CaptureVectors> replace_vectors_from(capture::Capture& cap, const std::filesystem::path& dir,
                                             size_t last_input);
+
+// With eval --out: input k's vectors as DIR/flow/%04d.flo (what --vectors-from reads) and, when
+// `visible` is not empty, the pixels the EPE counts as DIR/flow/%04d-visible.png (white).
+// Errors: io naming the file.
+Result<void> write_vectors(const std::filesystem::path& dir, size_t k, uint32_t width, uint32_t height,
+                           const std::vector<float>& mv, const std::vector<uint8_t>& visible = {});
 
 // The capture's own view of input k: `frame` with `own`'s vectors when they were replaced.
 FrameView reference_view(const capture::Frame& frame, const CaptureVectors* own, size_t k);
