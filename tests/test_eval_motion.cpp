@@ -150,6 +150,27 @@ TEST_F(EvalMotion, VectorsFromTheCapturesOwnFlowScoreZero) {
     EXPECT_GT(s["methods"]["fgsr"]["epe"].get<double>(), 0.1) << s.dump();
 }
 
+TEST_F(EvalMotion, OutWritesTheScoredVectorsForVectorsFrom) {
+    // eval --out writes fgsr-colour's vectors and the capture's, in --vectors-from's layout.
+    const std::filesystem::path out = dir_ / "out";
+    nlohmann::json a = eval_json("--capture builtin --frames 3 --methods fgsr-colour --out " + out.string());
+    ASSERT_FALSE(a.is_discarded());
+    const double epe = a["methods"]["fgsr-colour"]["epe"].get<double>();
+    EXPECT_GT(epe, 0.0);
+    ASSERT_TRUE(std::filesystem::exists(out / "fgsr-colour" / "flow" / "0001.flo"));
+    ASSERT_TRUE(std::filesystem::exists(out / "reference" / "flow" / "0001-visible.png"));
+    // The capture's own vectors, fed back, score zero.
+    nlohmann::json r = eval_json("--capture builtin --frames 3 --methods fgsr --vectors-from " +
+                                 (out / "reference" / "flow").string());
+    ASSERT_FALSE(r.is_discarded());
+    EXPECT_NEAR(r["methods"]["fgsr"]["epe"].get<double>(), 0.0, 1e-4) << r.dump();
+    // The estimated vectors, fed back, score what fgsr-colour reported for them.
+    nlohmann::json c = eval_json("--capture builtin --frames 3 --methods fgsr --vectors-from " +
+                                 (out / "fgsr-colour" / "flow").string());
+    ASSERT_FALSE(c.is_discarded());
+    EXPECT_NEAR(c["methods"]["fgsr"]["epe"].get<double>(), epe, 1e-4) << c.dump();
+}
+
 TEST_F(EvalMotion, VectorsFromRefusesBadFlowFiles) {
     auto cap = cli::load_capture_spec("builtin");
     ASSERT_TRUE(cap) << cap.error().message;
