@@ -39,6 +39,11 @@ struct Options {
     // After SIGTERM/SIGINT: clients are disconnected at once; frames still running after this
     // long are not waited for (the process exits).
     double shutdown_grace_s = 2.0;
+    // After a round of the event loop that handled events, the I/O thread polls for the next one
+    // (epoll without waiting) for up to this many microseconds before it sleeps: the next submit,
+    // release or lane completion that comes within it needs no wake-up of the thread. Bounded
+    // per round; an idle daemon does not spin (docs/SERVICE.md, "Spinning"). 0: never.
+    uint32_t spin_us = 50;
     bool allow_any_user = false; // else only peers with the daemon's uid (SO_PEERCRED)
     bool zero_copy = true;       // import input pools into the device where it can
     // The telemetry dashboard (http_server.hpp): off unless http_address is set ("HOST:PORT",
