@@ -34,7 +34,7 @@ int ms_left(uint64_t deadline_ns);
 // How long fgsr_wait and fgsr_acquire_input spin for a completion before they sleep on the
 // complete eventfd: $FGSR_WAIT_SPIN_US microseconds (0 to 1000; 0: never spin), else
 // kDefaultWaitSpinUs. Read at session creation; a malformed value is logged and the default used.
-inline constexpr uint32_t kDefaultWaitSpinUs = 50;
+inline constexpr uint32_t kDefaultWaitSpinUs = 0; // off: see docs/SERVICE.md, "Spinning"
 uint64_t wait_spin_ns_from_env();
 // One line on stderr ("fgsr_client: " + fmt), unless FGSR_CLIENT_QUIET is set.
 void log_line(const char* fmt, const char* a, unsigned long b = 0, unsigned long c = 0);

@@ -42,8 +42,10 @@ struct Options {
     // After a round of the event loop that handled events, the I/O thread polls for the next one
     // (epoll without waiting) for up to this many microseconds before it sleeps: the next submit,
     // release or lane completion that comes within it needs no wake-up of the thread. Bounded
-    // per round; an idle daemon does not spin (docs/SERVICE.md, "Spinning"). 0: never.
-    uint32_t spin_us = 50;
+    // per round; an idle daemon does not spin. Off by default: the wake-ups it saves cost 5-15 us
+    // each on the 2-core VM, and a spin shorter than a frame saves none of them (docs/SERVICE.md,
+    // "Spinning").
+    uint32_t spin_us = 0;
     bool allow_any_user = false; // else only peers with the daemon's uid (SO_PEERCRED)
     bool zero_copy = true;       // import input pools into the device where it can
     // The telemetry dashboard (http_server.hpp): off unless http_address is set ("HOST:PORT",
