@@ -9,9 +9,9 @@
 // device, so HELLO, STATS, destruction and other lanes' completions are served while a frame
 // runs; what bounds their latency is the loop's own work (ring copies, one completion batch) and
 // the CPU share the server's thread gets, not frame times. A session that waits for output slots
-// or completion-ring room is not ready and is skipped. After a round that handled events the loop
-// polls for the next one for up to --spin-us before it sleeps (a submit or a lane's completion
-// that comes within it needs no wake-up); an idle daemon does not spin.
+// or completion-ring room is not ready and is skipped. After a round that handled events, while no
+// lane runs a frame, the loop polls for the next event for up to --spin-us before it sleeps (a
+// client's next submit that comes within it needs no wake-up); an idle daemon does not spin.
 #include "server.hpp"
 
 #include "listen.hpp"
@@ -494,8 +494,12 @@ int Server::run() {
         int timeout = startable ? 0 : ring_wait ? 2 : -1;
         const int deadline = expire_connections();
         if (deadline >= 0 && (timeout < 0 || deadline < timeout)) timeout = deadline;
+        // Not while a lane runs a frame: its completion is a frame's time away, and on a CPU device
+        // the spin would take a core from the frame's threads.
+        bool lane_busy = false;
+        for (const LaneState& l : lanes_) lane_busy |= l.frame_in_flight;
         int n = 0;
-        if (spin && timeout != 0 && spin_ns > 0) {
+        if (spin && !lane_busy && timeout != 0 && spin_ns > 0) {
             // Bounded (fgsr/ipc/spin.hpp): at most spin_ns per round that handled an event.
             const auto arrived = [&] {
                 n = epoll_wait(epoll_.get(), events.data(), int(events.size()), 0);

@@ -39,9 +39,9 @@ struct Options {
     // After SIGTERM/SIGINT: clients are disconnected at once; frames still running after this
     // long are not waited for (the process exits).
     double shutdown_grace_s = 2.0;
-    // After a round of the event loop that handled events, the I/O thread polls for the next one
-    // (epoll without waiting) for up to this many microseconds before it sleeps: the next submit,
-    // release or lane completion that comes within it needs no wake-up of the thread. Bounded
+    // After a round of the event loop that handled events, while no lane runs a frame, the I/O
+    // thread polls for the next event (epoll without waiting) for up to this many microseconds
+    // before it sleeps: a client's submit or release that comes within it needs no wake-up. Bounded
     // per round; an idle daemon does not spin. Off by default: the wake-ups it saves cost 5-15 us
     // each on the 2-core VM, and a spin shorter than a frame saves none of them (docs/SERVICE.md,
     // "Spinning").
