@@ -360,6 +360,10 @@ std::string replay_summary_text(const ReplaySummary& s) {
         "service overhead (client-observed minus the daemon's work, queueing behind earlier frames "
         "included; --bench keeps one frame in flight): p50 {:.3f} ms, p99 {:.3f} ms\n",
         s.overhead_p50_ms, s.overhead_p99_ms);
+    const double submits = double(std::max<size_t>(1, s.submitted));
+    t += fmt::format("bytes copied per submit: daemon {:.0f} (stats.bytes_copied), client {:.0f} (planes into "
+                     "input slots, outputs copied out)\n",
+                     double(s.daemon_bytes_copied) / submits, double(s.client_bytes_copied) / submits);
     if (s.metrics) t += report_table(*s.metrics);
     return t;
 }
