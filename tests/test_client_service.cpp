@@ -141,6 +141,45 @@ class ClientService : public ::testing::Test {
     std::unique_ptr<FgsrdProcess> daemon_;
 };
 
+// CPU time of the calling thread, ns.
+uint64_t thread_cpu_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
+}
+
+// One fgsr_wait with nothing outstanding under FGSR_WAIT_SPIN_US=spin: TIMEOUT, and this thread's
+// CPU time in it.
+uint64_t idle_wait_cpu_ns(const std::string& socket, const char* spin) {
+    setenv("FGSR_WAIT_SPIN_US", spin, 1);
+    fgsr::client::Connection c;
+    fgsr::client::Session s;
+    const bool made = c.connect(socket.c_str(), "test") == FGSR_STATUS_OK &&
+                      s.create(c, desc_for(expected().cap.format)) == FGSR_STATUS_OK;
+    unsetenv("FGSR_WAIT_SPIN_US");
+    EXPECT_TRUE(made);
+    if (!made) return 0;
+    fgsr_output out{};
+    const uint64_t c0 = thread_cpu_ns();
+    EXPECT_EQ(s.wait(200, out), FGSR_STATUS_TIMEOUT);
+    return thread_cpu_ns() - c0;
+}
+
+TEST_F(ClientService, SpinningDaemonAndClientGiveTheSameOutputsAndTheSpinIsBounded) {
+    auto spinning = FgsrdProcess::start({"--log-level", "warn", "--spin-us", "1000"});
+    ASSERT_TRUE(spinning) << FgsrdProcess::last_error();
+    setenv("FGSR_WAIT_SPIN_US", "1000", 1);
+    EXPECT_EQ(stream_and_compare(spinning->socket_path()), 0);
+    setenv("FGSR_WAIT_SPIN_US", "not a number", 1); // logged, the default used
+    EXPECT_EQ(stream_and_compare(spinning->socket_path()), 0);
+    unsetenv("FGSR_WAIT_SPIN_US");
+    // A 200 ms wait spins at most its 1 ms budget, then sleeps: far less CPU than the wait's length
+    // (an unbounded spin would take about 200 ms). Not a timing figure: a bound 40 times the budget.
+    EXPECT_LT(idle_wait_cpu_ns(spinning->socket_path(), "1000"), 40'000'000u);
+    EXPECT_LT(idle_wait_cpu_ns(spinning->socket_path(), "0"), 40'000'000u);
+    EXPECT_EQ(spinning->terminate(), 0);
+}
+
 TEST_F(ClientService, OutputsEqualTheInProcessEngineAndFdsReturnToBaseline) {
     const int base = count_fds();
     EXPECT_EQ(stream_and_compare(daemon_->socket_path()), 0);

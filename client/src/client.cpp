@@ -29,6 +29,20 @@ int ms_left(uint64_t deadline_ns) {
     return int(std::min<uint64_t>((deadline_ns - t + 999999) / 1000000, 1u << 30));
 }
 
+uint64_t wait_spin_ns_from_env() {
+    const char* v = std::getenv("FGSR_WAIT_SPIN_US");
+    if (!v || !*v) return uint64_t(kDefaultWaitSpinUs) * 1000;
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long us = std::strtoul(v, &end, 10);
+    if (errno != 0 || *end != '\0' || *v == '-' || us > 1000) {
+        log_line("FGSR_WAIT_SPIN_US=%s: not a whole number of microseconds from 0 to 1000; using %lu", v,
+                 kDefaultWaitSpinUs);
+        return uint64_t(kDefaultWaitSpinUs) * 1000;
+    }
+    return uint64_t(us) * 1000;
+}
+
 void log_line(const char* fmt, const char* a, unsigned long b, unsigned long c) {
     if (std::getenv("FGSR_CLIENT_QUIET")) return;
     std::fprintf(stderr, "fgsr_client: ");

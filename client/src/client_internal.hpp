@@ -31,6 +31,11 @@ inline constexpr uint32_t kDefaultTimeoutMs = 5000;
 
 // Milliseconds left until `deadline_ns` (0 when passed), for poll().
 int ms_left(uint64_t deadline_ns);
+// How long fgsr_wait and fgsr_acquire_input spin for a completion before they sleep on the
+// complete eventfd: $FGSR_WAIT_SPIN_US microseconds (0 to 1000; 0: never spin), else
+// kDefaultWaitSpinUs. Read at session creation; a malformed value is logged and the default used.
+inline constexpr uint32_t kDefaultWaitSpinUs = 0; // off: see docs/SERVICE.md, "Spinning"
+uint64_t wait_spin_ns_from_env();
 // One line on stderr ("fgsr_client: " + fmt), unless FGSR_CLIENT_QUIET is set.
 void log_line(const char* fmt, const char* a, unsigned long b = 0, unsigned long c = 0);
 // A status the daemon sent, checked against the statuses the API may return for the request.
@@ -113,8 +118,12 @@ struct fgsr_session {
     std::vector<fgsr_present_report> reports;
     uint64_t reports_since_ns = 0;
     uint64_t reports_lost = 0; // dropped because the socket was full
+    uint64_t wait_spin_ns = 0; // wait_event's spin budget (wait_spin_ns_from_env at creation)
 
     fgsr_status pump();
+    // Waits until a completion may be there: first spins up to wait_spin_ns for the completion ring's
+    // head to move (no syscall; a completion published meanwhile needs no wake-up of this thread),
+    // then sleeps on the complete eventfd.
     fgsr_status wait_event(uint64_t deadline_ns);
     fgsr_status fail(fgsr_status s) {
         if (broken == FGSR_STATUS_OK) broken = s;

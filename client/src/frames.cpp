@@ -1,10 +1,13 @@
 // libfgsr_client, frames: the session's side of the rings. Acquiring a free input slot,
 // submitting it (validated here, pushed on the submit ring), draining and validating completions
-// (fgsr_session::pump), waiting on the completion eventfd, releasing output slots.
+// (fgsr_session::pump), waiting for completions (a bounded spin on the completion ring, then the
+// complete eventfd), releasing output slots.
 #include "client_internal.hpp"
 
 #include <fgsr/core/clock.hpp>
+#include <fgsr/ipc/spin.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -57,6 +60,14 @@ fgsr_status fgsr_session::pump() {
 // Waits until the complete eventfd is readable (OK), the deadline passes (TIMEOUT) or the
 // daemon hangs up (DISCONNECTED).
 fgsr_status fgsr_session::wait_event(uint64_t deadline_ns) {
+    if (wait_spin_ns > 0) {
+        const uint64_t now = monotonic_ns();
+        // Any change of the head ends the spin; pump() validates what is there (a head the daemon
+        // corrupted is an overrun: PROTOCOL_ERROR).
+        const auto published = [&] { return fgsr_ring_available(rings.completion.header, completion_tail) != 0; };
+        if (deadline_ns > now && fgsr::ipc::spin_until(published, std::min(wait_spin_ns, deadline_ns - now)))
+            return FGSR_STATUS_OK;
+    }
     for (;;) {
         pollfd p[2] = {{fds[FGSR_FD_COMPLETE_EVENT].get(), POLLIN, 0}, {conn->sock.get(), 0, 0}};
         const int r = ::poll(p, 2, ms_left(deadline_ns));

@@ -127,6 +127,7 @@ fgsr_status fgsr_session_create(fgsr_connection* connection, const fgsr_session_
         s->release_head = fgsr_ring_load_head(s->rings.release.header);
         if (s->submit_head != 0 || s->completion_tail != 0 || s->release_head != 0)
             return refuse("rings are not empty");
+        s->wait_spin_ns = wait_spin_ns_from_env();
         if (const char* dir = std::getenv("FGSR_CAPTURE"); dir && *dir) {
             std::string reason;
             s->recorder = make_recorder(dir, connection->name, s->desc, reason);

@@ -70,6 +70,11 @@ int main(int argc, char** argv) {
                    "Seconds to wait at shutdown for frames still running before exiting without them")
         ->check(CLI::Range(0.0, 3600.0))
         ->capture_default_str();
+    app.add_option("--spin-us", opt.spin_us,
+                   "Microseconds the I/O thread polls for the next event after handling one, before it "
+                   "sleeps (lower latency for some CPU time; 0: never)")
+        ->check(CLI::Range(0u, 1000u))
+        ->capture_default_str();
     app.add_flag("--allow-any-user", opt.allow_any_user,
                  "Serve clients of any uid (default: only this user, checked with SO_PEERCRED)");
     app.add_flag("--no-zero-copy", no_zero_copy, "Always copy inputs through a staging buffer");

@@ -9,7 +9,9 @@
 // device, so HELLO, STATS, destruction and other lanes' completions are served while a frame
 // runs; what bounds their latency is the loop's own work (ring copies, one completion batch) and
 // the CPU share the server's thread gets, not frame times. A session that waits for output slots
-// or completion-ring room is not ready and is skipped.
+// or completion-ring room is not ready and is skipped. After a round that handled events, while no
+// lane runs a frame, the loop polls for the next event for up to --spin-us before it sleeps (a
+// client's next submit that comes within it needs no wake-up); an idle daemon does not spin.
 #include "server.hpp"
 
 #include "listen.hpp"
@@ -18,6 +20,7 @@
 
 #include <fgsr/engine/engine.hpp>
 #include <fgsr/ipc/socket.hpp>
+#include <fgsr/ipc/spin.hpp>
 #include <fgsr/wire.h>
 
 #include <algorithm>
@@ -479,6 +482,8 @@ int Server::run() {
     epoll_ctl(epoll_.get(), EPOLL_CTL_ADD, lanes_event_.get(), &ev);
 
     std::vector<epoll_event> events(64);
+    bool spin = false; // the last round handled events: the next may follow soon
+    const uint64_t spin_ns = uint64_t(opt_.spin_us) * 1000;
     while (!stop_) {
         bool startable = false, ring_wait = false;
         for (const auto& [sid, ref] : session_owner_) {
@@ -489,7 +494,21 @@ int Server::run() {
         int timeout = startable ? 0 : ring_wait ? 2 : -1;
         const int deadline = expire_connections();
         if (deadline >= 0 && (timeout < 0 || deadline < timeout)) timeout = deadline;
-        const int n = epoll_wait(epoll_.get(), events.data(), int(events.size()), timeout);
+        // Not while a lane runs a frame: its completion is a frame's time away, and on a CPU device
+        // the spin would take a core from the frame's threads.
+        bool lane_busy = false;
+        for (const LaneState& l : lanes_) lane_busy |= l.frame_in_flight;
+        int n = 0;
+        if (spin && !lane_busy && timeout != 0 && spin_ns > 0) {
+            // Bounded (fgsr/ipc/spin.hpp): at most spin_ns per round that handled an event.
+            const auto arrived = [&] {
+                n = epoll_wait(epoll_.get(), events.data(), int(events.size()), 0);
+                return n != 0;
+            };
+            fgsr::ipc::spin_until(arrived, spin_ns);
+        }
+        if (n == 0) n = epoll_wait(epoll_.get(), events.data(), int(events.size()), timeout);
+        spin = n > 0;
         if (n < 0 && errno != EINTR) {
             log::error("epoll_wait: {}", std::strerror(errno));
             return 1;

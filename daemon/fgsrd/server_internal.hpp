@@ -5,6 +5,7 @@
 #include "http_server.hpp"
 #include "lane.hpp"
 #include "messages.hpp"
+#include "reaper.hpp"
 #include "server.hpp"
 #include "session.hpp"
 
@@ -127,6 +128,7 @@ class Server {
     }
 
     Options opt_;
+    Reaper reaper_; // before lanes_: their jobs hand it memory until they are gone
     std::array<LaneState, 2> lanes_;
     std::mutex done_mutex_; // guards done_ (lanes push, the server's thread pops)
     std::deque<Lane::Continuation> done_;

@@ -216,7 +216,10 @@ void Server::start_frame(int lane_index) {
         ServiceSession* target = &s; // outlives the job: its destruction is posted after it
         const uint32_t sid = best;
         ls.lane->post([this, lane_index, sid, job, target](fgsr::Engine*) {
-            target->execute(*job);
+            auto spent = std::make_shared<ServiceSession::Spent>();
+            target->execute(*job, *spent);
+            const size_t bytes = spent->bytes();
+            reaper_.dispose(std::move(spent), bytes); // freed off the critical path (reaper.hpp)
             return Lane::Continuation([this, lane_index, sid, job] { frame_done(lane_index, sid, job); });
         });
     }

@@ -390,7 +390,14 @@ void ServiceSession::write_output(uint32_t slot, const fgsr::ImageRGBA& image) {
     fgsr::encode_output(image, fgsr::ColorFormat(desc_.output_format), dst);
 }
 
-void ServiceSession::execute(FrameJob& job) {
+size_t ServiceSession::Spent::bytes() const {
+    size_t n = sr ? sr->color.rgba.size() * sizeof(float) : 0;
+    for (const auto* v : {&interp, &extrap})
+        for (const fgsr::GeneratedFrame& f : *v) n += f.color.rgba.size() * sizeof(float);
+    return n;
+}
+
+void ServiceSession::execute(FrameJob& job, Spent& spent) {
     const uint64_t job_start = monotonic_ns();
     struct Timed {
         FrameJob& job;
@@ -440,8 +447,8 @@ void ServiceSession::execute(FrameJob& job) {
 
     // Every requested output in presentation order: interpolated, upscaled, extrapolated.
     std::vector<Output> outputs;
-    std::optional<fgsr::GeneratedFrame> sr;
-    std::vector<fgsr::GeneratedFrame> interp, extrap;
+    std::optional<fgsr::GeneratedFrame>& sr = spent.sr;
+    std::vector<fgsr::GeneratedFrame>&interp = spent.interp, &extrap = spent.extrap;
     int32_t interp_status = FGSR_STATUS_OK, extrap_status = FGSR_STATUS_OK, sr_status = FGSR_STATUS_OK;
     if (e.flags & FGSR_SUBMIT_WANT_SR) {
         auto r = engine_session_->super_resolved();

@@ -78,7 +78,18 @@ class ServiceSession {
         std::shared_ptr<FrameJob> job; // null: nothing for the engine
     };
     Begun begin();
-    void execute(FrameJob& job);
+    // The engine's images of a frame: execute() moves them here, and its caller has them freed off
+    // the clients' critical path (reaper.hpp).
+    struct Spent {
+        std::optional<fgsr::GeneratedFrame> sr;
+        std::vector<fgsr::GeneratedFrame> interp, extrap;
+        size_t bytes() const;
+    };
+    void execute(FrameJob& job, Spent& spent);
+    void execute(FrameJob& job) {
+        Spent spent;
+        execute(job, spent);
+    }
     std::optional<std::string> finish(FrameJob& job);
     bool in_flight() const { return in_flight_; }
 

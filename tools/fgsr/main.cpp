@@ -124,7 +124,8 @@ int main(int argc, char** argv) {
     fgsr::cli::ReplayOptions ro;
     std::string replay_mode = "interp", replay_out, replay_csv;
     bool replay_bench = false;
-    int bench_frames = 30;
+    fgsr::cli::ReplayBenchOptions rbo;
+    std::string bench_sizes = "64x64,1280x720";
     auto* replay = app.add_subcommand(
         "replay",
         "Stream a capture through fgsrd (client library): outputs, telemetry CSV, summary, metrics");
@@ -148,8 +149,19 @@ int main(int argc, char** argv) {
     replay->add_flag("--lr", ro.prefer_lr, "Mob-FGSR captures: use LR_Inputs");
     replay->add_flag("--mailbox", ro.mailbox, "Queue policy mailbox (latest wins) instead of fifo");
     replay->add_flag("--bench", replay_bench,
-                     "Benchmark the service overhead at 1280x720 and 1920x1080 (prints figures)");
-    replay->add_option("--bench-frames", bench_frames, "Frames per size for --bench")->capture_default_str();
+                     "Benchmark the service overhead with spinning off and on (starts two fgsrd unless "
+                     "--socket; prints figures)");
+    replay->add_option("--bench-sizes", bench_sizes, "Sizes for --bench, WxH,WxH...")->capture_default_str();
+    replay->add_option("--bench-frames", rbo.frames, "Submits per size and run for --bench")
+        ->check(CLI::Range(3, 100000))
+        ->capture_default_str();
+    replay->add_option("--bench-runs", rbo.runs, "Runs of each configuration for --bench (medians printed)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    replay->add_option("--bench-spin-us", rbo.spin_us,
+                       "fgsrd --spin-us and FGSR_WAIT_SPIN_US of --bench's 'on' configuration")
+        ->check(CLI::Range(0u, 1000u))
+        ->capture_default_str();
     bool replay_quiet = false;
     replay->add_flag("--quiet", replay_quiet, "No progress on stderr");
 
@@ -268,7 +280,12 @@ int main(int argc, char** argv) {
         if (!replay_out.empty()) ro.out = replay_out;
         if (!replay_csv.empty()) ro.telemetry = replay_csv;
         if (replay_bench) {
-            auto b = fgsr::cli::run_replay_bench(ro.socket, bench_frames, ro.progress);
+            auto sizes = fgsr::cli::parse_bench_sizes(bench_sizes);
+            if (!sizes) return fail(sizes.error());
+            rbo.sizes = *sizes;
+            rbo.socket = ro.socket;
+            rbo.progress = ro.progress;
+            auto b = fgsr::cli::run_replay_bench(rbo);
             return b ? 0 : fail(b.error());
         }
         auto r = fgsr::cli::run_replay(ro);

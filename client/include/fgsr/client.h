@@ -15,6 +15,10 @@
  * Recording: with FGSR_CAPTURE=DIR in the environment at fgsr_session_create (or after
  * fgsr_session_record) every frame the session submits is also written to DIR in fgsr's
  * capture format (docs/CAPTURE_FORMAT.md), so the session can be replayed with `fgsr replay`.
+ * Spinning: with FGSR_WAIT_SPIN_US=N (0 to 1000; default 0) at fgsr_session_create, fgsr_wait and
+ * fgsr_acquire_input with a timeout first watch the completion ring for up to N microseconds (a
+ * busy loop with pause instructions and sched_yield) before they sleep: lower latency when a
+ * completion comes within N, N microseconds of CPU time per wait when it does not.
  */
 #ifndef FGSR_CLIENT_H
 #define FGSR_CLIENT_H

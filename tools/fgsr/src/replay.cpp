@@ -69,12 +69,18 @@ Result<capture::Capture> load_capture(const ReplayOptions& o) {
 
 using stress::copy_plane;
 
+uint64_t thread_cpu_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return uint64_t(ts.tv_sec) * 1000000000ull + uint64_t(ts.tv_nsec);
+}
+
 struct Stream {
     fgsr::client::Connection conn;
     fgsr::client::Session session;
     fgsr_pool_layout layout{};
     FILE* csv = nullptr;
-    std::vector<double> latency_ms, overhead_ms;
+    std::vector<double> latency_ms, overhead_ms, wake_us, handoff_us, return_us;
     ReplaySummary summary;
     ~Stream() {
         if (csv) std::fclose(csv);
@@ -193,6 +199,13 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         if (!st.csv) return make_error(Errc::io, "cannot write " + o.telemetry->string());
     }
     ReplayPresenter presenter(st.session, st.csv);
+    // Waits, with the client thread's CPU time in them counted (the cost of FGSR_WAIT_SPIN_US).
+    auto wait = [&](uint32_t ms, fgsr_output& out) {
+        const uint64_t c0 = thread_cpu_ns();
+        const fgsr_status ws = st.session.wait(ms, out);
+        st.summary.client_wait_cpu_ns += thread_cpu_ns() - c0;
+        return ws;
+    };
 
     // Completions are matched to plans by sequence (sequence = input index + 1).
     size_t finished = 0; // submits whose LAST completion arrived
@@ -209,6 +222,13 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
             ++st.summary.outputs;
             st.latency_ms.push_back(client_ms);
             st.overhead_ms.push_back(client_ms - double(t.complete_ns - t.start_ns) * 1e-6);
+            // The steps of the overhead (each clamped at 0: the daemon's stamps are another process's).
+            const auto us = [](uint64_t from, uint64_t to) {
+                return to > from ? double(to - from) * 1e-3 : 0.0;
+            };
+            st.wake_us.push_back(us(t.submit_ns, t.dequeue_ns));
+            st.handoff_us.push_back(us(t.dequeue_ns, t.start_ns));
+            st.return_us.push_back(us(t.complete_ns, seen));
         }
         presenter.completed(out, seen);
         FGSR_TRY(presenter.flush());
@@ -253,7 +273,9 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
             if (due > t) std::this_thread::sleep_for(std::chrono::nanoseconds(due - t));
         }
         fgsr_input_slot in{};
+        const uint64_t c0 = thread_cpu_ns();
         s = st.session.acquire_input(kWaitMs, in);
+        st.summary.client_wait_cpu_ns += thread_cpu_ns() - c0;
         if (s != FGSR_STATUS_OK) return client_error(s, "no input slot");
         const capture::Frame& fr = cap.inputs[i];
         copy_plane(in.color, st.layout.color.row_pitch, fr.color, cb, f.height);
@@ -282,10 +304,10 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
         FGSR_TRY(presenter.flush());
         // Whatever has completed meanwhile (the client keeps completions seen while acquiring).
         fgsr_output out{};
-        while ((s = st.session.wait(0, out)) == FGSR_STATUS_OK) FGSR_TRY(handle(out));
+        while ((s = wait(0, out)) == FGSR_STATUS_OK) FGSR_TRY(handle(out));
         if (s != FGSR_STATUS_TIMEOUT) return client_error(s, "waiting for outputs");
         while (o.closed_loop && finished < st.summary.submitted) {
-            s = st.session.wait(kWaitMs, out);
+            s = wait(kWaitMs, out);
             if (s != FGSR_STATUS_OK) return client_error(s, "waiting for outputs");
             FGSR_TRY(handle(out));
         }
@@ -296,7 +318,7 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
     // Drain: every submit ends with a LAST completion; wait until the last one arrived.
     while (finished < st.summary.submitted) {
         fgsr_output out{};
-        s = st.session.wait(kWaitMs, out);
+        s = wait(kWaitMs, out);
         if (s != FGSR_STATUS_OK) return client_error(s, "waiting for outputs");
         FGSR_TRY(handle(out));
     }
@@ -308,6 +330,9 @@ Result<ReplaySummary> run_replay(const ReplayOptions& o) {
     st.summary.latency_p99_ms = percentile_ms(st.latency_ms, 0.99);
     st.summary.overhead_p50_ms = percentile_ms(st.overhead_ms, 0.5);
     st.summary.overhead_p99_ms = percentile_ms(st.overhead_ms, 0.99);
+    st.summary.wake_p50_us = percentile_ms(st.wake_us, 0.5);
+    st.summary.handoff_p50_us = percentile_ms(st.handoff_us, 0.5);
+    st.summary.return_p50_us = percentile_ms(st.return_us, 0.5);
     fgsr_session_stats stats{};
     if (st.session.stats(stats) == FGSR_STATUS_OK) {
         st.summary.daemon_latency_p50_ms = double(stats.latency_p50_ns) * 1e-6;
@@ -335,57 +360,12 @@ std::string replay_summary_text(const ReplaySummary& s) {
         "service overhead (client-observed minus the daemon's work, queueing behind earlier frames "
         "included; --bench keeps one frame in flight): p50 {:.3f} ms, p99 {:.3f} ms\n",
         s.overhead_p50_ms, s.overhead_p99_ms);
+    const double submits = double(std::max<size_t>(1, s.submitted));
+    t += fmt::format("bytes copied per submit: daemon {:.0f} (stats.bytes_copied), client {:.0f} (planes into "
+                     "input slots, outputs copied out)\n",
+                     double(s.daemon_bytes_copied) / submits, double(s.client_bytes_copied) / submits);
     if (s.metrics) t += report_table(*s.metrics);
     return t;
-}
-
-Result<void> run_replay_bench(const std::string& socket, int frames, bool progress) {
-    struct Size {
-        uint32_t w, h;
-    } sizes[] = {{1280, 720}, {1920, 1080}};
-    std::printf("%-10s %8s %12s %12s %12s %12s %16s %16s\n", "size", "frames", "rtt p50 ms", "rtt p99 ms",
-                "ovh p50 ms", "ovh p99 ms", "daemon B/frame", "client B/frame");
-    for (const Size& z : sizes) {
-        // A synthetic capture at the size: two rendered frames repeated (content does not matter for
-        // the overhead; the engine's time is subtracted).
-        capture::SceneOptions so;
-        so.width = z.w;
-        so.height = z.h;
-        so.supersample = 1;
-        auto two = capture::make_synthetic_capture(so, 2);
-        if (!two) return two.error();
-        capture::Capture cap = *two;
-        cap.name = fmt::format("bench-{}x{}", z.w, z.h);
-        cap.inputs.clear();
-        for (int i = 0; i < frames; ++i) cap.inputs.push_back(two->inputs[size_t(i % 2 == 0 ? 1 : 0)]);
-        cap.inputs[0].mv.clear();
-        cap.ground_truth.clear();
-        cap.ground_truth_kind = capture::GroundTruth::halfway; // no references: nothing scored
-        std::filesystem::path tmp =
-            std::filesystem::temp_directory_path() / fmt::format("fgsr-bench-{}", z.w);
-        auto w = capture::save_fgsr(cap, tmp);
-        if (!w) return w.error();
-        ReplayOptions o;
-        o.capture = tmp.string();
-        o.mode = EvalMode::interp;
-        o.socket = socket;
-        o.progress = progress;
-        o.closed_loop = true; // one frame in flight: the overhead excludes queueing behind earlier frames
-        auto r = run_replay(o);
-        std::error_code ec;
-        std::filesystem::remove_all(tmp, ec);
-        if (!r) return r.error();
-        std::printf("%4ux%-5u %8zu %12.3f %12.3f %12.3f %12.3f %16.0f %16.0f\n", z.w, z.h, r->outputs,
-                    r->latency_p50_ms, r->latency_p99_ms, r->overhead_p50_ms, r->overhead_p99_ms,
-                    double(r->daemon_bytes_copied) / double(std::max<size_t>(1, r->submitted)),
-                    double(r->client_bytes_copied) / double(std::max<size_t>(1, r->submitted)));
-        std::fflush(stdout);
-    }
-    std::printf(
-        "rtt: submit to completion seen by the client; ovh: rtt minus the daemon's work on the frame "
-        "(telemetry start_ns..complete_ns); daemon B: stats.bytes_copied; client B: planes written into "
-        "input slots plus outputs copied out.\n");
-    return {};
 }
 
 } // namespace fgsr::cli

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace fgsr::cli {
 
@@ -35,6 +37,12 @@ struct ReplaySummary {
     double latency_p50_ms = 0, latency_p99_ms = 0; // client-observed: submit to completion seen
     double overhead_p50_ms = 0,
            overhead_p99_ms = 0; // client-observed minus the daemon's work (start->complete)
+    // Medians of the overhead's steps (us): wake = dequeue - submit (the daemon's I/O thread read
+    // the submit), hand-off = start - dequeue (to the lane), return = seen - complete (completion
+    // published to fgsr_wait returning it). The lane's hand-back to the I/O thread is inside
+    // start..complete.
+    double wake_p50_us = 0, handoff_p50_us = 0, return_p50_us = 0;
+    uint64_t client_wait_cpu_ns = 0; // this thread's CPU time in fgsr_wait and fgsr_acquire_input
     double daemon_latency_p50_ms = 0, daemon_latency_p99_ms = 0; // from the daemon's stats
     uint64_t daemon_bytes_copied = 0;
     uint64_t client_bytes_copied = 0;  // planes written into input slots + outputs read back
@@ -44,7 +52,20 @@ struct ReplaySummary {
 Result<ReplaySummary> run_replay(const ReplayOptions& options);
 std::string replay_summary_text(const ReplaySummary& s);
 
-// `fgsr replay --bench`: overhead of the service at 1280x720 and 1920x1080 (prints, asserts nothing).
-Result<void> run_replay_bench(const std::string& socket, int frames, bool progress);
+// `fgsr replay --bench` (replay_bench.cpp): the service overhead with one frame in flight, at each
+// size, with spinning off and on in the same run (two fgsrd it starts, or the one at `socket`,
+// where only the client's spin changes), the CPU time it costs, medians of `runs` runs. Prints,
+// asserts nothing.
+struct ReplayBenchOptions {
+    std::string socket;                                               // empty: start its own fgsrd
+    std::vector<std::pair<uint32_t, uint32_t>> sizes = {{64, 64}, {1280, 720}}; // width, height
+    int frames = 60;                                                  // submits per run
+    int runs = 3;
+    uint32_t spin_us = 1000; // fgsrd --spin-us and FGSR_WAIT_SPIN_US of the "on" configuration
+    bool progress = true;
+};
+Result<void> run_replay_bench(const ReplayBenchOptions& options);
+// "WxH[,WxH...]" -> sizes; an error names the bad item.
+Result<std::vector<std::pair<uint32_t, uint32_t>>> parse_bench_sizes(const std::string& text);
 
 } // namespace fgsr::cli
