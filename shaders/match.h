@@ -140,6 +140,20 @@ FGSR_INLINE MatchSearch match_search_window(float blk[64], ivec2 origin, MatchSe
     return s;
 }
 
+// Tries displacement d against the best so far: kept when its cost (match cost plus the
+// regularising term toward pred) is lower; the best itself is not evaluated again.
+FGSR_INLINE MatchSearch match_try(float blk[64], ivec2 origin, ivec2 d, vec2 pred, MatchSearch s, MatchParams p) {
+    if (d == s.best) return s;
+    float r = match_cost(blk, origin, d, p);
+    float cost = r + p.lambda * length(vec2(d) - pred);
+    if (cost < s.cost) {
+        s.cost = cost;
+        s.raw = r;
+        s.best = d;
+    }
+    return s;
+}
+
 FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
     ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
@@ -155,91 +169,50 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     // prediction only changes the regularising term.
     vec2 pred = vec2(0.0f);
     if (p.same_offset != MOTION_NONE) pred = match_same(ivec2(b), p.same_offset, p);
-    ivec2 best = ivec2(0);
-    float raw = match_cost(blk, origin, best, p);
-    if (raw <= MATCH_STILL) { // an unchanged block (a still part of the scene): zero, nothing tried
-        store_field(at, vec4(0.0f, 0.0f, raw, (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f));
+    MatchSearch s;
+    s.best = ivec2(0);
+    s.raw = match_cost(blk, origin, s.best, p);
+    s.around = vec4(-1.0f);
+    if (s.raw <= MATCH_STILL) { // an unchanged block (a still part of the scene): zero, nothing tried
+        store_field(at, vec4(0.0f, 0.0f, s.raw, (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f));
         return;
     }
-    float best_cost = raw + p.lambda * length(pred);
+    s.cost = s.raw + p.lambda * length(pred);
     if (p.same_offset != MOTION_NONE) {
         // Propagation: this block's own first-pass vector and its four neighbours', so that a
         // good match spreads along a structure (a pole, a floor) that single blocks miss.
         for (int k = 0; k < 5; ++k) {
             ivec2 c = ivec2(b) + (k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1)))));
-            vec2 v = match_same(c, p.same_offset, p);
-            ivec2 d = ivec2(floor(v + 0.5f));
-            if (d == best) continue;
-            float r = match_cost(blk, origin, d, p);
-            float cost = r + p.lambda * length(vec2(d) - pred);
-            if (cost < best_cost) {
-                best_cost = cost;
-                raw = r;
-                best = d;
-            }
+            s = match_try(blk, origin, ivec2(floor(match_same(c, p.same_offset, p) + 0.5f)), pred, s, p);
         }
     }
-    if (p.temporal_offset != MOTION_NONE) {
-        // The previous submit's vector of this block: motion is coherent in time.
-        vec2 v = match_same(ivec2(b), p.temporal_offset, p);
-        ivec2 d = ivec2(floor(v + 0.5f));
-        if (d != best) {
-            float r = match_cost(blk, origin, d, p);
-            float cost = r + p.lambda * length(vec2(d) - pred);
-            if (cost < best_cost) {
-                best_cost = cost;
-                raw = r;
-                best = d;
-            }
-        }
-    }
+    // The previous submit's vector of this block: motion is coherent in time.
+    if (p.temporal_offset != MOTION_NONE)
+        s = match_try(blk, origin, ivec2(floor(match_same(ivec2(b), p.temporal_offset, p) + 0.5f)), pred, s, p);
     if (p.coarse_blocks_x > 0u) {
         ivec2 parent = ivec2(b) / 2;
         ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
         pred = match_coarse(parent, p);
-        best_cost = raw + p.lambda * length(vec2(best) - pred);
+        s.cost = s.raw + p.lambda * length(vec2(s.best) - pred);
         for (int k = 0; k < 4; ++k) {
             ivec2 c = parent + ivec2((k & 1) != 0 ? side.x : 0, (k & 2) != 0 ? side.y : 0);
-            vec2 v = match_coarse(c, p);
-            ivec2 d = ivec2(floor(v + 0.5f));
-            if (d == best) continue;
-            float r = match_cost(blk, origin, d, p);
-            float cost = r + p.lambda * length(vec2(d) - pred);
-            if (cost < best_cost) {
-                best_cost = cost;
-                raw = r;
-                best = d;
-            }
+            s = match_try(blk, origin, ivec2(floor(match_coarse(c, p) + 0.5f)), pred, s, p);
         }
     }
     // A candidate that already matches to within MATCH_GOOD needs no search around it (most blocks
     // of a smooth motion, after the first levels): only its sub-pixel fit.
-    bool search = best_cost >= MATCH_GOOD;
+    bool search = s.cost >= MATCH_GOOD;
     bool subpixel = (p.store & MATCH_STORE_SUBPIXEL) != 0u;
-    MatchSearch s;
-    s.best = best;
-    s.cost = best_cost;
-    s.raw = raw;
-    s.around = vec4(-1.0f);
     if (p.radius <= MATCH_WINDOW_R) {
         if (search || subpixel) {
             if (p.radius == 1) s = match_search_window(blk, origin, s, pred, search, 1, p);
             else if (p.radius == 2) s = match_search_window(blk, origin, s, pred, search, 2, p);
         }
     } else if (search) {
-        ivec2 centre = best;
+        ivec2 centre = s.best;
         for (int dy = -p.radius; dy <= p.radius; ++dy)
-            for (int dx = -p.radius; dx <= p.radius; ++dx) {
-                if (dx == 0 && dy == 0) continue;
-                ivec2 d = centre + ivec2(dx, dy);
-                float r = match_cost(blk, origin, d, p);
-                float cost = r + p.lambda * length(vec2(d) - pred);
-                if (cost < s.cost) {
-                    s.cost = cost;
-                    s.raw = r;
-                    s.best = d;
-                }
-            }
+            for (int dx = -p.radius; dx <= p.radius; ++dx)
+                if (dx != 0 || dy != 0) s = match_try(blk, origin, centre + ivec2(dx, dy), pred, s, p);
     }
     float contrast = (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f;
     float z = (p.store & MATCH_STORE_SAD) != 0u ? match_sad(blk, origin, s.best, p) : s.raw;
