@@ -22,8 +22,10 @@ struct Generated {
     std::vector<double> times; // scene time of each generated frame
 };
 
+// cut_at: input t = cut_at gets every vector moved 600 px to the right, as the first input after
+// a camera cut has (they point to where each surface was in the other shot).
 Generated generate(const SyntheticScene& scene, MotionModel motion, bool extrapolate, float alpha,
-                   int count) {
+                   int count, int cut_at = -1) {
     const SceneOptions& o = scene.options();
     Params p;
     p.motion = motion;
@@ -32,6 +34,8 @@ Generated generate(const SyntheticScene& scene, MotionModel motion, bool extrapo
     Generated g;
     for (int t = 0; t < count; ++t) {
         auto smp = scene.render(t, t - 1);
+        if (t == cut_at)
+            for (size_t i = 0; i < smp.mv.size(); ++i) smp.mv[i].x += 600.0f;
         RawFrame raw =
             make_raw(std::vector<glm::vec4>(reinterpret_cast<const glm::vec4*>(smp.color.rgba.data()),
                                             reinterpret_cast<const glm::vec4*>(smp.color.rgba.data()) +
@@ -92,6 +96,25 @@ TEST(Scenes, QuadraticBeatsLinearOnAcceleratedMotion) {
     double l = mean_psnr(uniform, generate(uniform, MotionModel::linear, false, 0.5f, 5));
     std::printf("[ measured ] uniform velocity: quadratic %.2f dB, linear %.2f dB\n", q, l);
     EXPECT_NEAR(q, l, 0.15);
+}
+
+TEST(Scenes, ImplausibleAccelerationFallsBackToUniformVelocity) {
+    // After a cut the previous input's vectors describe another shot: the quadratic model must not
+    // read an acceleration from them (shaders/motion.h, MOTION_ACCEL_PX). Pairs (t-1, t) for
+    // t = 2..5; input 3's vectors are a cut's, so the pair (3, 4) reads them as frame-0 motion.
+    SyntheticScene accel(SceneOptions{});
+    for (bool extrap : {false, true}) {
+        const Generated q = generate(accel, MotionModel::quadratic, extrap, 0.5f, 6, 3);
+        const Generated l = generate(accel, MotionModel::linear, extrap, 0.5f, 6, 3);
+        ASSERT_EQ(q.frames.size(), 4u);
+        const size_t pair = 2; // generated after input 4 was submitted: from the pair (3, 4)
+        const double qp = *capture::psnr(q.frames[pair], accel.render_color(q.times[pair]));
+        const double lp = *capture::psnr(l.frames[pair], accel.render_color(l.times[pair]));
+        std::printf("[ measured ] %s after a cut: quadratic %.2f dB, linear %.2f dB\n",
+                    extrap ? "extrapolation" : "interpolation", qp, lp);
+        EXPECT_NEAR(qp, lp, 0.05) << "the quadratic model used the cut's vectors";
+        EXPECT_GT(qp, 28.0);
+    }
 }
 
 // Pixels at time t whose visible surface point, followed along its layer's path, is visible
