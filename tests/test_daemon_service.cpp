@@ -662,13 +662,13 @@ Usage usage(const FgsrdProcess& d) {
     return {d.fd_count(), d.mapping_count(), d.memfd_mapped_bytes(), d.rss_kib()};
 }
 
-// Waits until the daemon's fd count returns to `base` and its mapping count to `base` or below
+// Waits until the daemon's fd count returns to `base` and its mapping count to `base` + extra_maps or below
 // (teardown is asynchronous to the kill); returns the last usage seen.
-Usage settle(const FgsrdProcess& d, const Usage& base) {
+Usage settle(const FgsrdProcess& d, const Usage& base, int extra_maps = 0) {
     Usage u;
     for (int i = 0; i < 500; ++i) {
         u = usage(d);
-        if (u.fds == base.fds && u.maps <= base.maps && u.memfd_bytes == 0) break;
+        if (u.fds == base.fds && u.maps <= base.maps + extra_maps && u.memfd_bytes == 0) break;
         usleep(20000);
     }
     return u;
@@ -763,6 +763,12 @@ class AsanOptionForChildren {
     std::optional<std::string> old_;
 };
 
+#ifdef FGSR_TEST_ASAN
+constexpr int kAsanRegions = 2;
+#else
+constexpr int kAsanRegions = 0;
+#endif
+
 TEST(DaemonProcess, KillNineAtEachProtocolStateLeavesNoFdOrMappingBehind) {
     auto d = [] {
         const AsanOptionForChildren no_quarantine("quarantine_size_mb=0");
@@ -801,12 +807,16 @@ TEST(DaemonProcess, KillNineAtEachProtocolStateLeavesNoFdOrMappingBehind) {
             kill(child, SIGKILL);
             int status = 0;
             waitpid(child, &status, 0);
-            const Usage after = settle(*d, base);
+            const Usage after = settle(*d, base, kAsanRegions);
             EXPECT_EQ(after.fds, base.fds);
             // Nothing left behind: no more mappings than at the baseline. Fewer is not a leak:
             // under ASan its allocator returns regions of the warm-up's blocks to the kernel at
-            // its own pace (seen: 488 at the baseline, 485 after a later kill).
-            EXPECT_LE(after.maps, base.maps);
+            // its own pace (seen: 488 at the baseline, 485 after a later kill). It also maps
+            // regions at its own pace: seen, one anonymous 536 KiB rw region more after the
+            // second session-state kill, 2 fewer than the baseline after the next two kills. So
+            // under ASan up to kAsanRegions more; the regular build (in the main suite) is exact,
+            // and LeakSanitizer checks the heap at the daemon's exit.
+            EXPECT_LE(after.maps, base.maps + kAsanRegions);
             EXPECT_EQ(after.memfd_bytes, 0);
             // Resident memory: no growth beyond allocator noise per cycle.
             EXPECT_LT(after.rss_kib, base.rss_kib + 32 * 1024);
