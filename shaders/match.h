@@ -84,61 +84,12 @@ FGSR_INLINE float match_subpixel(float cm, float c0, float cp) {
     return slope > 1.0e-7f ? clamp(0.5f * (cm - cp) / slope, -0.5f, 0.5f) : 0.0f;
 }
 
-// The best displacement within +-R of `centre` (R <= MATCH_WINDOW_R; a constant after inlining, so
-// that every index below is one) from a single read of the (8 + 2R)^2 destination pixels the
-// search covers: each cost is then a sum over values already read instead of 32 reads (on
-// llvmpipe a read is a gather, the sum a few vector instructions). The costs, their order and
-// their tie-breaking are those of the direct search (match_cost). `around` returns the costs at
-// the best displacement -+1 in x, then -+1 in y, or -1 where they fall outside the window.
-#define MATCH_WINDOW_R 2
-#define MATCH_WINDOW_W (8 + 2 * MATCH_WINDOW_R)
+// The best candidate so far.
 struct MatchSearch {
     ivec2 best;
     float cost; // match cost plus the regularising term
     float raw;  // match cost
-    vec4 around;
 };
-
-FGSR_INLINE MatchSearch match_search_window(float blk[64], ivec2 origin, MatchSearch s, vec2 pred, bool search,
-                                            int R, MatchParams p) {
-    float win[MATCH_WINDOW_W * MATCH_WINDOW_W];
-    ivec2 centre = s.best;
-    FGSR_UNROLL for (int y = 0; y < 8 + 2 * R; ++y)
-        FGSR_UNROLL for (int x = 0; x < 8 + 2 * R; ++x)
-            win[y * MATCH_WINDOW_W + x] = match_dst(origin + centre + ivec2(x - R, y - R), p);
-    float costs[(2 * MATCH_WINDOW_R + 1) * (2 * MATCH_WINDOW_R + 1)];
-    FGSR_UNROLL for (int oy = 0; oy <= 2 * R; ++oy)
-        FGSR_UNROLL for (int ox = 0; ox <= 2 * R; ++ox) {
-            float c = 0.0f;
-            FGSR_UNROLL for (int y = 0; y < 8; ++y)
-                FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) c += abs(blk[y * 8 + x] - win[(y + oy) * MATCH_WINDOW_W + x + ox]);
-            costs[oy * (2 * MATCH_WINDOW_R + 1) + ox] = c * (1.0f / 32.0f);
-        }
-    if (search)
-        FGSR_UNROLL for (int oy = 0; oy <= 2 * R; ++oy)
-            FGSR_UNROLL for (int ox = 0; ox <= 2 * R; ++ox) {
-                if (ox == R && oy == R) continue;
-                ivec2 d = centre + ivec2(ox - R, oy - R);
-                float r = costs[oy * (2 * MATCH_WINDOW_R + 1) + ox];
-                float cost = r + p.lambda * length(vec2(d) - pred);
-                if (cost < s.cost) {
-                    s.cost = cost;
-                    s.raw = r;
-                    s.best = d;
-                }
-            }
-    s.around = vec4(-1.0f);
-    FGSR_UNROLL for (int oy = 0; oy <= 2 * R; ++oy)
-        FGSR_UNROLL for (int ox = 0; ox <= 2 * R; ++ox) {
-            ivec2 o = centre + ivec2(ox - R, oy - R) - s.best;
-            float r = costs[oy * (2 * MATCH_WINDOW_R + 1) + ox];
-            if (o.y == 0 && o.x == -1) s.around.x = r;
-            if (o.y == 0 && o.x == 1) s.around.y = r;
-            if (o.x == 0 && o.y == -1) s.around.z = r;
-            if (o.x == 0 && o.y == 1) s.around.w = r;
-        }
-    return s;
-}
 
 // Tries displacement d against the best so far: kept when its cost (match cost plus the
 // regularising term toward pred) is lower; the best itself is not evaluated again.
@@ -172,7 +123,6 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     MatchSearch s;
     s.best = ivec2(0);
     s.raw = match_cost(blk, origin, s.best, p);
-    s.around = vec4(-1.0f);
     if (s.raw <= MATCH_STILL) { // an unchanged block (a still part of the scene): zero, nothing tried
         store_field(at, vec4(0.0f, 0.0f, s.raw, (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f));
         return;
@@ -201,14 +151,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     }
     // A candidate that already matches to within MATCH_GOOD needs no search around it (most blocks
     // of a smooth motion, after the first levels): only its sub-pixel fit.
-    bool search = s.cost >= MATCH_GOOD;
-    bool subpixel = (p.store & MATCH_STORE_SUBPIXEL) != 0u;
-    if (p.radius <= MATCH_WINDOW_R) {
-        if (search || subpixel) {
-            if (p.radius == 1) s = match_search_window(blk, origin, s, pred, search, 1, p);
-            else if (p.radius == 2) s = match_search_window(blk, origin, s, pred, search, 2, p);
-        }
-    } else if (search) {
+    if (s.cost >= MATCH_GOOD) {
         ivec2 centre = s.best;
         for (int dy = -p.radius; dy <= p.radius; ++dy)
             for (int dx = -p.radius; dx <= p.radius; ++dx)
@@ -216,16 +159,15 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     }
     float contrast = (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f;
     float z = (p.store & MATCH_STORE_SAD) != 0u ? match_sad(blk, origin, s.best, p) : s.raw;
-    if (!subpixel) {
+    if ((p.store & MATCH_STORE_SUBPIXEL) == 0u) {
         store_field(at, vec4(vec2(s.best), z, contrast));
         return;
     }
-    vec4 n = s.around;
-    if (n.x < 0.0f) n.x = match_cost(blk, origin, s.best - ivec2(1, 0), p);
-    if (n.y < 0.0f) n.y = match_cost(blk, origin, s.best + ivec2(1, 0), p);
-    if (n.z < 0.0f) n.z = match_cost(blk, origin, s.best - ivec2(0, 1), p);
-    if (n.w < 0.0f) n.w = match_cost(blk, origin, s.best + ivec2(0, 1), p);
-    vec2 v = vec2(s.best) + vec2(match_subpixel(n.x, s.raw, n.y), match_subpixel(n.z, s.raw, n.w));
+    float sx = match_subpixel(match_cost(blk, origin, s.best - ivec2(1, 0), p), s.raw,
+                              match_cost(blk, origin, s.best + ivec2(1, 0), p));
+    float sy = match_subpixel(match_cost(blk, origin, s.best - ivec2(0, 1), p), s.raw,
+                              match_cost(blk, origin, s.best + ivec2(0, 1), p));
+    vec2 v = vec2(s.best) + vec2(sx, sy);
     store_field(at, vec4(v, z, contrast));
 }
 

@@ -147,9 +147,10 @@ ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, floa
 
 ref::MotionSummary ref::summarise_motion(const std::vector<MotionLevel>& levels, const glm::vec4* field,
                                          float typical_share) {
-    const MotionLevel& l = levels[motion_first_level(levels)];
+    const size_t finest = motion_first_level(levels);
+    const MotionLevel& l = levels[finest];
     MotionSummary s = summarise_motion({field + l.field_offset, size_t(l.blocks_x) * l.blocks_y}, typical_share);
-    s.global *= float(1u << motion_first_level(levels));
+    s.global *= float(1u << finest);
     return s;
 }
 

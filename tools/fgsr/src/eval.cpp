@@ -241,18 +241,16 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         if (any_scores_vectors) { // the capture's vectors of input i, then each method's against them
             FGSR_TRY(
                 reference.add_frame(reference_view(cap.inputs[i], own_vectors ? &*own_vectors : nullptr, i)));
-            for (auto& [name, s] : sessions)
-                if (scores_vectors(name)) FGSR_TRY(reference.score(*s, rep.methods[name]));
-            if (o.out && reference.scorable()) { // the vectors scored, for --vectors-from and inspection
+            // With --out, the vectors scored (for --vectors-from and inspection), read once.
+            for (auto& [name, s] : sessions) {
+                if (!scores_vectors(name)) continue;
+                std::vector<float> mv;
+                FGSR_TRY(reference.score(*s, rep.methods[name], o.out ? &mv : nullptr));
+                if (!mv.empty()) FGSR_TRY(write_vectors(*o.out / name, i, cap.format.width, cap.format.height, mv));
+            }
+            if (o.out && reference.scorable())
                 FGSR_TRY(write_vectors(*o.out / "reference", i, cap.format.width, cap.format.height,
                                        reference.vectors(), reference.visible()));
-                for (auto& [name, s] : sessions) {
-                    if (!scores_vectors(name)) continue;
-                    auto f = s->read_frame(1);
-                    if (!f) return f.error();
-                    FGSR_TRY(write_vectors(*o.out / name, i, cap.format.width, cap.format.height, f->mv));
-                }
-            }
         }
         if (next_target >= targets.size()) break;
         const size_t k = targets[next_target];

@@ -109,12 +109,14 @@ Result<void> VectorReference::score(const std::vector<float>& mv, MethodScore& s
     return {};
 }
 
-Result<void> VectorReference::score(const Session& session, MethodScore& score) const {
+Result<void> VectorReference::score(const Session& session, MethodScore& score, std::vector<float>* read) const {
     score.scores_vectors = true;
-    if (!scorable_ || visible_count_ == 0) return {};
+    if (!scorable_ || (visible_count_ == 0 && !read)) return {};
     auto f = session.read_frame(1);
     if (!f) return f.error();
-    return this->score(f->mv, score);
+    FGSR_TRY(this->score(f->mv, score));
+    if (read) *read = std::move(f->mv);
+    return {};
 }
 
 Result<CaptureVectors> replace_vectors_from(capture::Capture& cap, const std::filesystem::path& dir,

@@ -64,9 +64,10 @@ class VectorReference {
     const std::vector<float>& vectors() const { return mv_; }
 
     // EPE of the newest frame of `session` (read_frame(1).mv) against the newest input, appended
-    // to score.epe; nothing when the input is not scorable or no pixel is visible.
+    // to score.epe; nothing when the input is not scorable or no pixel is visible. With `read`, a
+    // scorable input's vectors are also handed back there (eval --out writes them).
     // Errors: read_frame's, size_mismatch for a session of another size.
-    Result<void> score(const Session& session, MethodScore& score) const;
+    Result<void> score(const Session& session, MethodScore& score, std::vector<float>* read = nullptr) const;
     // The same for a vector field already in the internal convention (2 floats per pixel).
     Result<void> score(const std::vector<float>& mv, MethodScore& score) const;
 
