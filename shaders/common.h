@@ -94,7 +94,7 @@ struct SrParams {
     uint resample;    // RESAMPLE_* of the history
     uint has_history; // 0: first frame or reset: spatial upsample only
     uint dilate;      // 1: motion vector of the frontmost pixel of the 3x3 neighbourhood
-    uint pad0;
+    float clip;       // ISR / ESR: history clipped to mean +- clip * sd of the LR 3x3 (0: off)
     uint pad1;
     uint pad2;
 };

@@ -7,9 +7,34 @@
 //   ISR: frame 0 is the previous SR output (I_0^sr) resampled at q + v0 * scale; frame 1 is the
 //        newest low-resolution frame itself (no wait for its SR), read bilinearly at its jittered
 //        input position; blend.h selects / blends them with input-resolution depths.
+//   Both: the resampled history is clipped per channel to mean +- clip * sd of the 3x3
+//        neighbourhood of the low-resolution frame of the same instant (frame 0 for ISR, frame 1
+//        for ESR) around the history position (variance clipping, as temporal antialiasing does).
+//        The SR history is sharp and carries what the point-sampled inputs alias; where the
+//        motion is fast it is also reprojected over two input intervals, and the clip keeps it
+//        from straying further from the rendered samples than their own spread (street-sr isr
+//        15.90 -> 17.13 dB, docs/ACCURACY.md change 2). clip = 0: no clipping.
 //
 // Entry provides the loads of refine.h and warp.h (input resolution), and of resample.h:
 //   vec4 load_src(ivec2 out_pixel)   I_0^sr (ISR) or I_1^sr (ESR)
+
+// `h` clipped to the mean +- s.clip standard deviations of frame `frame`'s LR 3x3 neighbourhood
+// around the LR position `lr_pos` (pixel units); unchanged when s.clip is 0.
+FGSR_INLINE vec4 clip_history(vec4 h, uint frame, vec2 lr_pos, GenParams g, SrParams s) {
+    if (s.clip <= 0.0f) return h;
+    ivec2 t = clamp_pixel(ivec2(floor(lr_pos)), g);
+    vec4 m1 = vec4(0.0f), m2 = vec4(0.0f);
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) {
+            ivec2 n = clamp_pixel(t + ivec2(x, y), g);
+            vec4 c = frame == 0u ? load_color0(n) : load_color1(n);
+            m1 += c;
+            m2 += c * c;
+        }
+    vec4 mean = m1 / 9.0f;
+    vec4 sd = sqrt(max(m2 / 9.0f - mean * mean, vec4(0.0f)));
+    return clamp(h, mean - s.clip * sd, mean + s.clip * sd);
+}
 
 FGSR_INLINE vec4 generate_sr_pixel(ivec2 q, GenParams g, SrParams s) {
     vec2 qc = vec2(q) + vec2(0.5f);
@@ -18,11 +43,15 @@ FGSR_INLINE vec4 generate_sr_pixel(ivec2 q, GenParams g, SrParams s) {
     FieldSample f = refine_field(t, g);
     if (f.state == FIELD_HOLE && g.fill_holes != 0u) f = fill_hole(t, g);
     ivec2 out_size = ivec2(int(s.hr_width), int(s.hr_height));
-    if (g.extrapolate != 0u) return max(resample(qc + vec2(f.v.z, f.v.w) * s.scale, out_size, s.resample), vec4(0.0f));
+    if (g.extrapolate != 0u) {
+        vec2 h1 = qc + vec2(f.v.z, f.v.w) * s.scale;
+        vec4 c1 = max(resample(h1, out_size, s.resample), vec4(0.0f));
+        return clip_history(c1, 1u, h1 / s.scale - vec2(s.jitter_x, s.jitter_y), g, s);
+    }
 
     vec2 p0 = qc + vec2(f.v.x, f.v.y) * s.scale;
     bool ok0 = p0.x >= 0.0f && p0.y >= 0.0f && p0.x <= float(s.hr_width) && p0.y <= float(s.hr_height);
-    vec4 c0 = max(resample(p0, out_size, s.resample), vec4(0.0f));
+    vec4 c0 = clip_history(max(resample(p0, out_size, s.resample), vec4(0.0f)), 0u, p0 / s.scale, g, s);
     float d0 = load_depth0(clamp_pixel(ivec2(floor(p0 / s.scale)), g));
     WarpSample w1 = warp_sample(1u, pos - vec2(s.jitter_x, s.jitter_y), vec2(f.v.z, f.v.w), g);
     return select_blend(c0, ok0 ? d0 : -1.0f, w1.color, w1.depth, f.state, g);

@@ -8,6 +8,7 @@
 #include <fgsr/cli/eval_motion.hpp>
 
 #include <fgsr/capture/flow_io.hpp>
+#include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/synthetic.hpp>
 
 #include <fmt/format.h>
@@ -288,6 +289,54 @@ TEST(EvalMotionCaptures, ColourMethodInSuperResolution) {
     for (const char* key : {"psnr", "ssim", "ms", "epe"})
         EXPECT_TRUE(finite_number(c[key])) << key << " = " << c[key];
     EXPECT_GT(c["psnr"].get<double>(), 15.0);
+}
+
+// eval --out in the super-resolution modes: every method's frames, the reference and metrics.json;
+// the PSNR of the written 8-bit frames against the written reference agrees with the reported one
+// (up to the 8-bit rounding of both).
+TEST(EvalMotionCaptures, OutWritesSuperResolutionFrames) {
+    const std::filesystem::path dir = std::filesystem::path(FGSR_SHARED_CAPTURES) / "blender/orbit-sr";
+    if (!std::filesystem::exists(dir))
+        GTEST_SKIP() << "../shared/captures/blender/orbit-sr not found (captures exist in CI only)";
+    const std::filesystem::path out =
+        std::filesystem::temp_directory_path() / ("fgsr-eval-out-" + std::to_string(getpid()));
+    std::filesystem::remove_all(out);
+    for (const char* mode : {"sr", "isr", "esr"}) {
+        nlohmann::json j = eval_json(fmt::format("--mode {} --frames 2 --static-frames 0 --methods fgsr,bicubic "
+                                                 "--capture {} --out {}",
+                                                 mode, dir.string(), out.string()));
+        ASSERT_FALSE(j.is_discarded()) << mode;
+        std::ifstream mf(out / "metrics.json");
+        const nlohmann::json m = nlohmann::json::parse(mf, nullptr, false);
+        ASSERT_FALSE(m.is_discarded()) << mode;
+        EXPECT_EQ(m["mode"], mode);
+        std::vector<std::filesystem::path> refs;
+        for (const auto& e : std::filesystem::directory_iterator(out / "reference")) refs.push_back(e.path());
+        ASSERT_EQ(refs.size(), 2u) << mode;
+        for (const char* method : {"fgsr", "bicubic"}) {
+            double sum = 0;
+            for (const auto& r : refs) {
+                auto a = capture::read_png(out / method / r.filename());
+                auto b = capture::read_png(r);
+                ASSERT_TRUE(a && b) << mode << " " << method << " " << r.filename();
+                ASSERT_EQ(a->rgba.size(), b->rgba.size());
+                double se = 0;
+                size_t n = 0;
+                for (size_t i = 0; i < a->rgba.size(); ++i) {
+                    if (i % 4 == 3) continue;
+                    const double d = (double(a->rgba[i]) - double(b->rgba[i])) / 255.0;
+                    se += d * d;
+                    ++n;
+                }
+                sum += 10.0 * std::log10(1.0 / (se / double(n)));
+            }
+            EXPECT_NEAR(sum / double(refs.size()), j["methods"][method]["psnr"].get<double>(), 0.1)
+                << mode << " " << method;
+            EXPECT_NEAR(m["methods"][method]["psnr"].get<double>(), j["methods"][method]["psnr"].get<double>(),
+                        1e-9);
+        }
+        std::filesystem::remove_all(out);
+    }
 }
 
 } // namespace

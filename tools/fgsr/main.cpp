@@ -78,6 +78,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     eval->add_option("--sr-b", eo.params.sr_b, "SR: sample weight fall-off with distance (Eq. 2, b)")
         ->capture_default_str();
+    eval->add_option("--sr-clip", eo.params.sr_clip,
+                     "ISR, ESR: clip the warped history to mean +- this many standard deviations of the "
+                     "input frame's 3x3 neighbourhood (0: no clipping)")
+        ->capture_default_str();
     std::string lut_file;
     eval->add_option("--lut", lut_file,
                      "SR: history resampling table (.lut file, fgsr lut-train) instead of the shipped one");
@@ -225,6 +229,7 @@ int main(int argc, char** argv) {
             if (eval->count("--t-bright")) p.t_bright = eo.params.t_bright;
             if (eval->count("--sr-a")) p.sr_a = eo.params.sr_a;
             if (eval->count("--sr-b")) p.sr_b = eo.params.sr_b;
+            if (eval->count("--sr-clip")) p.sr_clip = eo.params.sr_clip;
             if (eval->count("--dilate")) p.dilate_mvs = true;
             if (eval->count("--denoise-strength")) p.denoise_strength = eo.params.denoise_strength;
             if (eval->count("--noise-floor")) p.noise_floor = eo.params.noise_floor;

@@ -17,6 +17,7 @@ Result<void> validate(const Params& p) {
     if (!(std::isfinite(p.t_bright) && p.t_bright >= 0.f)) return bad("t_bright", p.t_bright, "[0, inf)");
     if (!(p.sr_a >= 0.f && p.sr_a <= 1.f)) return bad("sr_a", p.sr_a, "[0, 1]");
     if (!(std::isfinite(p.sr_b) && p.sr_b >= 0.f)) return bad("sr_b", p.sr_b, "[0, inf)");
+    if (!(std::isfinite(p.sr_clip) && p.sr_clip >= 0.f)) return bad("sr_clip", p.sr_clip, "[0, inf)");
     if (!(p.denoise_strength >= 0.f && p.denoise_strength <= 64.f))
         return bad("denoise_strength", p.denoise_strength, "[0, 64]");
     if (!(std::isfinite(p.noise_floor) && p.noise_floor >= 0.f))
@@ -155,6 +156,7 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
     p.resample = uint32_t(params.resample);
     p.has_history = has_history ? 1u : 0u;
     p.dilate = params.dilate_mvs ? 1u : 0u;
+    p.clip = params.sr_clip;
     return p;
 }
 

@@ -160,6 +160,7 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
     if (o.out) {
         std::error_code ec;
         for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
+        std::filesystem::create_directories(*o.out / "reference", ec);
         if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
     }
     VectorReference reference(cap.format);
@@ -183,10 +184,13 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
             FGSR_TRY(score_image(score, img, cap.hr_reference[k]));
             if (o.out) FGSR_TRY(capture::write_png(*o.out / m / fmt::format("{:04d}.png", k + 1), img));
         }
+        if (o.out)
+            FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1), cap.hr_reference[k]));
         FGSR_TRY(score_vectors(cap.inputs[k], reference, sessions, rep));
     }
     if (o.static_frames > 0 && frames > 0) FGSR_TRY(measure_stability(o, cap, frames - 1, sessions, rep));
     finish_means(rep);
+    if (o.out) FGSR_TRY(write_metrics_json(rep, *o.out));
     return rep;
 }
 
@@ -231,6 +235,12 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
     auto lr_session = (*lr_engine)->create_session(cap.format, o.params); // for the spatial baselines
     if (!lr_session) return lr_session.error();
 
+    if (o.out) {
+        std::error_code ec;
+        for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
+        std::filesystem::create_directories(*o.out / "reference", ec);
+        if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
+    }
     const size_t last_input = targets.back() + (extrap ? 0 : 1);
     size_t next = 0;
     VectorReference reference(cap.format);
@@ -271,9 +281,14 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
                 img = spatial_upscale(*lr_frame, out_w, out_h, resample_of(m), 0.f, 0.f);
             }
             FGSR_TRY(score_image(score, img, cap.hr_ground_truth[k]));
+            if (o.out) FGSR_TRY(capture::write_png(*o.out / m / fmt::format("{:04d}.png", k + 1), img));
         }
+        if (o.out)
+            FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1),
+                                        cap.hr_ground_truth[k]));
     }
     finish_means(rep);
+    if (o.out) FGSR_TRY(write_metrics_json(rep, *o.out));
     return rep;
 }
 

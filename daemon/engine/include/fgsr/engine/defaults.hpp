@@ -24,6 +24,12 @@ inline constexpr float t_depth = 0.05f;  // hand-set (relative depth)
 inline constexpr float t_bright = 0.13f; // paper
 inline constexpr float sr_a = 0.7466f;   // calibrated (paper: 0.34), see above
 inline constexpr float sr_b = 1.09f;     // calibrated (paper: 0.81), see above
+// ISR / ESR history clipping width in LR standard deviations (shaders/generate_sr.h), chosen on
+// the train captures of docs/ACCURACY.md by a sweep 0.5 / 0.65 / 0.7 / 0.75 / 1 / off (isr and
+// esr, fgsr method): street-sr isr 15.90 dB off -> 17.13 at 0.7 (0.5: 17.95 but bunker LR isr
+// 27.71, below bicubic's 27.74; 0.75: 16.95); orbit-sr, foliage-sr, hdr-sr and bunker LR move by
+// -0.05 to +0.09 dB at 0.7 (docs/ACCURACY.md, change 2).
+inline constexpr float sr_clip = 0.7f;
 // Pre-filter of noisy SR input (shaders/denoise.h, docs/SR.md "Noisy input"): the range in noise
 // sigmas, chosen by sweeps (k = 2..8) on three 1-sample point-sampled Blender captures (orbit-sr
 // and two more rendered with render_scene.py: orbit seed 7, toss seed 3), where PSNR rises with

@@ -66,6 +66,11 @@ struct Params {
     float sr_a = defaults::sr_a;       // Eq. 2: weight of the current samples
     float sr_b = defaults::sr_b;       // Eq. 2: weight fall-off with sample distance (LR pixels)
     bool dilate_mvs = false;           // vector of the frontmost 3x3 neighbour (QRISP 4.1)
+    // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
+    // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
+    // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's
+    // sessions use the default.
+    float sr_clip = defaults::sr_clip;
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).
     bool mvs_contain_jitter = false;
@@ -89,8 +94,8 @@ struct Params {
     uint32_t tile_size = 0;
 };
 
-// Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b finite
-// and >= 0, scale finite in [1, 4], lut empty or kLutSize finite weights, denoise_strength in
+// Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b and
+// sr_clip finite and >= 0, scale finite in [1, 4], lut empty or kLutSize finite weights, denoise_strength in
 // [0, 64], noise_floor finite and >= 0, known enum values.
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);
