@@ -22,8 +22,8 @@
 // the generated time (alpha for interpolation, 1 + alpha for extrapolation) and in frame 0.
 // Uniform acceleration: supplement Eqs. 1 and 2. Uniform velocity (or no frame-0 vectors, or a
 // frame-0 position off screen): Eqs. 14 and 15.
-#define MOTION_ACCEL_PX 16.0f // set a priori, not tuned (docs/ACCURACY.md, "Changes")
-#define MOTION_ACCEL_RATIO 2.0f
+#define MOTION_ACCEL_PX 2.0f // chosen on the train captures (docs/ACCURACY.md, "Changes", 3)
+#define MOTION_ACCEL_RATIO 1.0f
 FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
     vec2 c1 = vec2(p1) + vec2(0.5f);
     vec2 m1 = -load_mv1(p1);
@@ -50,9 +50,12 @@ FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
             }
         }
     }
-    // An acceleration no motion has (the speed changing by more than MOTION_ACCEL_PX plus
-    // MOTION_ACCEL_RATIO times the newer speed in one frame): a camera cut between frames -1 and 0,
-    // whose frame-0 vectors then point into the other shot, or wrong vectors. Uniform velocity.
+    // An acceleration the model cannot follow (the motion changing by more than MOTION_ACCEL_PX
+    // plus MOTION_ACCEL_RATIO times the newer speed in one frame): a camera cut between frames -1
+    // and 0, whose frame-0 vectors then point into the other shot; wrong vectors; or motion that
+    // turns back or jerks (a rolling ball's surface, swaying leaves, a glint), where a parabola
+    // through three frames overshoots. Uniform velocity. Steady acceleration (a thrown object,
+    // a camera speeding up, a turning fan) changes the motion by less and keeps the parabola.
     if (length(m1 - m0) > MOTION_ACCEL_PX + MOTION_ACCEL_RATIO * length(m1)) m0 = m1;
     float a = g.alpha;
     vec2 accel = 0.5f * a * a * (m1 - m0);

@@ -117,6 +117,54 @@ TEST(Scenes, ImplausibleAccelerationFallsBackToUniformVelocity) {
     }
 }
 
+// The plausibility bound of shaders/motion.h on the CPU reference: a surface whose motion changes
+// by less than MOTION_ACCEL_PX + MOTION_ACCEL_RATIO |m1| (2 px + |m1|) between frames follows the
+// parabola (supplement Eqs. 1, 2); one that turns back, or changes by more, moves uniformly.
+TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
+    const uint32_t w = 32, h = 16;
+    struct Case {
+        glm::vec2 m1, m0; // motion frame 0 -> 1 and frame -1 -> 0, pixels
+        bool parabola;
+    };
+    const Case cases[] = {
+        {{4.f, 0.f}, {3.f, 0.f}, true},    // speeding up: |m1 - m0| = 1 < 6
+        {{4.f, 0.f}, {4.f, 3.f}, true},    // turning: 3 < 6
+        {{4.f, 0.f}, {-4.f, 0.f}, false},  // turning back: 8 > 6
+        {{0.5f, 0.f}, {-1.f, 0.f}, true},  // slow, reversing within 2 px: 1.5 < 2.5
+        {{1.f, 1.f}, {-3.f, 1.f}, false},  // reversing beyond it: 4 > 3.41
+    };
+    for (const Case& c : cases)
+        for (bool extrap : {false, true}) {
+            ref::InternalFrame f0, f1;
+            for (ref::InternalFrame* f : {&f0, &f1}) {
+                f->width = w;
+                f->height = h;
+                f->color.assign(size_t(w) * h, glm::vec4(0.5f));
+                f->depth.assign(size_t(w) * h, 1.f);
+                f->has_mv = true;
+            }
+            f1.mv.assign(size_t(w) * h, -c.m1); // internal vectors point to the previous frame
+            f0.mv.assign(size_t(w) * h, -c.m0);
+            Params p;
+            const float a = 0.5f;
+            const ref::GenParams g = params::gen_params(internal_format(w, h), p, a, extrap, true, true);
+            const ref::Splat sp = ref::splat(f0, f1, g);
+            const glm::ivec2 px(16, 8);
+            const size_t i = size_t(px.y) * w + size_t(px.x);
+            const glm::vec2 c1 = glm::vec2(px) + 0.5f, p0 = c1 - c.m1;
+            const glm::vec2 pt = c1 - glm::vec2(sp.motion[i].z, sp.motion[i].w);
+            const glm::vec2 accel = 0.5f * a * a * (c.m1 - c.m0);
+            const glm::vec2 parabola = extrap ? c1 + 0.5f * a * (3.f * c.m1 - c.m0) + accel
+                                              : p0 + 0.5f * a * (c.m1 + c.m0) + accel;
+            const glm::vec2 uniform = extrap ? c1 + a * c.m1 : p0 + a * c.m1;
+            const glm::vec2 want = c.parabola ? parabola : uniform;
+            EXPECT_LT(glm::length(pt - want), 1e-4f)
+                << "m1 (" << c.m1.x << ", " << c.m1.y << "), m0 (" << c.m0.x << ", " << c.m0.y << "), "
+                << (extrap ? "extrapolation" : "interpolation") << ": at (" << pt.x << ", " << pt.y << ")";
+            EXPECT_GT(glm::length(parabola - uniform), 0.1f); // the cases tell the two apart
+        }
+}
+
 // Pixels at time t whose visible surface point, followed along its layer's path, is visible
 // (or hidden) at time `other`; eroded by one pixel so that edges do not count.
 std::vector<uint8_t> visibility_mask(const SyntheticScene& scene, double t, double other, bool want_visible) {
