@@ -1,6 +1,7 @@
 // Resampling LUTs: file format, the shipped tables, and the acceptance test of issue 3 (six-fold
 // repeated resampling on held-back images: learned LUT vs bilinear vs bicubic).
 #include <fgsr/cli/lut_model.hpp> // the trainer's model (header-only)
+#include <fgsr/cli/lut_train.hpp>
 
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -212,7 +213,12 @@ TEST(Lut, TrainerGradients) {
 // with the paper's +1/2 pixel shifts and with random sub-pixel shifts.
 // The trainer's SR-loop gradient (through Eq. 2, the colour-box clamp and the LUT resampling of
 // every frame's history) agrees with central finite differences of the engine's CPU reference.
-TEST(Lut, TrainerSrLoopGradients) {
+// Eq. 2's (a, b): the paper's calibration, the engine's defaults (b > 1: samples beyond 1 / b get
+// weight 0), and a = 0.9 with b = 1.5 (pixels whose samples all weigh 0 at a < 1 still blend).
+class LutSrLoop : public testing::TestWithParam<std::pair<float, float>> {};
+
+TEST_P(LutSrLoop, TrainerGradients) {
+    const auto [a, b] = GetParam();
     const RgbImage hi = random_image(96, 96, 21);
     const SrLoop loop =
         make_sr_loop(hi, 2, 2.f, 24, glm::dvec2(10.0, 14.0), glm::vec2(0.37f, -0.61f), 3, 0.2f, 5);
@@ -220,7 +226,7 @@ TEST(Lut, TrainerSrLoopGradients) {
     std::array<std::vector<float>, kSrFrames> g;
     for (int t = 0; t < kSrFrames; ++t) g[size_t(t)] = random_image(24, 24, 100 + uint32_t(t)).rgb;
     auto objective = [&](const std::vector<float>& w) {
-        const auto out = sr_loop_forward(loop, w, 0.66f, 0.81f);
+        const auto out = sr_loop_forward(loop, w, a, b);
         double sum = 0;
         for (int t = 0; t < kSrFrames; ++t)
             for (size_t i = 0; i < out[size_t(t)].rgb.size(); ++i)
@@ -228,7 +234,8 @@ TEST(Lut, TrainerSrLoopGradients) {
         return sum;
     };
     std::vector<double> gw(kLutSize, 0.0);
-    sr_loop_backward(loop, sr_loop_forward(loop, l.weights, 0.66f, 0.81f), g, l.weights, 0.66f, 0.81f, gw);
+    sr_loop_backward(loop, sr_loop_forward(loop, l.weights, a, b), g, l.weights, a, b, gw);
+    for (double v : gw) ASSERT_TRUE(std::isfinite(v));
     // The velocity's phase is bin (12, 12) on both axes (0.37 and 1 - 0.61 times 32, rounded).
     const size_t bin = (12 * size_t(kLutLevels) + 12) * kLutTaps;
     double largest = 0;
@@ -242,6 +249,28 @@ TEST(Lut, TrainerSrLoopGradients) {
     }
     EXPECT_GT(largest, 1.0) << "the history must depend on the LUT";
     EXPECT_EQ(gw[0], 0.0); // bin (0, 0) is never read at this velocity
+}
+
+INSTANTIATE_TEST_SUITE_P(Lut, LutSrLoop,
+                         testing::Values(std::pair{0.66f, 0.81f}, std::pair{defaults::sr_a, defaults::sr_b},
+                                         std::pair{0.9f, 1.5f}));
+
+// lut-train accepts the engine's parameter ranges, its own defaults among them (b = 1.09 was
+// refused while the check still said b <= 1), and refuses what the engine refuses.
+TEST(Lut, TrainerAcceptsTheEngineRanges) {
+    cli::LutTrainOptions o;
+    o.iterations = 0; // evaluate the Catmull-Rom start only
+    o.progress = false;
+    auto r = cli::run_lut_train(o);
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_EQ(r->lut.weights.size(), kLutSize);
+    for (float bad_b : {-0.1f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+        cli::LutTrainOptions b = o;
+        b.sr_b = bad_b;
+        auto e = cli::run_lut_train(b);
+        ASSERT_FALSE(e);
+        EXPECT_NE(e.error().message.find("sr-b"), std::string::npos) << e.error().message;
+    }
 }
 
 TEST(Lut, SixFoldResamplingBeatsBilinearAndMatchesBicubic) {

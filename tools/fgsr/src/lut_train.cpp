@@ -373,8 +373,9 @@ Result<LutTrainReport> run_lut_train(const LutTrainOptions& o) {
     if (o.sr_batch < 0) return make_error(Errc::invalid_argument, "sr-batch must be >= 0");
     if (!(o.sr_weight >= 0) || !std::isfinite(o.sr_weight))
         return make_error(Errc::invalid_argument, "sr-weight must be finite and >= 0");
-    if (!(o.sr_a > 0.f && o.sr_a <= 1.f) || !(o.sr_b >= 0.f && o.sr_b <= 1.f))
-        return make_error(Errc::invalid_argument, "sr-a must lie in (0, 1], sr-b in [0, 1]");
+    // The engine's ranges (fgsr::validate), less a = 0 (no current samples: nothing to train).
+    if (!(o.sr_a > 0.f && o.sr_a <= 1.f) || !(std::isfinite(o.sr_b) && o.sr_b >= 0.f))
+        return make_error(Errc::invalid_argument, "sr-a must lie in (0, 1], sr-b be finite and >= 0");
     if (!(o.sr_noise >= 0.f && o.sr_noise <= 4.f))
         return make_error(Errc::invalid_argument, "sr-noise must lie in [0, 4]");
     if (o.threads < 1) return make_error(Errc::invalid_argument, "threads must be >= 1");

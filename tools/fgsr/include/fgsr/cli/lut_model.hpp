@@ -546,7 +546,11 @@ inline void sr_loop_backward(const SrLoop& l, const std::array<RgbImage, kSrFram
                 const glm::vec2 h = qc + l.velocity;
                 if (n == 0.f || h.x < 0.f || h.y < 0.f || h.x > float(l.out_w) || h.y > float(l.out_h))
                     continue;
-                const float k = (1.f - a) / (a * wsum / n + (1.f - a));
+                // As sr.h: no Eq. 2 term left (a = 1, every weight 0 when b > 1) is a spatial
+                // upsample, which reads no history.
+                const float norm = a * wsum / n + (1.f - a);
+                if (!(norm > 0.f)) continue;
+                const float k = (1.f - a) / norm;
                 for (int c = 0; c < 3; ++c) {
                     const float r = hist.rgb[q * 3 + size_t(c)];
                     if (r >= lo[c] && r <= hi[c]) gh[q * 3 + size_t(c)] = k * g[c];
