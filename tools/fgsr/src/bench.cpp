@@ -408,20 +408,25 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
         }
 
         if (r.name != rep.headline.name) continue;
-        // Frames per pair: one call generating `count` evenly spaced frames.
-        for (int count : (o.still_only ? std::vector<int>{} : o.alpha_counts)) {
+        // Frames per pair: one call generating `count` evenly spaced frames; the counts in turn in
+        // each round (interleaved, so that load from other processes falls on all counts alike).
+        const std::vector<int> counts = o.still_only ? std::vector<int>{} : o.alpha_counts;
+        for (int count : counts)
             if (count < 1 || count > 64)
                 return make_error(Errc::invalid_argument, "alpha count outside [1, 64]");
-            std::vector<float> alphas;
-            for (int k = 1; k <= count; ++k) alphas.push_back(float(k) / float(count + 1));
-            std::vector<double> calls;
-            for (int i = 0; i < reps; ++i) {
+        std::vector<std::vector<double>> calls(counts.size());
+        for (int i = 0; i < reps; ++i)
+            for (size_t c = 0; c < counts.size(); ++c) {
+                std::vector<float> alphas;
+                for (int k = 1; k <= counts[c]; ++k) alphas.push_back(float(k) / float(counts[c] + 1));
                 auto ms = timed_call(**s, alphas, nullptr);
                 if (!ms) return ms.error();
-                calls.push_back(*ms);
+                calls[c].push_back(*ms);
             }
-            rep.alphas.push_back({count, median(calls)});
-            progress(o, fmt::format("{} frames per pair: {:.2f} ms per call", count, rep.alphas.back().ms));
+        for (size_t c = 0; c < counts.size(); ++c) {
+            rep.alphas.push_back({counts[c], median(calls[c])});
+            progress(o,
+                     fmt::format("{} frames per pair: {:.2f} ms per call", counts[c], rep.alphas.back().ms));
         }
         // Still (no motion, identical frames, zero vectors) against moving, alternating; each call
         // on a fresh pair: a new input is submitted (each capture's inputs 1 and 2 in turn) and its
