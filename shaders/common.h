@@ -79,6 +79,20 @@ struct GenParams {
     uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector
 };
 
+// splat: the generated frame's GenParams (g.alpha unused), then the alphas this dispatch splats,
+// sharing the motion of each source pixel (splat.h). Alpha k writes its keys and field vectors
+// at element offset k * stride of the keys and motion buffers.
+#define FGSR_SPLAT_ALPHAS 4u
+struct SplatParams {
+    GenParams g;
+    uint count;  // alphas in this dispatch, 1..FGSR_SPLAT_ALPHAS
+    uint stride; // elements between the key (and field-vector) slices of consecutive alphas
+    float alpha0;
+    float alpha1;
+    float alpha2;
+    float alpha3;
+};
+
 // super resolution of one rendered frame (sr.h) and the joint ISR / ESR pass (generate_sr.h)
 struct SrParams {
     uint lr_width;

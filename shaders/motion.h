@@ -18,13 +18,16 @@
 //   vec2  load_mv0(ivec2 pixel)     frame 0 vectors (only called when frame0_has_mv != 0)
 //   float load_depth0(ivec2 pixel)
 
-// Returns vec4(p_target.xy, p0.xy) for the surface point at pixel `p1` of frame 1: its position at
-// the generated time (alpha for interpolation, 1 + alpha for extrapolation) and in frame 0.
-// Uniform acceleration: supplement Eqs. 1 and 2. Uniform velocity (or no frame-0 vectors, or a
-// frame-0 position off screen): Eqs. 14 and 15.
+// source_motion returns vec4(p_target.xy, p0.xy) for the surface point at pixel `p1` of frame 1:
+// its position at the generated time (alpha for interpolation, 1 + alpha for extrapolation) and in
+// frame 0. Uniform acceleration: supplement Eqs. 1 and 2. Uniform velocity (or no frame-0 vectors,
+// or a frame-0 position off screen): Eqs. 14 and 15. It is split in two so that splat reads and
+// searches the vectors once for all alphas of a pair: source_velocities (alpha-independent), then
+// motion_at per alpha.
 #define MOTION_ACCEL_PX 2.0f // chosen on the train captures (docs/ACCURACY.md, "Changes", 3)
 #define MOTION_ACCEL_RATIO 1.0f
-FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
+// The motion of the point: vec4(m1, m0), m0 = m1 for uniform velocity.
+FGSR_INLINE vec4 source_velocities(ivec2 p1, GenParams g) {
     vec2 c1 = vec2(p1) + vec2(0.5f);
     vec2 m1 = -load_mv1(p1);
     vec2 p0 = c1 - m1;
@@ -57,9 +60,21 @@ FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
     // through three frames overshoots. Uniform velocity. Steady acceleration (a thrown object,
     // a camera speeding up, a turning fan) changes the motion by less and keeps the parabola.
     if (length(m1 - m0) > MOTION_ACCEL_PX + MOTION_ACCEL_RATIO * length(m1)) m0 = m1;
-    float a = g.alpha;
+    return vec4(m1, m0);
+}
+
+// Positions vec4(p_target.xy, p0.xy) at alpha `a` of the point at pixel centre c1 with the motion
+// `m` = vec4(m1, m0) of source_velocities.
+FGSR_INLINE vec4 motion_at(vec2 c1, vec4 m, float a, GenParams g) {
+    vec2 m1 = vec2(m.x, m.y);
+    vec2 m0 = vec2(m.z, m.w);
+    vec2 p0 = c1 - m1;
     vec2 accel = 0.5f * a * a * (m1 - m0);
     vec2 pt = g.extrapolate == 0u ? p0 + 0.5f * a * (m1 + m0) + accel
                                   : c1 + 0.5f * a * (3.0f * m1 - m0) + accel;
     return vec4(pt, p0);
+}
+
+FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
+    return motion_at(vec2(p1) + vec2(0.5f), source_velocities(p1, g), g.alpha, g);
 }

@@ -3,7 +3,15 @@
 #include "common.h"
 #include "bindings.h"
 layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
-layout(push_constant) uniform Push { GenParams g; } pc;
+layout(push_constant) uniform Push {
+    GenParams g;
+    uint count;
+    uint stride;
+    float alpha0;
+    float alpha1;
+    float alpha2;
+    float alpha3;
+} pc; // SplatParams
 layout(std430, binding = GEN_MV1) readonly buffer Mv1 { vec2 mv1[]; };
 layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
@@ -36,13 +44,21 @@ void mark_dirty(uint i) {
 }
 #endif
 
-void splat_min(uint i, uint64_t key) {
-    atomicMin(keys[i], key);
+// FGSR_SPLAT_COUNT: the count as a literal (one build per count; a loop bounded by the push
+// constant cost the single-alpha splat ~25 % on lavapipe).
+#ifdef FGSR_SPLAT_COUNT
+uint splat_count() { return FGSR_SPLAT_COUNT; }
+#else
+uint splat_count() { return pc.count; }
+#endif
+float splat_alpha(uint k) { return k == 0u ? pc.alpha0 : k == 1u ? pc.alpha1 : k == 2u ? pc.alpha2 : pc.alpha3; }
+void splat_min(uint slice, uint i, uint64_t key) {
+    atomicMin(keys[slice * pc.stride + i], key);
 #ifdef FGSR_TILED
-    mark_dirty(i);
+    mark_dirty(i); // tiled splats are single-alpha (slice 0)
 #endif
 }
-void store_motion(uint i, vec4 m) { motion[i] = m; }
+void store_motion(uint slice, uint i, vec4 m) { motion[slice * pc.stride + i] = m; }
 
 #include "field.h"
 #include "motion.h"

@@ -6,19 +6,30 @@
 // generated time to its position in frame 0 and in frame 1, so that later passes read one vec4 per
 // splatted pixel instead of recomputing the motion.
 //
+// One dispatch splats up to FGSR_SPLAT_ALPHAS generated frames of the same pair (the alphas of one
+// call): the alpha-independent part (the source's vectors, motion.h's frame-0 search, its depth)
+// is read and computed once per source pixel, then each alpha gets its own key and field vectors
+// (slice k of the keys and of the field vectors).
+//
 // Entry provides (besides motion.h's loads):
-//   void splat_min(uint target_index, uint64_t key)
-//   void store_motion(uint source_index, vec4 field_vectors)
+//   uint  splat_count()        alphas of this dispatch
+//   float splat_alpha(uint k)  alpha k (the generated time as GenParams::alpha means it)
+//   void  splat_min(uint slice, uint target_index, uint64_t key)
+//   void  store_motion(uint slice, uint source_index, vec4 field_vectors)
 
 FGSR_INLINE void splat_pixel(ivec2 p1, GenParams g) {
     if (!inside(p1, g)) return;
-    vec4 m = source_motion(p1, g);
+    vec4 m = source_velocities(p1, g);
+    vec2 c1 = vec2(p1) + vec2(0.5f);
     uint src = uint(p1.y) * g.width + uint(p1.x);
-    vec2 pt = vec2(m.x, m.y);
-    store_motion(src, vec4(vec2(m.z, m.w) - pt, vec2(p1) + vec2(0.5f) - pt));
-    if (!(abs(pt.x) < 1.0e7f && abs(pt.y) < 1.0e7f)) return;
-    ivec2 t = ivec2(floor(pt));
-    if (!inside(t, g)) return;
     uint64_t key = (uint64_t(floatBitsToUint(load_depth1(p1))) << 32) | uint64_t(src);
-    splat_min(uint(t.y) * g.width + uint(t.x), key);
+    for (uint k = 0u; k < splat_count(); ++k) {
+        vec4 pos = motion_at(c1, m, splat_alpha(k), g);
+        vec2 pt = vec2(pos.x, pos.y);
+        store_motion(k, src, vec4(vec2(pos.z, pos.w) - pt, c1 - pt));
+        if (!(abs(pt.x) < 1.0e7f && abs(pt.y) < 1.0e7f)) continue;
+        ivec2 t = ivec2(floor(pt));
+        if (!inside(t, g)) continue;
+        splat_min(k, uint(t.y) * g.width + uint(t.x), key);
+    }
 }

@@ -151,24 +151,33 @@ TEST(EngineApi, NonFiniteInputsNeverReachTheOutput) {
     expect_no_validation_errors();
 }
 
+// Also across splat's multi-alpha chunks (FGSR_SPLAT_ALPHAS frames per splat dispatch without
+// tiles: 6 alphas are a chunk of 4 and one of 2), fused and separate passes, tiled or not.
 TEST(EngineApi, SeveralAlphasInOneCallEqualSingleCalls) {
-    auto s = session();
-    ASSERT_TRUE(s->submit(random_frame(W, H, 5, 6.f).view()));
-    ASSERT_TRUE(s->submit(random_frame(W, H, 6, 6.f).view()));
-    const float alphas[] = {0.2f, 0.5f, 0.8f};
-    for (bool extrap : {false, true}) {
-        auto all = extrap ? s->extrapolate(alphas) : s->interpolate(alphas);
-        ASSERT_TRUE(all);
-        ASSERT_EQ(all->size(), 3u);
-        for (size_t k = 0; k < 3; ++k) {
-            const float one[] = {alphas[k]};
-            auto single = extrap ? s->extrapolate(one) : s->interpolate(one);
-            ASSERT_TRUE(single);
-            EXPECT_FLOAT_EQ((*all)[k].time, extrap ? 1.f + alphas[k] : alphas[k]);
-            EXPECT_EQ((*all)[k].color.rgba, (*single)[0].color.rgba) << "alpha " << alphas[k];
-            EXPECT_GT((*all)[k].gpu_ms, 0.0);
+    for (int variant = 0; variant < 3; ++variant) {
+        SCOPED_TRACE(variant);
+        Params p;
+        p.skip_tiles = variant == 0;
+        p.separate_passes = variant == 2;
+        auto s = session(internal_format(W, H), p);
+        ASSERT_TRUE(s->submit(random_frame(W, H, 5, 6.f).view()));
+        ASSERT_TRUE(s->submit(random_frame(W, H, 6, 6.f).view()));
+        const float alphas[] = {0.1f, 0.2f, 0.35f, 0.5f, 0.65f, 0.8f};
+        constexpr size_t count = std::size(alphas);
+        for (bool extrap : {false, true}) {
+            auto all = extrap ? s->extrapolate(alphas) : s->interpolate(alphas);
+            ASSERT_TRUE(all);
+            ASSERT_EQ(all->size(), count);
+            for (size_t k = 0; k < count; ++k) {
+                const float one[] = {alphas[k]};
+                auto single = extrap ? s->extrapolate(one) : s->interpolate(one);
+                ASSERT_TRUE(single);
+                EXPECT_FLOAT_EQ((*all)[k].time, extrap ? 1.f + alphas[k] : alphas[k]);
+                EXPECT_EQ((*all)[k].color.rgba, (*single)[0].color.rgba) << "alpha " << alphas[k];
+                EXPECT_GT((*all)[k].gpu_ms, 0.0);
+            }
+            EXPECT_NE((*all)[0].color.rgba, (*all)[2].color.rgba) << "different alphas give different frames";
         }
-        EXPECT_NE((*all)[0].color.rgba, (*all)[2].color.rgba) << "different alphas give different frames";
     }
 }
 

@@ -19,6 +19,28 @@ Result<void> Session::Impl::ensure_outputs(size_t count) {
     return {};
 }
 
+Result<void> Session::Impl::ensure_splat_slices(uint32_t count) {
+    if (splat_slices >= count) return {};
+    const VkDeviceSize elems = VkDeviceSize(splat_stride) * count;
+    for (auto [b, bytes] : {std::pair{&keys, elems * 8}, std::pair{&motion, elems * 16}}) {
+        auto r = vk::Buffer::create(*ctx, bytes, false);
+        if (!r) return r.error();
+        *b = std::move(*r);
+    }
+    splat_slices = count;
+    return {};
+}
+
+gpu::SplatParams Session::Impl::splat_params(const gpu::GenParams& g, std::span<const float> alphas) const {
+    gpu::SplatParams sp{};
+    sp.g = g;
+    sp.count = uint32_t(alphas.size());
+    sp.stride = splat_stride;
+    float* a[FGSR_SPLAT_ALPHAS] = {&sp.alpha0, &sp.alpha1, &sp.alpha2, &sp.alpha3};
+    for (size_t k = 0; k < alphas.size() && k < FGSR_SPLAT_ALPHAS; ++k) *a[k] = alphas[k];
+    return sp;
+}
+
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     if (submitted < 2)
         return make_error(Errc::empty_input, std::string(extrapolate ? "extrapolation" : "interpolation") +
@@ -39,6 +61,10 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     FGSR_TRY(ensure_outputs(alphas.size()));
     const bool tiled = classify_generate();
     if (tiled) FGSR_TRY(ensure_tile_sets(alphas.size()));
+    // Without tiles, one splat dispatch serves up to FGSR_SPLAT_ALPHAS frames (splat.h): frame k
+    // reads slice k % FGSR_SPLAT_ALPHAS, and its chunk's first frame times the splat.
+    const uint32_t chunk = tiled ? 1u : uint32_t(std::min<size_t>(alphas.size(), FGSR_SPLAT_ALPHAS));
+    FGSR_TRY(ensure_splat_slices(chunk));
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
 
@@ -52,47 +78,66 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         const vk::Buffer& out = outputs[k];
         rec.timestamp(q++);
         if (tiled) {
+            last_slice = 0;
             FGSR_TRY(record_tiled(k, g, extrapolate, q));
             timings[k] = {PassId::classify, PassId::splat, sr() ? PassId::generate_sr : PassId::generate};
             continue;
         }
-        vkCmdFillBuffer(rec.cmd(), keys.handle(), 0, VK_WHOLE_SIZE, 0xffffffffu);
-        rec.barrier();
-        const auto sb = make_slots<PassId::splat>(generated_frames());
-        FGSR_TRY(rec.dispatch_pixels(Variant::splat, sb, &g, format.width, format.height));
-        rec.barrier();
-        rec.timestamp(q++);
+        const uint32_t slice = uint32_t(k) % chunk;
+        std::vector<PassId> splat_timing;
+        if (slice == 0) {
+            const size_t count = std::min<size_t>(chunk, alphas.size() - k);
+            vkCmdFillBuffer(rec.cmd(), keys.handle(), 0, VkDeviceSize(splat_stride) * count * 8, 0xffffffffu);
+            rec.barrier();
+            const gpu::SplatParams sp = splat_params(g, alphas.subspan(k, count));
+            const auto sb = make_slots<PassId::splat>(generated_frames(kAllSlices));
+            static_assert(FGSR_SPLAT_ALPHAS == 4);
+            const Variant v = count == 1   ? Variant::splat
+                              : count == 2 ? Variant::splat_x2
+                              : count == 3 ? Variant::splat_x3
+                                           : Variant::splat_x4;
+            FGSR_TRY(rec.dispatch_pixels(v, sb, &sp, format.width, format.height));
+            rec.barrier();
+            rec.timestamp(q++);
+            splat_timing = {PassId::splat};
+        }
+        last_slice = slice;
+        auto with_splat = [&](std::initializer_list<PassId> after) {
+            std::vector<PassId> t = splat_timing;
+            t.insert(t.end(), after);
+            return t;
+        };
         if (sr()) { // joint ISR / ESR at output resolution (always fused)
             const GenSrPush push = gen_sr_push(g);
             const auto b = make_slots<PassId::generate_sr>(
-                generated_frames(), at<GENSR_COLOR0>(f0.color), at<GENSR_COLOR1>(f1.color),
+                generated_frames(slice), at<GENSR_COLOR0>(f0.color), at<GENSR_COLOR1>(f1.color),
                 at<GENSR_SRC>(gen_sr_source(extrapolate)), at<GENSR_LUT>(sr_history.lut),
                 at<GENSR_OUTPUT>(out));
             FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr, b, &push, out_w, out_h));
             rec.barrier();
             rec.timestamp(q++);
-            timings[k] = {PassId::splat, PassId::generate_sr};
+            timings[k] = with_splat({PassId::generate_sr});
             continue;
         }
         if (!params.separate_passes) {
             const auto b =
-                make_slots<PassId::generate>(generated_frames(), at<GENERATE_COLOR0>(f0.color),
+                make_slots<PassId::generate>(generated_frames(slice), at<GENERATE_COLOR0>(f0.color),
                                              at<GENERATE_COLOR1>(f1.color), at<GENERATE_OUTPUT>(out));
             FGSR_TRY(rec.dispatch_pixels(Variant::generate, b, &g, format.width, format.height));
             rec.barrier();
             rec.timestamp(q++);
-            timings[k] = {PassId::splat, PassId::generate};
+            timings[k] = with_splat({PassId::generate});
             continue;
         }
-        const auto rb = make_slots<PassId::refine>(generated_frames(), at<REFINE_FIELD>(field),
+        const auto rb = make_slots<PassId::refine>(generated_frames(slice), at<REFINE_FIELD>(field),
                                                    at<REFINE_FIELD_DEPTH>(field_depth),
                                                    at<REFINE_FIELD_STATE>(field_state));
         FGSR_TRY(rec.dispatch_pixels(Variant::refine, rb, &g, format.width, format.height));
         rec.barrier();
         rec.timestamp(q++);
-        timings[k] = {PassId::splat, PassId::refine};
+        timings[k] = with_splat({PassId::refine});
         if (params.fill_holes) {
-            const auto db = make_slots<PassId::disocc>(generated_frames(), at<DISOCC_FIELD>(field),
+            const auto db = make_slots<PassId::disocc>(generated_frames(slice), at<DISOCC_FIELD>(field),
                                                        at<DISOCC_FIELD_DEPTH>(field_depth),
                                                        at<DISOCC_FIELD_STATE>(field_state));
             FGSR_TRY(rec.dispatch_pixels(Variant::disocc, db, &g, format.width, format.height));
@@ -159,10 +204,11 @@ Result<std::vector<GeneratedFrame>> Session::extrapolate(std::span<const float> 
 Result<Session::Intermediates> Session::read_intermediates() const {
     Impl& s = *impl_;
     Intermediates out;
-    auto keys = s.rec.download<uint64_t>(s.keys, s.n);
+    const size_t at = size_t(s.last_slice) * s.splat_stride;
+    auto keys = s.rec.download<uint64_t>(s.keys, s.n, at);
     if (!keys) return keys.error();
     out.keys = std::move(*keys);
-    auto motion = s.rec.download<float>(s.motion, s.n * 4);
+    auto motion = s.rec.download<float>(s.motion, s.n * 4, at * 4);
     if (!motion) return motion.error();
     out.motion = std::move(*motion);
     if (s.tiles.last_tiled && s.last_output < s.tiles.sets.size()) {

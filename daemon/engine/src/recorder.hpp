@@ -77,11 +77,12 @@ class Recorder {
     Result<std::vector<PassTiming>> read_times(uint32_t first, uint32_t count);
 
     // Copies a buffer to the host (through a staging buffer when it is not mapped).
-    template <class T> Result<std::vector<T>> download(const vk::Buffer& b, size_t count) {
+    // `count` elements from element `first` on.
+    template <class T> Result<std::vector<T>> download(const vk::Buffer& b, size_t count, size_t first = 0) {
         auto staging = vk::Buffer::create(*ctx_, count * sizeof(T), true);
         if (!staging) return staging.error();
         FGSR_TRY(begin());
-        VkBufferCopy region{0, 0, count * sizeof(T)};
+        VkBufferCopy region{first * sizeof(T), 0, count * sizeof(T)};
         vkCmdCopyBuffer(cmd_, b.handle(), staging->handle(), 1, &region);
         barrier();
         FGSR_TRY(finish());

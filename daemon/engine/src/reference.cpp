@@ -52,10 +52,14 @@ struct FramesCpu {
     vec4 load_color0(ivec2 q) const { return f0->color[at(q)]; }
 };
 
+// One alpha per splat (the GPU's slices of a multi-alpha dispatch are each this splat).
 struct SplatCpu : FramesCpu {
     ref::Splat* out;
-    void splat_min(uint i, uint64_t key) { out->keys[i] = std::min(out->keys[i], key); }
-    void store_motion(uint i, vec4 m) { out->motion[i] = m; }
+    float alpha;
+    uint splat_count() const { return 1u; }
+    float splat_alpha(uint) const { return alpha; }
+    void splat_min(uint, uint i, uint64_t key) { out->keys[i] = std::min(out->keys[i], key); }
+    void store_motion(uint, uint i, vec4 m) { out->motion[i] = m; }
 #include "field.h"
 #include "motion.h"
 #include "splat.h"
@@ -228,7 +232,7 @@ std::vector<glm::vec4> denoise(const InternalFrame& f, const DenoiseParams& p, f
 Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g) {
     const size_t n = size_t(g.width) * g.height;
     Splat out{std::vector<uint64_t>(n, std::numeric_limits<uint64_t>::max()), std::vector<glm::vec4>(n)};
-    gpu::SplatCpu cpu{{&f0, &f1}, &out};
+    gpu::SplatCpu cpu{{&f0, &f1}, &out, g.alpha};
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.splat_pixel(q, g); });
     return out;
 }

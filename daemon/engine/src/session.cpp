@@ -34,8 +34,9 @@ Result<void> Session::Impl::init() {
         FGSR_TRY(make(f.depth, px * 4, false));
         FGSR_TRY(make(f.mv, px * 8, false));
     }
-    FGSR_TRY(make(keys, px * 8, false));
-    FGSR_TRY(make(motion, px * 16, false));
+    // Slices of 32-element multiples: every slice offset is 256-byte aligned (storage buffer offsets).
+    splat_stride = uint32_t((px + 31) / 32 * 32);
+    FGSR_TRY(ensure_splat_slices(1));
     FGSR_TRY(make(field, px * 16, false));
     FGSR_TRY(make(field_depth, px * 4, false));
     FGSR_TRY(make(field_state, px * 4, false));

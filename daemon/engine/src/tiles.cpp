@@ -89,7 +89,7 @@ uint32_t Session::Impl::list_count(const vk::Buffer& list) {
 Result<void> Session::Impl::classify(gpu::ClassifyParams c, const Slots<PassId::classify>& s) {
     vkCmdFillBuffer(rec.cmd(), s[CLASSIFY_FLAGS].buffer, 0, VK_WHOLE_SIZE, 0u);
     if (c.mode == CLASSIFY_GENERATE)
-        vkCmdFillBuffer(rec.cmd(), s[GEN_KEYS].buffer, 0, VK_WHOLE_SIZE, 0xffffffffu);
+        vkCmdFillBuffer(rec.cmd(), s[GEN_KEYS].buffer, s[GEN_KEYS].offset, s[GEN_KEYS].range, 0xffffffffu);
     rec.barrier();
     c.stage = 0;
     const bool cpu = rec.group() == 32;
@@ -177,10 +177,11 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
                                                       tile_lists(ts))));
     rec.barrier();
     rec.timestamp(q++);
+    const gpu::SplatParams sp = splat_params(g, std::span<const float>(&g.alpha, 1)); // single-alpha
     FGSR_TRY(rec.dispatch_indirect(Variant::splat_tiled,
                                    make_slots<PassId::splat, Layout::TILED>(
                                        generated_frames(), tile_list<PassId::splat>(ts.work, ts, true)),
-                                   &g, ts.work));
+                                   &sp, ts.work));
     rec.barrier();
     rec.timestamp(q++);
     if (!sr()) {

@@ -54,6 +54,8 @@ struct GenSrPush {
     gpu::SrParams s;
 };
 static_assert(offsetof(GenSrPush, s) == sizeof(gpu::GenParams) && sizeof(GenSrPush) <= 128);
+static_assert(offsetof(gpu::SplatParams, count) == sizeof(gpu::GenParams) &&
+              sizeof(gpu::SplatParams) == sizeof(gpu::GenParams) + (2 + FGSR_SPLAT_ALPHAS) * 4);
 
 // Storage buffers a pass binds before the tiled ones (shaders/bindings.h, <PASS>_COUNT).
 constexpr uint32_t pass_bindings(PassId p) {
@@ -98,6 +100,7 @@ constexpr uint32_t pass_push(PassId p) {
     case PassId::ingest:
         return sizeof(gpu::IngestParams);
     case PassId::splat:
+        return sizeof(gpu::SplatParams);
     case PassId::refine:
     case PassId::disocc:
     case PassId::warp:

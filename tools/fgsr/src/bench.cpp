@@ -136,6 +136,14 @@ Result<double> timed_call(Session& s, const std::vector<float>& alphas,
     return ms;
 }
 
+// "pass median (samples), ...": medians of the calls that ran each pass.
+std::string pass_medians(const std::map<std::string, std::vector<double>>& samples) {
+    std::string out;
+    for (const auto& [p, v] : samples)
+        out += fmt::format("{}{} {:.2f} ({})", out.empty() ? "" : ", ", p, median(v), v.size());
+    return out;
+}
+
 capture::SceneOptions timing_scene(const Resolution& r, float speed) {
     capture::SceneOptions so;
     so.width = r.width;
@@ -391,27 +399,34 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             row.bytes = total_bytes(frame_bytes(EvalMode::interp, balanced, r.width, r.height));
             row.copy_ms = time_copy_ms(row.bytes, std::max(reps, 5), rep.copy_threads);
             progress(
-                o, fmt::format(
-                       "resolution {}: {:.2f} ms per frame, memcpy of {:.1f} MB traffic {:.2f} ms ({:.1f}x)",
-                       r.name, row.ms, double(row.bytes) / 1e6, row.copy_ms, row.ms / row.copy_ms));
+                o,
+                fmt::format(
+                    "resolution {}: {:.2f} ms per frame, memcpy of {:.1f} MB traffic {:.2f} ms ({:.1f}x); {}",
+                    r.name, row.ms, double(row.bytes) / 1e6, row.copy_ms, row.ms / row.copy_ms,
+                    pass_medians(pass_samples)));
             rep.scaling.push_back(row);
         }
 
         if (r.name != rep.headline.name) continue;
-        // Frames per pair: one call generating `count` evenly spaced frames.
-        for (int count : (o.still_only ? std::vector<int>{} : o.alpha_counts)) {
+        // Frames per pair: one call generating `count` evenly spaced frames; the counts in turn in
+        // each round (interleaved, so that load from other processes falls on all counts alike).
+        const std::vector<int> counts = o.still_only ? std::vector<int>{} : o.alpha_counts;
+        for (int count : counts)
             if (count < 1 || count > 64)
                 return make_error(Errc::invalid_argument, "alpha count outside [1, 64]");
-            std::vector<float> alphas;
-            for (int k = 1; k <= count; ++k) alphas.push_back(float(k) / float(count + 1));
-            std::vector<double> calls;
-            for (int i = 0; i < reps; ++i) {
+        std::vector<std::vector<double>> calls(counts.size());
+        for (int i = 0; i < reps; ++i)
+            for (size_t c = 0; c < counts.size(); ++c) {
+                std::vector<float> alphas;
+                for (int k = 1; k <= counts[c]; ++k) alphas.push_back(float(k) / float(counts[c] + 1));
                 auto ms = timed_call(**s, alphas, nullptr);
                 if (!ms) return ms.error();
-                calls.push_back(*ms);
+                calls[c].push_back(*ms);
             }
-            rep.alphas.push_back({count, median(calls)});
-            progress(o, fmt::format("{} frames per pair: {:.2f} ms per call", count, rep.alphas.back().ms));
+        for (size_t c = 0; c < counts.size(); ++c) {
+            rep.alphas.push_back({counts[c], median(calls[c])});
+            progress(o,
+                     fmt::format("{} frames per pair: {:.2f} ms per call", counts[c], rep.alphas.back().ms));
         }
         // Still (no motion, identical frames, zero vectors) against moving, alternating; each call
         // on a fresh pair: a new input is submitted (each capture's inputs 1 and 2 in turn) and its
@@ -421,6 +436,7 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
         auto still = primed_session(engine, *still_cap, balanced);
         if (!still) return still.error();
         std::vector<double> st, mv, st_frame, mv_frame;
+        std::map<std::string, std::vector<double>> mv_passes;
         for (int i = 0; i < std::max(reps, 9); ++i) {
             // Inputs 1 and 2 in turn for both: they carry vectors (zero in the still scene), input 0 none.
             FGSR_TRY((*still)->submit(still_cap->inputs[1 + size_t(i) % 2].view()));
@@ -429,11 +445,15 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             st.push_back(*a);
             st_frame.push_back(*a + (*still)->last_ingest_ms());
             FGSR_TRY((*s)->submit(cap->inputs[1 + size_t(i) % 2].view()));
-            auto b = timed_call(**s, half, nullptr);
+            std::map<std::string, double> passes;
+            auto b = timed_call(**s, half, &passes);
             if (!b) return b.error();
             mv.push_back(*b);
             mv_frame.push_back(*b + (*s)->last_ingest_ms());
+            for (const auto& [p, v] : passes) mv_passes[p].push_back(v);
+            mv_passes["ingest"].push_back((*s)->last_ingest_ms());
         }
+        progress(o, "moving, fresh pairs, per pass: " + pass_medians(mv_passes));
         if (o.colour) FGSR_TRY(time_colour_only(o, engine, *cap, balanced, rep));
         rep.still_ms = median(st);
         rep.moving_ms = median(mv);
