@@ -394,6 +394,23 @@ TEST(Sr, JointModesBeatUpscaledFrameGeneration) {
     expect_no_validation_errors();
 }
 
+// The inputs of the last generated frame as the CPU reference takes them: the pair's internal
+// frames and the GPU's splat (keys and field vectors). Empty if a read fails.
+struct PairInputs {
+    ref::InternalFrame f0, f1;
+    ref::Splat splat;
+};
+
+std::optional<PairInputs> read_pair(Session& s, uint32_t w, uint32_t h) {
+    auto inter = s.read_intermediates();
+    auto g0 = s.read_frame(0), g1 = s.read_frame(1);
+    if (!inter || !g0 || !g1) return std::nullopt;
+    const size_t n = size_t(w) * h;
+    PairInputs p{to_internal(*g0, w, h), to_internal(*g1, w, h), ref::Splat{inter->keys, std::vector<glm::vec4>(n)}};
+    std::memcpy(p.splat.motion.data(), inter->motion.data(), n * 16);
+    return p;
+}
+
 // generate_sr on the GPU against the CPU reference, on the GPU's own splat output.
 TEST(Sr, JointPassMatchesReference) {
     const uint32_t w = 40, h = 24;
@@ -417,19 +434,15 @@ TEST(Sr, JointPassMatchesReference) {
         const float a[] = {0.5f};
         auto out = extrap ? (*s)->extrapolate(a) : (*s)->interpolate(a);
         ASSERT_TRUE(out);
-        auto inter = (*s)->read_intermediates();
-        auto g0 = (*s)->read_frame(0), g1 = (*s)->read_frame(1);
-        ASSERT_TRUE(inter && g0 && g1);
+        std::optional<PairInputs> in = read_pair(**s, w, h);
+        ASSERT_TRUE(in);
         const size_t n = size_t(w) * h;
-        ref::Splat sp{inter->keys, std::vector<glm::vec4>(n)};
-        std::memcpy(sp.motion.data(), inter->motion.data(), n * 16);
         std::vector<glm::vec4> src(size_t(4) * n);
         std::memcpy(src.data(), prev_out->color.rgba.data(), src.size() * 16);
         const FrameFormat fmt = internal_format(w, h);
         const ref::GenParams g = params::gen_params(fmt, p, 0.5f, extrap, true, true);
         const ref::SrParams sr = params::sr_params(fmt, p, 2 * w, 2 * h, v_jitter(2), 0.f, true);
-        auto expect = ref::generate_sr(to_internal(*g0, w, h), to_internal(*g1, w, h), sp, src, g, sr,
-                                       default_lut(2.f).weights);
+        auto expect = ref::generate_sr(in->f0, in->f1, in->splat, src, g, sr, default_lut(2.f).weights);
         double err = 0;
         for (size_t i = 0; i < expect.size(); ++i)
             for (int c = 0; c < 4; ++c)
@@ -460,12 +473,9 @@ TEST(Sr, JointHistoryIsClippedToTheInputNeighbourhood) {
     for (int k = 0; k < 3; ++k) ASSERT_TRUE((*s)->submit(f.view()));
     const float a[] = {0.5f};
     ASSERT_TRUE((*s)->interpolate(a)); // the splat of this pair, for the reference below
-    auto inter = (*s)->read_intermediates();
-    auto g0 = (*s)->read_frame(0), g1 = (*s)->read_frame(1);
-    ASSERT_TRUE(inter && g0 && g1);
+    std::optional<PairInputs> in = read_pair(**s, w, h);
+    ASSERT_TRUE(in);
     const size_t n = size_t(w) * h;
-    ref::Splat sp{inter->keys, std::vector<glm::vec4>(n)};
-    std::memcpy(sp.motion.data(), inter->motion.data(), n * 16);
 
     std::vector<glm::vec4> hr_truth(4 * n), src(4 * n);
     for (uint32_t y = 0; y < 2 * h; ++y)
@@ -483,8 +493,7 @@ TEST(Sr, JointHistoryIsClippedToTheInputNeighbourhood) {
             Params q = p;
             q.sr_clip = on ? 0.7f : 0.f;
             const ref::SrParams sr = params::sr_params(fmt, q, 2 * w, 2 * h, 0.f, 0.f, true);
-            auto out = ref::generate_sr(to_internal(*g0, w, h), to_internal(*g1, w, h), sp, src, g, sr,
-                                        default_lut(2.f).weights);
+            auto out = ref::generate_sr(in->f0, in->f1, in->splat, src, g, sr, default_lut(2.f).weights);
             for (size_t i = 0; i < out.size(); ++i)
                 for (int ch = 0; ch < 3; ++ch) err[on] += std::abs(double(out[i][ch] - hr_truth[i][ch]));
             err[on] /= double(out.size() * 3);
