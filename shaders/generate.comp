@@ -44,6 +44,28 @@ void main() {
     ivec2 p;
     if (listed_pixel(p)) generate_pixel(p, pc.g);
 }
+#elif defined(FGSR_GENERATE_SPLIT)
+// The split form (generate.h, generate_splatted) for CPU devices, in the TILED layout: stage 1
+// appends the empty pixels (x | y << 16) to the list at GENERATE_COUNT + TILED_APPEND (a tile
+// list's header, tiles.h: one invocation per entry), stage 2 runs over that list bound at
+// GENERATE_COUNT + TILED_LIST (an indirect dispatch).
+#if FGSR_GENERATE_SPLIT == 1
+layout(std430, binding = GENERATE_COUNT + TILED_APPEND) buffer PixelList { uint pixel_list[]; };
+#else
+layout(std430, binding = GENERATE_COUNT + TILED_LIST) readonly buffer PixelList { uint pixel_list[]; };
+#endif
+#include "tiles.h"
+void main() {
+#if FGSR_GENERATE_SPLIT == 1
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (!generate_splatted(t, pc.g)) TILE_APPEND(pixel_list, uint(t.x) | (uint(t.y) << 16), 1u);
+#else
+    uint slot = gl_WorkGroupID.x * uint(FGSR_GROUP * FGSR_GROUP) + gl_LocalInvocationIndex;
+    if (slot >= pixel_list[3]) return;
+    uint packed = pixel_list[TILE_LIST_HEADER + slot];
+    generate_pixel(ivec2(int(packed & 0xffffu), int(packed >> 16)), pc.g);
+#endif
+}
 #else
 void main() { generate_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }
 #endif
