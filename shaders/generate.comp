@@ -9,10 +9,15 @@ layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
-layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; };
-layout(std430, binding = GENERATE_COLOR0) readonly buffer Color0 { uvec2 color0[]; }; // pack_color
-layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { uvec2 color1[]; }; // pack_color
-layout(std430, binding = GENERATE_OUTPUT) writeonly buffer Output { vec4 outp[]; };
+#ifdef FGSR_TILED
+layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; }; // tiles.h reads it
+#else
+layout(std430, binding = GEN_MOTION) readonly buffer Motion { u64vec2 motion[]; }; // vec4 (load64.h)
+#endif
+layout(std430, binding = GENERATE_COLOR0) readonly buffer Color0 { uint64_t color0[]; }; // pack_color (uvec2, load64.h)
+layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { uint64_t color1[]; }; // pack_color (uvec2)
+layout(std430, binding = GENERATE_OUTPUT) writeonly buffer Output { u64vec2 outp[]; }; // vec4
+#include "load64.h"
 
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
@@ -26,11 +31,11 @@ layout(std430, binding = GENERATE_COUNT + TILED_FLAGS) readonly buffer Flags { u
 #include "tiles.h"
 #else
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
-vec4 load_motion(uint src) { return motion[src]; }
+vec4 load_motion(uint src) { return as_vec4(motion[src]); }
 #endif
-vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
-vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
-void store_output(uint i, vec4 c) { outp[i] = c; }
+vec4 load_color0(ivec2 q) { return unpack_color(as_uvec2(color0[q.y * int(pc.g.width) + q.x])); }
+vec4 load_color1(ivec2 q) { return unpack_color(as_uvec2(color1[q.y * int(pc.g.width) + q.x])); }
+void store_output(uint i, vec4 c) { outp[i] = as_u64vec2(c); }
 
 #include "field.h"
 #include "refine.h"
@@ -43,6 +48,28 @@ void store_output(uint i, vec4 c) { outp[i] = c; }
 void main() {
     ivec2 p;
     if (listed_pixel(p)) generate_pixel(p, pc.g);
+}
+#elif defined(FGSR_GENERATE_SPLIT)
+// The split form (generate.h, generate_splatted) for CPU devices, in the TILED layout: stage 1
+// appends the empty pixels (x | y << 16) to the list at GENERATE_COUNT + TILED_APPEND (a tile
+// list's header, tiles.h: one invocation per entry), stage 2 runs over that list bound at
+// GENERATE_COUNT + TILED_LIST (an indirect dispatch).
+#if FGSR_GENERATE_SPLIT == 1
+layout(std430, binding = GENERATE_COUNT + TILED_APPEND) buffer PixelList { uint pixel_list[]; };
+#else
+layout(std430, binding = GENERATE_COUNT + TILED_LIST) readonly buffer PixelList { uint pixel_list[]; };
+#endif
+#include "tiles.h"
+void main() {
+#if FGSR_GENERATE_SPLIT == 1
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (!generate_splatted(t, pc.g)) TILE_APPEND(pixel_list, uint(t.x) | (uint(t.y) << 16), 1u);
+#else
+    uint slot = gl_WorkGroupID.x * uint(FGSR_GROUP * FGSR_GROUP) + gl_LocalInvocationIndex;
+    if (slot >= pixel_list[3]) return;
+    uint packed = pixel_list[TILE_LIST_HEADER + slot];
+    generate_pixel(ivec2(int(packed & 0xffffu), int(packed >> 16)), pc.g);
+#endif
 }
 #else
 void main() { generate_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }

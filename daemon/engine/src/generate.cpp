@@ -119,6 +119,37 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             timings[k] = with_splat({PassId::generate_sr});
             continue;
         }
+        if (!params.separate_passes && rec.group() == 32) {
+            // CPU devices: the split form (shaders/generate.h, generate_splatted), the splatted
+            // pixels, then the list of the empty ones.
+            if (!gap_list.handle()) {
+                auto r = vk::Buffer::create(*ctx, (VkDeviceSize(TILE_LIST_HEADER) + n) * 4, false);
+                if (!r) return r.error();
+                gap_list = std::move(*r);
+            }
+            const std::array<uint32_t, TILE_LIST_HEADER> empty{0, 1, 1, 0, 0, 1, 0, 0};
+            vkCmdUpdateBuffer(rec.cmd(), gap_list.handle(), 0, sizeof(empty), empty.data());
+            rec.barrier();
+            const auto gen_frames = generated_frames(slice);
+            const auto colors = At<GENERATE_COLOR0, GENERATE_COLOR1, GENERATE_OUTPUT>{{f0.color, f1.color, out}};
+            constexpr uint32_t base = GENERATE_COUNT;
+            using ListSlots = At<base + TILED_LIST, base + TILED_FLAGS, base + TILED_APPEND>;
+            FGSR_TRY(rec.dispatch_pixels(
+                Variant::generate_split,
+                make_slots<PassId::generate, Layout::TILED>(
+                    gen_frames, colors, ListSlots{{unused(gap_list), unused(gap_list), gap_list}}),
+                &g, format.width, format.height));
+            rec.barrier();
+            FGSR_TRY(rec.dispatch_indirect(
+                Variant::generate_rest,
+                make_slots<PassId::generate, Layout::TILED>(
+                    gen_frames, colors, ListSlots{{gap_list, unused(gap_list), unused(gap_list)}}),
+                &g, gap_list));
+            rec.barrier();
+            rec.timestamp(q++);
+            timings[k] = with_splat({PassId::generate});
+            continue;
+        }
         if (!params.separate_passes) {
             const auto b =
                 make_slots<PassId::generate>(generated_frames(slice), at<GENERATE_COLOR0>(f0.color),

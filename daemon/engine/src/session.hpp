@@ -82,6 +82,10 @@ struct Session::Impl {
     vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1,
         warped_depth1;
     uint32_t splat_stride = 0, splat_slices = 0;
+    // The empty pixels of a generated frame that generate's split form (CPU devices, shaders
+    // generate.comp FGSR_GENERATE_SPLIT) finishes in its second pass: a tile list's header, then
+    // one entry per pixel (created on first use).
+    vk::Buffer gap_list;
     uint32_t last_slice = 0;         // slice of the keys and motion of the last generated frame
     std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
     bool last_extrapolate = false;
