@@ -302,9 +302,10 @@ TEST(EvalMotionCaptures, OutWritesSuperResolutionFrames) {
         std::filesystem::temp_directory_path() / ("fgsr-eval-out-" + std::to_string(getpid()));
     std::filesystem::remove_all(out);
     for (const char* mode : {"sr", "isr", "esr"}) {
-        nlohmann::json j = eval_json(fmt::format("--mode {} --frames 2 --static-frames 0 --methods fgsr,bicubic "
-                                                 "--capture {} --out {}",
-                                                 mode, dir.string(), out.string()));
+        nlohmann::json j =
+            eval_json(fmt::format("--mode {} --frames 2 --static-frames 0 --methods fgsr,bicubic "
+                                  "--capture {} --out {}",
+                                  mode, dir.string(), out.string()));
         ASSERT_FALSE(j.is_discarded()) << mode;
         std::ifstream mf(out / "metrics.json");
         const nlohmann::json m = nlohmann::json::parse(mf, nullptr, false);
@@ -332,8 +333,8 @@ TEST(EvalMotionCaptures, OutWritesSuperResolutionFrames) {
             }
             EXPECT_NEAR(sum / double(refs.size()), j["methods"][method]["psnr"].get<double>(), 0.1)
                 << mode << " " << method;
-            EXPECT_NEAR(m["methods"][method]["psnr"].get<double>(), j["methods"][method]["psnr"].get<double>(),
-                        1e-9);
+            EXPECT_NEAR(m["methods"][method]["psnr"].get<double>(),
+                        j["methods"][method]["psnr"].get<double>(), 1e-9);
         }
         std::filesystem::remove_all(out);
     }

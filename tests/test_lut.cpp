@@ -264,7 +264,8 @@ TEST(Lut, TrainerAcceptsTheEngineRanges) {
     auto r = cli::run_lut_train(o);
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_EQ(r->lut.weights.size(), kLutSize);
-    for (float bad_b : {-0.1f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    for (float bad_b :
+         {-0.1f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
         cli::LutTrainOptions b = o;
         b.sr_b = bad_b;
         auto e = cli::run_lut_train(b);

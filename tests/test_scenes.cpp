@@ -127,11 +127,11 @@ TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
         bool parabola;
     };
     const Case cases[] = {
-        {{4.f, 0.f}, {3.f, 0.f}, true},    // speeding up: |m1 - m0| = 1 < 6
-        {{4.f, 0.f}, {4.f, 3.f}, true},    // turning: 3 < 6
-        {{4.f, 0.f}, {-4.f, 0.f}, false},  // turning back: 8 > 6
-        {{0.5f, 0.f}, {-1.f, 0.f}, true},  // slow, reversing within 2 px: 1.5 < 2.5
-        {{1.f, 1.f}, {-3.f, 1.f}, false},  // reversing beyond it: 4 > 3.41
+        {{4.f, 0.f}, {3.f, 0.f}, true},   // speeding up: |m1 - m0| = 1 < 6
+        {{4.f, 0.f}, {4.f, 3.f}, true},   // turning: 3 < 6
+        {{4.f, 0.f}, {-4.f, 0.f}, false}, // turning back: 8 > 6
+        {{0.5f, 0.f}, {-1.f, 0.f}, true}, // slow, reversing within 2 px: 1.5 < 2.5
+        {{1.f, 1.f}, {-3.f, 1.f}, false}, // reversing beyond it: 4 > 3.41
     };
     for (const Case& c : cases)
         for (bool extrap : {false, true}) {
@@ -154,8 +154,8 @@ TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
             const glm::vec2 c1 = glm::vec2(px) + 0.5f, p0 = c1 - c.m1;
             const glm::vec2 pt = c1 - glm::vec2(sp.motion[i].z, sp.motion[i].w);
             const glm::vec2 accel = 0.5f * a * a * (c.m1 - c.m0);
-            const glm::vec2 parabola = extrap ? c1 + 0.5f * a * (3.f * c.m1 - c.m0) + accel
-                                              : p0 + 0.5f * a * (c.m1 + c.m0) + accel;
+            const glm::vec2 parabola =
+                extrap ? c1 + 0.5f * a * (3.f * c.m1 - c.m0) + accel : p0 + 0.5f * a * (c.m1 + c.m0) + accel;
             const glm::vec2 uniform = extrap ? c1 + a * c.m1 : p0 + a * c.m1;
             const glm::vec2 want = c.parabola ? parabola : uniform;
             EXPECT_LT(glm::length(pt - want), 1e-4f)

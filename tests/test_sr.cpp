@@ -406,7 +406,8 @@ std::optional<PairInputs> read_pair(Session& s, uint32_t w, uint32_t h) {
     auto g0 = s.read_frame(0), g1 = s.read_frame(1);
     if (!inter || !g0 || !g1) return std::nullopt;
     const size_t n = size_t(w) * h;
-    PairInputs p{to_internal(*g0, w, h), to_internal(*g1, w, h), ref::Splat{inter->keys, std::vector<glm::vec4>(n)}};
+    PairInputs p{to_internal(*g0, w, h), to_internal(*g1, w, h),
+                 ref::Splat{inter->keys, std::vector<glm::vec4>(n)}};
     std::memcpy(p.splat.motion.data(), inter->motion.data(), n * 16);
     return p;
 }
@@ -498,8 +499,8 @@ TEST(Sr, JointHistoryIsClippedToTheInputNeighbourhood) {
                 for (int ch = 0; ch < 3; ++ch) err[on] += std::abs(double(out[i][ch] - hr_truth[i][ch]));
             err[on] /= double(out.size() * 3);
         }
-        std::printf("[ measured ] %s: mean error %.4f unclipped, %.4f clipped\n", extrap ? "ESR" : "ISR", err[0],
-                    err[1]);
+        std::printf("[ measured ] %s: mean error %.4f unclipped, %.4f clipped\n", extrap ? "ESR" : "ISR",
+                    err[0], err[1]);
         // Unclipped, the checkerboard passes through: fully (ESR) or at the blend weight (ISR).
         EXPECT_GT(err[0], extrap ? 0.2 : 0.1);
         // Clipped, what is left is the gradient's spread: 0.7 sd (0.0057) plus the distance from the

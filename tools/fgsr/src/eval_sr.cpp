@@ -185,7 +185,8 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
             if (o.out) FGSR_TRY(capture::write_png(*o.out / m / fmt::format("{:04d}.png", k + 1), img));
         }
         if (o.out)
-            FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1), cap.hr_reference[k]));
+            FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1),
+                                        cap.hr_reference[k]));
         FGSR_TRY(score_vectors(cap.inputs[k], reference, sessions, rep));
     }
     if (o.static_frames > 0 && frames > 0) FGSR_TRY(measure_stability(o, cap, frames - 1, sessions, rep));
