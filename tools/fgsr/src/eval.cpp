@@ -222,12 +222,7 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
     if (!made) return made.error();
     auto& sessions = *made;
 
-    if (o.out) {
-        std::error_code ec;
-        for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
-        std::filesystem::create_directories(*o.out / "reference", ec);
-        if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
-    }
+    if (o.out) FGSR_TRY(make_out_dirs(*o.out, o.methods));
 
     size_t next_target = 0;
     double ingest_sum = 0;
@@ -299,6 +294,14 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
     finish_means(rep);
     if (o.out) FGSR_TRY(write_metrics_json(rep, *o.out));
     return rep;
+}
+
+Result<void> make_out_dirs(const std::filesystem::path& dir, const std::vector<std::string>& methods) {
+    std::error_code ec;
+    for (const std::string& m : methods) std::filesystem::create_directories(dir / m, ec);
+    std::filesystem::create_directories(dir / "reference", ec);
+    if (ec) return make_error(Errc::io, "cannot create " + dir.string() + ": " + ec.message());
+    return {};
 }
 
 Result<void> write_metrics_json(const EvalReport& r, const std::filesystem::path& dir) {

@@ -157,12 +157,7 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
     auto made = make_sessions(o, cap.format, sr_params_for(o, scale), engine, rep);
     if (!made) return made.error();
     auto& sessions = *made;
-    if (o.out) {
-        std::error_code ec;
-        for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
-        std::filesystem::create_directories(*o.out / "reference", ec);
-        if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
-    }
+    if (o.out) FGSR_TRY(make_out_dirs(*o.out, o.methods));
     VectorReference reference(cap.format);
     for (size_t k = 0; k < frames; ++k) {
         if (o.progress)
@@ -236,12 +231,7 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
     auto lr_session = (*lr_engine)->create_session(cap.format, o.params); // for the spatial baselines
     if (!lr_session) return lr_session.error();
 
-    if (o.out) {
-        std::error_code ec;
-        for (const std::string& m : o.methods) std::filesystem::create_directories(*o.out / m, ec);
-        std::filesystem::create_directories(*o.out / "reference", ec);
-        if (ec) return make_error(Errc::io, "cannot create " + o.out->string() + ": " + ec.message());
-    }
+    if (o.out) FGSR_TRY(make_out_dirs(*o.out, o.methods));
     const size_t last_input = targets.back() + (extrap ? 0 : 1);
     size_t next = 0;
     VectorReference reference(cap.format);

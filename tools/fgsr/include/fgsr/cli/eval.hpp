@@ -139,6 +139,8 @@ ImageRGBA spatial_upscale(const ImageRGBA& lr, uint32_t out_w, uint32_t out_h, R
 EvalReport new_report(const capture::Capture& cap, std::string mode, float alpha, size_t frames,
                       uint32_t width, uint32_t height, std::vector<std::string> methods);
 std::string report_json(const EvalReport& r, bool per_frame);
+// eval --out: creates dir/<method> for every method and dir/reference (errors: io, naming dir).
+Result<void> make_out_dirs(const std::filesystem::path& dir, const std::vector<std::string>& methods);
 // Writes report_json(r, per_frame = true) to dir/metrics.json (eval --out, replay --out).
 Result<void> write_metrics_json(const EvalReport& r, const std::filesystem::path& dir);
 std::string report_table(const EvalReport& r);
