@@ -91,8 +91,9 @@
 #define FLOW_PREV 1  // pyramid of the previous frame
 #define FLOW_FIELD 2 // the block field
 #define FLOW_MV 3    // the current frame's vectors (vec2, internal convention)
-#define FLOW_DEPTH 4 // the current frame's depth (written only as a proxy)
-#define FLOW_COUNT 5
+#define FLOW_DEPTH 4 // the current frame's depth (written as a proxy; read when correcting)
+#define FLOW_PREV_DEPTH 5 // the previous frame's depth (read when correcting)
+#define FLOW_COUNT 6
 #define FLOW_TEXELS ((1u << FLOW_CUR) | (1u << FLOW_PREV) | (1u << FLOW_FIELD))
 
 // classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current

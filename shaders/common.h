@@ -215,6 +215,12 @@ struct FlowParams {
     float depth_scale;  // motion difference from the dominant one (pixels) that halves the proxy
     uint write_depth;   // 1: write the depth proxy (the session has no depth)
     uint block_shift;   // the finest matched level: blocks of MOTION_BLOCK << shift pixels, vectors x 2^shift
+    // 1: the frame has the client's vectors (correction, Params::correct_vectors): each pixel keeps
+    // its given vector unless the estimated one matches its colour by far better (flow.h).
+    uint correct;
+    float correct_ratio;  // the estimated vector's cost must be below ratio x the given one's ...
+    float correct_margin; // ... minus this margin (luma units)
+    float correct_depth;  // and the given vector's previous position has the pixel's depth (relative)
 };
 
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
@@ -246,7 +252,7 @@ static_assert(sizeof(IngestParams) == 52 && sizeof(GenParams) == 48 && sizeof(Sr
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
-static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 60 && sizeof(FlowParams) == 48,
+static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 60 && sizeof(FlowParams) == 64,
               "motion push constants");
 } // namespace fgsr::gpu
 #endif

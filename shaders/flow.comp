@@ -7,12 +7,16 @@ layout(push_constant) uniform Push { FlowParams p; } pc;
 layout(binding = FLOW_CUR) uniform samplerBuffer cur; // texel buffers, as in match.comp
 layout(binding = FLOW_PREV) uniform samplerBuffer prev;
 layout(binding = FLOW_FIELD) uniform samplerBuffer field; // RGBA32F texels
-layout(std430, binding = FLOW_MV) writeonly buffer Mv { vec2 mv[]; };
-layout(std430, binding = FLOW_DEPTH) writeonly buffer Depth { float depth[]; };
+layout(std430, binding = FLOW_MV) buffer Mv { vec2 mv[]; }; // read: the given vectors (correct)
+layout(std430, binding = FLOW_DEPTH) buffer Depth { float depth[]; };
+layout(std430, binding = FLOW_PREV_DEPTH) readonly buffer PrevDepth { float prev_depth[]; };
 
 float load_cur(uint i) { return texelFetch(cur, int(i)).x; }
 float load_prev(uint i) { return texelFetch(prev, int(i)).x; }
 vec4 load_field(uint i) { return texelFetch(field, int(i)); }
+vec2 load_given(uint i) { return mv[i]; }
+float load_depth(uint i) { return depth[i]; }
+float load_prev_depth(uint i) { return prev_depth[i]; }
 void store_flow(uint i, vec2 m, float d, bool write_depth) {
     mv[i] = m;
     if (write_depth) depth[i] = d;

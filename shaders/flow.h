@@ -30,11 +30,16 @@
 //   float load_cur(uint pixel)   level-0 luma of the current frame
 //   float load_prev(uint pixel)  level-0 luma of the previous frame
 //   vec4  load_field(uint index) the block field
+//   vec2  load_given(uint pixel) the client's vector of the current frame (read with correct only)
+//   float load_depth(uint pixel), load_prev_depth(uint pixel)  depths of both frames (correct only)
 //   void  store_flow(uint pixel, vec2 mv, float depth, bool write_depth)
 
 #define FLOW_SMOOTH_BIAS 0.9f // cost factor of the bilinear candidate
 #define FLOW_AGREE 0.25f     // pixels: blocks this close to their blend need no per-pixel choice
 #define FLOW_PROXY_RANGE 0.04f // depth proxies lie in (1 - range, 1]
+#define FLOW_EDGE_REACH 2      // correction: pixels to the depth samples of the edge test
+#define FLOW_EDGE_DEPTH 0.04f  // correction: relative depth step over that reach that is an edge
+#define FLOW_AGREE_NEIGHBOURS 3 // correction: of the 4 neighbours at that reach, those that must agree
 
 // A block's vector in pixels of the frame (blocks of a coarser level hold vectors of theirs).
 FGSR_INLINE vec2 flow_block(ivec2 b, uint offset, FlowParams p) {
@@ -70,6 +75,25 @@ FGSR_INLINE float flow_cost(ivec2 q, vec2 v, FlowParams p) {
     return s * 0.2f;
 }
 
+// The cost of a sub-pixel vector: as flow_cost, with the previous frame read bilinearly.
+FGSR_INLINE float flow_prev_bilinear(vec2 at, FlowParams p) {
+    vec2 f0 = floor(at);
+    vec2 t = at - f0;
+    ivec2 c = ivec2(f0);
+    float top = mix(flow_luma(c, true, p), flow_luma(c + ivec2(1, 0), true, p), t.x);
+    float bottom = mix(flow_luma(c + ivec2(0, 1), true, p), flow_luma(c + ivec2(1, 1), true, p), t.x);
+    return mix(top, bottom, t.y);
+}
+
+FGSR_INLINE float flow_cost_subpixel(ivec2 q, vec2 v, FlowParams p) {
+    float s = 0.0f;
+    for (int k = 0; k < 5; ++k) {
+        ivec2 o = k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1))));
+        s += abs(flow_luma(q + o, false, p) - flow_prev_bilinear(vec2(q + o) + v, p));
+    }
+    return s * 0.2f;
+}
+
 FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     if (u.x >= p.width || u.y >= p.height) return;
     ivec2 q = ivec2(u);
@@ -99,7 +123,60 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     }
     vec2 back = flow_bilinear(pos + best, p.fwd_offset, p);
     bool occluded = length(best + back) > p.fb_tolerance + 0.1f * length(best);
+    uint i = u.y * p.width + u.x;
+    if (p.correct != 0u) {
+        // 4. Correction of given vectors: the estimate replaces the client's vector only where it is
+        //    consistent and its colour match is clearly better (shading that moves on its own).
+        //    Only where the given vector's previous position shows the same surface (depths agree):
+        //    elsewhere a colour mismatch is a disocclusion, which the given vector describes right.
+        vec2 given = load_given(i);
+        float cg = flow_cost_subpixel(q, given, p);
+        float limit = p.correct_ratio * cg - p.correct_margin;
+        if (limit <= 0.0f) return;
+        ivec2 pq = ivec2(floor(pos + given));
+        if (any(lessThan(pq, ivec2(0))) || pq.x >= int(p.width) || pq.y >= int(p.height)) return;
+        float d1 = load_depth(i);
+        float d0 = load_prev_depth(uint(pq.y) * p.width + uint(pq.x));
+        if (!(abs(d0 - d1) <= p.correct_depth * min(d0, d1))) return;
+        //    Nor next to a depth edge of the current frame, where the colour mismatch is the edge's
+        //    (antialiasing, the moving silhouette): shading moves over smooth surfaces.
+        for (int k = 0; k < 4; ++k) {
+            ivec2 o = k == 0 ? ivec2(-FLOW_EDGE_REACH, 0) : (k == 1 ? ivec2(FLOW_EDGE_REACH, 0) : (k == 2 ? ivec2(0, -FLOW_EDGE_REACH) : ivec2(0, FLOW_EDGE_REACH)));
+            ivec2 n = clamp(q + o, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+            float dn = load_depth(uint(n.y) * p.width + uint(n.x));
+            if (!(abs(dn - d1) <= FLOW_EDGE_DEPTH * min(dn, d1))) return;
+        }
+        //    Candidates: the estimate where it passed the forward-backward test, the four block
+        //    vectors where they pass it too, and without that test the screen's two rigid motions,
+        //    none (shading fixed to the camera) and the dominant one (fixed to the scene).
+        vec2 e = best;
+        float ce = occluded ? 1e30f : flow_cost_subpixel(q, best, p);
+        for (int k = 0; k < 6; ++k) {
+            vec2 cand = k < 4 ? corner[k] : (k == 4 ? g : vec2(0.0f));
+            float cost = flow_cost_subpixel(q, cand, p);
+            if (cost < ce && k < 4) {
+                vec2 cb = flow_bilinear(pos + cand, p.fwd_offset, p);
+                if (length(cand + cb) > p.fb_tolerance + 0.1f * length(cand)) continue;
+            }
+            if (cost < ce) {
+                ce = cost;
+                e = cand;
+            }
+        }
+        if (!(ce < limit)) return;
+        //    And only where the neighbours (FLOW_EDGE_REACH away) agree: the estimate explains their
+        //    colour better too, by the same test. Moving shading covers regions; a lone pixel whose
+        //    colour some candidate happens to match better is noise.
+        int agree = 0;
+        for (int k = 0; k < 4; ++k) {
+            ivec2 o = k == 0 ? ivec2(-FLOW_EDGE_REACH, 0) : (k == 1 ? ivec2(FLOW_EDGE_REACH, 0) : (k == 2 ? ivec2(0, -FLOW_EDGE_REACH) : ivec2(0, FLOW_EDGE_REACH)));
+            ivec2 n = clamp(q + o, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+            agree += flow_cost_subpixel(n, e, p) < p.correct_ratio * flow_cost_subpixel(n, given, p) - p.correct_margin ? 1 : 0;
+        }
+        if (agree >= FLOW_AGREE_NEIGHBOURS) store_flow(i, e, 0.0f, false);
+        return;
+    }
     vec2 v = occluded ? nearest_g : best;
     float m = occluded ? 0.0f : max(length(v - g) - 1.0f, 0.0f);
-    store_flow(u.y * p.width + u.x, v, 1.0f - FLOW_PROXY_RANGE * m / (m + p.depth_scale), p.write_depth != 0u);
+    store_flow(i, v, 1.0f - FLOW_PROXY_RANGE * m / (m + p.depth_scale), p.write_depth != 0u);
 }

@@ -155,7 +155,8 @@ TEST(Presets, SwitchesApplyAndToggle) {
     const std::vector<std::string> toggles = fgsr::switch_toggles(base);
     const std::set<std::string> expected{"motion=linear", "resample=catmull_rom", "resample=lut",
                                          "fill_gaps=off", "fill_holes=off",       "blend=select",
-                                         "dilate_mvs=on", "denoise=off",          "passes=separate"};
+                                         "dilate_mvs=on", "denoise=off",          "passes=separate",
+                                         "correct_vectors=on"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

@@ -19,6 +19,7 @@
 #include <fcntl.h>
 #include <optional>
 #include <poll.h>
+#include <set>
 #include <string>
 #include <sys/eventfd.h>
 #include <sys/mman.h>
@@ -245,6 +246,38 @@ TEST_F(Daemon, OutputsTelemetryAndNotReadyOnTheFirstFrame) {
         auto r = as<fgsr_reply>(c->raw.recv());
         EXPECT_EQ(r.header.type, FGSR_MSG_DESTROY_SESSION_REPLY);
         EXPECT_EQ(r.status, want);
+    }
+}
+
+// FGSR_SESSION_CORRECT_MVS (minor 4): the session has vectors and the daemon also runs the motion
+// passes on every submit after the first; their records come with the interpolated output.
+TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
+    fgsr_session_desc d = default_desc();
+    d.flags = FGSR_SESSION_CORRECT_MVS;
+    d.modes = FGSR_MODE_INTERPOLATE;
+    d.scale = 1.f;
+    auto c = open_session(path(), d);
+    ASSERT_TRUE(c);
+    RawSession& s = *c->s;
+    const float alpha = 0.5f;
+    for (uint32_t frame = 0; frame < 2; ++frame) {
+        s.fill(frame, float(frame));
+        fgsr_submit_entry e = s.entry(frame, FGSR_SUBMIT_HAS_MV);
+        e.interp_count = 1;
+        std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
+        s.push(e);
+        auto v = s.wait_submit();
+        ASSERT_EQ(v.size(), 1u);
+        std::set<uint32_t> passes;
+        for (uint32_t p = 0; p < v[0].telemetry.pass_count; ++p) passes.insert(v[0].telemetry.passes[p].pass);
+        if (frame == 0) {
+            EXPECT_EQ(v[0].status, FGSR_STATUS_NOT_READY);
+            continue;
+        }
+        EXPECT_EQ(v[0].status, FGSR_STATUS_OK);
+        for (uint32_t want : {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
+            EXPECT_EQ(passes.count(want), 1u) << "pass " << want;
+        if (v[0].output_slot != FGSR_NO_SLOT) s.release(v[0].output_slot);
     }
 }
 

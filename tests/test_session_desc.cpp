@@ -257,7 +257,8 @@ TEST(SessionDesc, FormatsModesFlagsAndFloats) {
     expect_refused([](fgsr_session_desc& d) { d.modes = 0; }, "no modes");
     expect_refused([](fgsr_session_desc& d) { d.modes = 0x8; }, "unknown mode");
     expect_ok([](fgsr_session_desc& d) { d.flags = 0x1f; }, "every known flag");
-    expect_refused([](fgsr_session_desc& d) { d.flags = 0x80; }, "unknown flag");
+    expect_ok([](fgsr_session_desc& d) { d.flags = FGSR_SESSION_CORRECT_MVS; }, "vectors corrected by colour");
+    expect_refused([](fgsr_session_desc& d) { d.flags = 0x100; }, "unknown flag");
     expect_refused([](fgsr_session_desc& d) { d.reserved[9] = 1; }, "reserved");
     expect_ok([](fgsr_session_desc& d) { d.far_plane = INFINITY; }, "infinite far plane");
     expect_refused([](fgsr_session_desc& d) { d.far_plane = NAN; }, "NaN far plane");
@@ -414,8 +415,15 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
             }
     // Bits beyond the known ones are still refused.
     fgsr_session_desc in = base_desc(), d{};
-    in.flags = FGSR_SESSION_NO_DEPTH << 1;
+    in.flags = FGSR_SESSION_CORRECT_MVS << 1;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, nullptr, 0), FGSR_STATUS_INVALID_ARGUMENT);
+    // Correction of given vectors needs given vectors.
+    char reason[160];
+    in.flags = FGSR_SESSION_CORRECT_MVS;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK);
+    in.flags = FGSR_SESSION_CORRECT_MVS | FGSR_SESSION_NO_MVS;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(reason).find("CORRECT_MVS"), std::string::npos) << reason;
 }
 
 TEST(Rings, HelpersAndLoopsAgreeAcrossWrapAround) {

@@ -39,7 +39,7 @@ static const uint32_t kKnownModes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE | FGSR_
 static const uint32_t kKnownSessionFlags = FGSR_SESSION_MVS_CONTAIN_JITTER | FGSR_SESSION_DILATE_MVS |
                                            FGSR_SESSION_MV_Y_UP | FGSR_SESSION_LINEAR_MOTION |
                                            FGSR_SESSION_NO_DENOISE | FGSR_SESSION_NO_MVS |
-                                           FGSR_SESSION_NO_DEPTH;
+                                           FGSR_SESSION_NO_DEPTH | FGSR_SESSION_CORRECT_MVS;
 
 fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_session_desc* out, char* reason,
                                         size_t reason_size) {
@@ -75,6 +75,8 @@ fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_sessio
         return refuse(reason, reason_size, "output size %ldx%ld (size %ux%u times scale %g) exceeds %ux%u", out_w,
                       out_h, d.width, d.height, (double)d.scale, FGSR_MAX_FRAME_SIDE, FGSR_MAX_FRAME_SIDE);
     if (d.flags & ~kKnownSessionFlags) return refuse(reason, reason_size, "unknown session flags");
+    if ((d.flags & FGSR_SESSION_CORRECT_MVS) && (d.flags & FGSR_SESSION_NO_MVS))
+        return refuse(reason, reason_size, "FGSR_SESSION_CORRECT_MVS needs vectors: not with FGSR_SESSION_NO_MVS");
     if (d.queue_policy > FGSR_QUEUE_MAILBOX) return refuse(reason, reason_size, "unknown queue policy");
     if (d.input_slots > FGSR_MAX_SLOTS || d.output_slots > FGSR_MAX_SLOTS)
         return refuse(reason, reason_size, "slot counts must be 1..%u", FGSR_MAX_SLOTS);

@@ -82,6 +82,20 @@ int main(int argc, char** argv) {
                      "ISR, ESR: clip the warped history to mean +- this many standard deviations of the "
                      "input frame's 3x3 neighbourhood (0: no clipping)")
         ->capture_default_str();
+    eval->add_flag("--correct-vectors", eo.params.correct_vectors,
+                   "interp, extrap, isr, esr: method fgsr also estimates motion from colour and replaces the "
+                   "capture's vector where the colour follows the estimate by far better (moving shadows)");
+    eval->add_option("--correct-ratio", eo.params.correct_ratio,
+                     "--correct-vectors: the estimate's colour cost must be below this times the given one's")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    eval->add_option("--correct-margin", eo.params.correct_margin,
+                     "--correct-vectors: ... minus this margin (display luma)")
+        ->capture_default_str();
+    eval->add_option("--correct-depth", eo.params.correct_depth,
+                     "--correct-vectors: only where the depth at the given vector's previous position is "
+                     "within this relative difference (inf: anywhere)")
+        ->capture_default_str();
     std::string lut_file;
     eval->add_option("--lut", lut_file,
                      "SR: history resampling table (.lut file, fgsr lut-train) instead of the shipped one");
@@ -230,6 +244,10 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-a")) p.sr_a = eo.params.sr_a;
             if (eval->count("--sr-b")) p.sr_b = eo.params.sr_b;
             if (eval->count("--sr-clip")) p.sr_clip = eo.params.sr_clip;
+            if (eval->count("--correct-vectors")) p.correct_vectors = true;
+            if (eval->count("--correct-ratio")) p.correct_ratio = eo.params.correct_ratio;
+            if (eval->count("--correct-margin")) p.correct_margin = eo.params.correct_margin;
+            if (eval->count("--correct-depth")) p.correct_depth = eo.params.correct_depth;
             if (eval->count("--dilate")) p.dilate_mvs = true;
             if (eval->count("--denoise-strength")) p.denoise_strength = eo.params.denoise_strength;
             if (eval->count("--noise-floor")) p.noise_floor = eo.params.noise_floor;

@@ -1,4 +1,5 @@
-// Motion estimation from colour for sessions without vectors (FrameFormat::has_vectors false):
+// Motion estimation from colour for sessions without vectors (FrameFormat::has_vectors false), and
+// for the correction of given ones (Params::correct_vectors):
 // the luma pyramid of each submitted frame, block matching coarse to fine in both directions, the
 // field's summary on the host (dominant motion, scene cut), then the per-pixel vectors and depth
 // proxy (shaders/luma.h, match.h, flow.h; docs/MOTION.md).
@@ -93,7 +94,8 @@ gpu::MatchParams ref::fill_params(const std::vector<MotionLevel>& levels, bool f
     return m;
 }
 
-gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth) {
+gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth,
+                                 VectorCorrection correct) {
     gpu::FlowParams f{};
     const size_t finest = motion_first_level(levels);
     f.width = levels[0].width;
@@ -108,7 +110,11 @@ gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::ve
     f.global_y = global.y;
     f.fb_tolerance = kMotionFbTolerance;
     f.depth_scale = kMotionDepthScale;
-    f.write_depth = write_depth ? 1u : 0u;
+    f.write_depth = write_depth && !correct.on ? 1u : 0u;
+    f.correct = correct.on ? 1u : 0u;
+    f.correct_ratio = correct.ratio;
+    f.correct_margin = correct.margin;
+    f.correct_depth = correct.depth;
     return f;
 }
 
@@ -232,8 +238,9 @@ Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global) {
     const GpuFrame& f = frames[size_t(cur)];
     const auto b = make_slots<PassId::flow>(
         at<FLOW_CUR>(estimator.pyramid[size_t(cur)]), at<FLOW_PREV>(estimator.pyramid[size_t(prev)]),
-        at<FLOW_FIELD>(estimator.field), at<FLOW_MV>(f.mv), at<FLOW_DEPTH>(f.depth));
-    const gpu::FlowParams p = ref::flow_params(estimator.levels, global, !format.has_depth);
+        at<FLOW_FIELD>(estimator.field), at<FLOW_MV>(f.mv), at<FLOW_DEPTH>(f.depth),
+        at<FLOW_PREV_DEPTH>(frames[size_t(prev)].depth));
+    const gpu::FlowParams p = ref::flow_params(estimator.levels, global, !format.has_depth, correction());
     return rec.dispatch_pixels(Variant::flow, b, &p, format.width, format.height);
 }
 

@@ -34,9 +34,13 @@ struct FlowCpu {
     const std::vector<float>* prev_luma;
     const std::vector<vec4>* blocks;
     ref::InternalFrame* out;
+    const ref::InternalFrame* prev_frame; // read only when correcting
     float load_cur(uint i) const { return (*cur_luma)[i]; }
     float load_prev(uint i) const { return (*prev_luma)[i]; }
     vec4 load_field(uint i) const { return (*blocks)[i]; }
+    vec2 load_given(uint i) const { return out->mv[i]; }
+    float load_depth(uint i) const { return out->depth[i]; }
+    float load_prev_depth(uint i) const { return prev_frame->depth[i]; }
     void store_flow(uint i, vec2 m, float d, bool write_depth) {
         out->mv[i] = m;
         if (write_depth) out->depth[i] = d;
@@ -78,14 +82,14 @@ void fill_level(std::vector<glm::vec4>& field, const MatchParams& p) {
 }
 
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
-          const FlowParams& p, InternalFrame& f) {
-    gpu::FlowCpu cpu{&cur, &prev, &field, &f};
+          const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame) {
+    gpu::FlowCpu cpu{&cur, &prev, &field, &f, prev_frame};
     for (uint32_t y = 0; y < p.height; ++y)
         for (uint32_t x = 0; x < p.width; ++x) cpu.flow_pixel(glm::uvec2(x, y), p);
 }
 
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
-                              std::vector<glm::vec4>& field) {
+                              std::vector<glm::vec4>& field, VectorCorrection correct) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
     const std::vector<float> p0 = luma_pyramid(f0, levels), p1 = luma_pyramid(f1, levels);
     const size_t half = motion_field_blocks(levels);
@@ -106,7 +110,7 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     }
     fill_level(field, fill_params(levels, false));
     fill_level(field, fill_params(levels, true));
-    flow(p1, p0, field, flow_params(levels, s.global, write_depth), f1);
+    flow(p1, p0, field, flow_params(levels, s.global, write_depth, correct), f1, &f0);
     f1.has_mv = true;
     return s;
 }

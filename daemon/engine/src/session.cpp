@@ -220,7 +220,11 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // first command buffer, the host's summary (dominant motion, scene cut), and the per-pixel
     // vectors at the start of the second one. Timings gathered per command buffer.
     std::vector<PassTiming> first_times;
+    // With Params::correct_vectors the same chain corrects the client's vectors: a cut it detects
+    // then only skips the correction (the client says when to reset).
     bool frame_has_mv = has_mv;
+    const bool correcting = s.correction().on;
+    bool flow_skipped = false;
     s.estimator.timings.clear();
     s.estimator.last_cut = false;
     if (s.estimates_motion()) {
@@ -241,20 +245,24 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             const ref::MotionSummary summary = s.summarise_motion();
             s.estimator.last_cut = summary.cut;
             s.estimator.global = summary.global;
-            restart = summary.cut;
+            if (correcting)
+                flow_skipped = summary.cut || !has_mv;
+            else
+                restart = summary.cut;
             s.estimator.typical_share =
                 ref::update_typical_share(s.estimator.typical_share, summary.mismatch_share, summary.cut);
         }
         FGSR_TRY(s.rec.begin());
         q = 0;
         s.rec.timestamp(q++);
-        if (!restart) {
+        flow_skipped = flow_skipped || restart;
+        if (!flow_skipped) {
             FGSR_TRY(s.record_flow(slot, s.newest, s.estimator.global));
             s.rec.barrier();
             s.rec.timestamp(q++);
         }
-        frame_has_mv = !restart;
-        s.estimator.field_valid = !restart;
+        if (!correcting) frame_has_mv = !restart;
+        s.estimator.field_valid = !restart && !s.estimator.last_cut;
     }
     if (denoise) {
         FGSR_TRY(s.record_denoise(f.color));
@@ -276,7 +284,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     size_t ti = 0;
     if (s.estimates_motion()) {
         s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
-        if (!restart) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
+        if (!flow_skipped) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
     } else {
         s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
     }

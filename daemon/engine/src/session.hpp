@@ -131,7 +131,12 @@ struct Session::Impl {
     bool denoise() const { return sr() && params.denoise; }
 
     // motion.cpp
-    bool estimates_motion() const { return !format.has_vectors; }
+    bool estimates_motion() const { return !format.has_vectors || params.correct_vectors; }
+    // Given vectors corrected by colour (Params::correct_vectors) rather than estimated.
+    ref::VectorCorrection correction() const {
+        return {format.has_vectors && params.correct_vectors, params.correct_ratio, params.correct_margin,
+                params.correct_depth};
+    }
     Result<void> init_motion();
     Result<void> record_luma(int slot);
     Result<void> record_match(int cur, int prev);

@@ -26,9 +26,10 @@ extern "C" {
 #endif
 
 #define FGSR_PROTOCOL_MAJOR 1u
-#define FGSR_PROTOCOL_MINOR 3u /* 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE;
+#define FGSR_PROTOCOL_MINOR 4u /* 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE;
                                 * 2: FGSR_SESSION_NO_MVS, FGSR_SESSION_NO_DEPTH, motion passes;
-                                * 3: present reports (fgsr_present_report, FGSR_MSG_REPORT) */
+                                * 3: present reports (fgsr_present_report, FGSR_MSG_REPORT);
+                                * 4: FGSR_SESSION_CORRECT_MVS */
 
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
 #define FGSR_MAX_ALPHAS 8u          /* interpolated or extrapolated frames per submit, each */
@@ -117,6 +118,12 @@ typedef enum fgsr_queue_policy {
  * mv_direction and depth_kind are then ignored, and FGSR_SUBMIT_HAS_MV is refused. */
 #define FGSR_SESSION_NO_MVS 0x20u
 #define FGSR_SESSION_NO_DEPTH 0x40u
+/* Given vectors checked against colour (minor 4): the daemon also estimates motion from colour, as
+ * for NO_MVS, and replaces a pixel's vector by the estimate where the colour follows the estimate
+ * by far better than the given vector (shading that moves on its own: sun shadows, shadows of
+ * objects fixed to the camera). Depth stays the client's. Costs the motion passes at every submit.
+ * Refused together with NO_MVS. */
+#define FGSR_SESSION_CORRECT_MVS 0x80u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */
 #define FGSR_CAP_ZERO_COPY_INPUT 0x1u /* inputs imported without a copy (external host memory) */

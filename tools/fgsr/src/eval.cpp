@@ -270,10 +270,9 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
                 } else if (!out) {
                     return out.error();
                 } else {
-                    // A colour-only frame costs the motion estimation of its newest input too.
-                    add_timing(score, is_colour_method(m)
-                                          ? with_motion_timings((*out)[0], sessions[m]->last_motion_timings())
-                                          : (*out)[0]);
+                    // A colour-only frame (or one with --correct-vectors) costs the motion
+                    // estimation of its newest input too (none is timed otherwise).
+                    add_timing(score, with_motion_timings((*out)[0], sessions[m]->last_motion_timings()));
                     img = std::move((*out)[0].color);
                 }
             } else if (m == "blend") {

@@ -25,9 +25,10 @@ bool is_engine_sr(const std::string& m) {
 
 constexpr const char* kSrMethods = "fgsr, fgsr-colour, fgsr-bilinear, fgsr-bicubic, bilinear, bicubic";
 
-// A colour-only method's output costs the motion estimation of its newest input too.
-GeneratedFrame timed(const std::string& m, const Session& s, GeneratedFrame f) {
-    return is_colour_method(m) ? with_motion_timings(std::move(f), s.last_motion_timings()) : f;
+// A colour-only method's output (or one with --correct-vectors) costs the motion estimation of its
+// newest input too; sessions that estimate nothing time no motion passes.
+GeneratedFrame timed(const Session& s, GeneratedFrame f) {
+    return with_motion_timings(std::move(f), s.last_motion_timings());
 }
 
 // After every session took input k: the capture's vectors of it, then each colour-only
@@ -171,7 +172,7 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
                 FGSR_TRY(sessions[m]->submit(session_view(sessions[m]->format(), view)));
                 auto out = sessions[m]->super_resolved();
                 if (!out) return out.error();
-                add_timing(score, timed(m, *sessions[m], *out));
+                add_timing(score, timed(*sessions[m], *out));
                 img = std::move(out->color);
             } else {
                 img = spatial_upscale(lr, out_w, out_h, resample_of(m), view.jitter_x, view.jitter_y);
@@ -260,7 +261,7 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
                 } else if (!out) {
                     return out.error();
                 } else {
-                    add_timing(score, timed(m, *sessions[m], (*out)[0]));
+                    add_timing(score, timed(*sessions[m], (*out)[0]));
                     img = std::move((*out)[0].color);
                 }
             } else {

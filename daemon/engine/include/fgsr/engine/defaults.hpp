@@ -37,6 +37,19 @@ inline constexpr float sr_clip = 0.7f;
 // noise >= 0.2. The floor (linear units, soft: the noise above it is filtered) lies above what
 // clean content estimates: bunker 0.0013-0.0017, the synthetic scene 0.012-0.026 at 120x80 and
 // larger; it is crossed by dense detail in very small frames (0.06 at 80x53, docs/SR.md).
+// Correction of given vectors by colour (Params::correct_vectors, shaders/flow.h step 4): a pixel
+// takes an estimated vector where its cost (mean absolute display-luma difference over a 5-pixel
+// cross, previous frame read bilinearly) is below ratio x the given vector's cost minus margin, and
+// the given vector's previous position lies within `depth` (relative) of the pixel's depth. Chosen
+// on the train captures of docs/ACCURACY.md (change 4): sweeps of ratio 0.3-1, margin 0-0.1, depth
+// 0.05 / 0.1 / 0.3 / inf on street-fg, toss-fg and builtin, then 0.85 and 1 at margin 0.02, depth
+// 0.3 on every train capture: street-fg interp 22.63 -> 24.24 dB (1: 24.34), bunker HR interp
+// 30.54 -> 30.97 and extrap 28.84 -> 29.67; toss-fg, builtin, foliage-fg, hdr-fg -0.03 to +0.05.
+// Depth 0.05 / 0.1 kept street-fg at 22.71 / 23.52: a forward-moving camera changes the ground's
+// depth by more than 10 % between frames near the camera.
+inline constexpr float correct_ratio = 0.85f;
+inline constexpr float correct_margin = 0.02f;
+inline constexpr float correct_depth = 0.3f;
 inline constexpr float denoise_strength = 5.0f;
 inline constexpr float noise_floor = 0.03f;
 

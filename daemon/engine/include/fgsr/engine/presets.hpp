@@ -8,7 +8,10 @@
 //                resampling (on orbit-sr as good as the LUT and cheaper), fused passes.
 //   quality      everything on: uniform acceleration, gap and hole filling, mix blend, the learned
 //                LUT for SR history, depth-informed vector dilation, fused passes (the separate
-//                passes give the same frames, only slower).
+//                passes give the same frames, only slower). Not the correction of given vectors by
+//                colour (switch correct_vectors): it gains where shading moves on its own and
+//                loses up to 0.25 dB elsewhere (docs/ACCURACY.md, change 4), at several times the
+//                cost of a frame on CPU devices.
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
 // pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing).
 //
@@ -80,7 +83,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 8> kSwitches{{
+inline constexpr std::array<SwitchInfo, 9> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", {"bilinear", "catmull_rom", "lut"}, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -89,6 +92,7 @@ inline constexpr std::array<SwitchInfo, 8> kSwitches{{
     {"dilate_mvs", {"on", "off", ""}, "SR: vector of the frontmost 3x3 neighbour"},
     {"denoise", {"on", "off", ""}, "SR: pre-filter input whose estimated noise exceeds the floor"},
     {"passes", {"fused", "separate", ""}, "one fused generate pass or refine/disocc/warp/blend"},
+    {"correct_vectors", {"on", "off", ""}, "replace given vectors where the colour follows an estimate (shadows)"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
@@ -105,6 +109,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "dilate_mvs") return onoff(p.dilate_mvs);
     if (key == "denoise") return onoff(p.denoise);
     if (key == "passes") return p.separate_passes ? "separate" : "fused";
+    if (key == "correct_vectors") return onoff(p.correct_vectors);
     return "";
 }
 
@@ -120,7 +125,8 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
         return make_error(
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
-                "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes)");
+                "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
+                "correct_vectors)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -142,6 +148,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "dilate_mvs") p.dilate_mvs = on;
     if (key == "denoise") p.denoise = on;
     if (key == "passes") p.separate_passes = value == "separate";
+    if (key == "correct_vectors") p.correct_vectors = on;
     return {};
 }
 

@@ -158,7 +158,16 @@ inline constexpr uint32_t kFieldRegions = 5;
 // the flow pass.
 MatchParams match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward, bool propagate,
                          bool temporal);
-FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth);
+// correct: the flow pass corrects the frame's given vectors (Params::correct_vectors, with its
+// ratio and margin) instead of writing estimated ones.
+struct VectorCorrection {
+    bool on = false;
+    float ratio = 0.f;
+    float margin = 0.f;
+    float depth = 0.f; // relative depth difference within which a surface counts as the same (T_D)
+};
+FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth,
+                       VectorCorrection correct = {});
 // The fill stage of the first level (match.h fill_block): final blocks in, first-pass region out.
 MatchParams fill_params(const std::vector<MotionLevel>& levels, bool forward);
 
@@ -190,13 +199,15 @@ std::vector<float> luma_pyramid(const InternalFrame& f, const std::vector<Motion
 void match_level(const std::vector<float>& src, const std::vector<float>& dst, std::vector<glm::vec4>& field,
                  const MatchParams& p);
 void fill_level(std::vector<glm::vec4>& field, const MatchParams& p);
+// prev_frame: the previous frame, whose depth the correction of given vectors reads (p.correct).
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
-          const FlowParams& p, InternalFrame& f);
+          const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame = nullptr);
 // The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
 // cut f1 keeps its input (has_mv false). `field`: the field buffer carried from the previous call
-// (the engine's temporal candidates), or empty for a first frame; it is resized and updated.
+// (the engine's temporal candidates), or empty for a first frame; it is resized and updated. With
+// correct.on, f1's given vectors are corrected instead (a cut leaves them as they are).
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
-                              std::vector<glm::vec4>& field);
+                              std::vector<glm::vec4>& field, VectorCorrection correct = {});
 inline MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
     std::vector<glm::vec4> field;
     return estimate_motion(f0, f1, write_depth, field);
