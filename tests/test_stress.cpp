@@ -71,7 +71,10 @@ TEST(Stress, TableCoversTheIssue) {
                                  "colour-only/noise/sr",
                                  "colour-only/scene-cut",
                                  "colour-only/pan-216px",
-                                 "colour-only/pan-diagonal-quarter"})
+                                 "colour-only/pan-diagonal-quarter",
+                                 "corrected/flat-changing",
+                                 "corrected/noise",
+                                 "corrected/pan-216px"})
         EXPECT_TRUE(names.count(expected)) << "missing case " << expected;
 }
 
@@ -119,6 +122,25 @@ TEST(Stress, ColourOnlyCasesWithholdVectorsAndDepth) {
         }
     }
     EXPECT_EQ(colour_cases, 9u);
+}
+
+// The corrected-vectors cases give zero vectors and depth with every frame and turn the correction
+// on (Params::correct_vectors), so EveryCasePasses checks its outputs and corrected vectors.
+TEST(Stress, CorrectedCasesGiveVectorsAndCorrectThem) {
+    size_t cases = 0;
+    for (const stress::Case& c : reduced_cases()) {
+        if (c.name.rfind("corrected/", 0) != 0) continue;
+        ++cases;
+        EXPECT_TRUE(c.format.has_vectors && c.format.has_depth) << c.name;
+        EXPECT_TRUE(c.params.correct_vectors) << c.name;
+        for (size_t i = 0; i < c.step_count; ++i) {
+            const stress::Step st = c.step(i);
+            if (st.op != stress::Op::submit) continue;
+            EXPECT_EQ(st.frame.mv.size(), size_t(c.format.width) * c.format.height * 8) << c.name;
+            EXPECT_EQ(st.frame.depth.size(), size_t(c.format.width) * c.format.height * 4) << c.name;
+        }
+    }
+    EXPECT_EQ(cases, 3u);
 }
 
 // The check across a cut (Step::across_cut) holds the engine to "no warp across a cut": a session

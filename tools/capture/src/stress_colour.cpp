@@ -8,7 +8,9 @@
 // request may fail except by the engine restarting where it takes the content for a scene cut
 // (Step::cut_allowed: noise, fades and pans beyond the search range may be), each case ends within
 // max_seconds, and across the unflagged cut the generated frame is one of the two inputs or the
-// request is refused as after a reset (Step::across_cut).
+// request is refused as after a reset (Step::across_cut). The same content also runs as given
+// (zero) vectors and depth corrected by colour (Params::correct_vectors): every pixel then disagrees
+// with its vector or matches anything.
 #include "stress_internal.hpp"
 
 #include <cmath>
@@ -48,8 +50,8 @@ Frame colour_frame(const FrameFormat& f, const std::vector<glm::vec4>& color) {
     c.color = color;
     c.depth.assign(color.size(), 1.f);
     c.mv.assign(color.size(), glm::vec2(0.f));
-    Frame fr = encode(f, c, false);
-    fr.depth.clear(); // withheld: the session has no depth
+    Frame fr = encode(f, c, f.has_vectors); // zero vectors where the session has them
+    if (!f.has_depth) fr.depth.clear();     // withheld: the session has no depth
     return fr;
 }
 
@@ -96,6 +98,7 @@ Case sequence_case(std::string name, std::string checks, const FrameFormat& f, f
     c.checks = std::move(checks);
     c.format = f;
     c.params = params_of(scale);
+    c.params.correct_vectors = f.has_vectors; // a corrected-vectors case (corrected_cases below)
     c.cpu_reference = false; // the CPU reference has no motion estimation; GPU-CPU tests are the passes'
     c.max_seconds = kMaxSeconds;
     std::vector<StepFn> s;
@@ -138,6 +141,18 @@ void add_colour_only_cases(std::vector<Case>& out) {
                       "colour only: 480x270, full-frame pan of (-130, 72) px per frame (over a quarter "
                       "of the frame on both axes)",
                       f, 1.f, [f](int k) { return panned(f, glm::vec2(-130.f, 72.f) * float(k), 11); }));
+
+    // The same content with zero vectors and depth given, corrected by colour.
+    const FrameFormat z = format_of(64, 36);
+    out.push_back(sequence_case("corrected/flat-changing",
+                                "corrected vectors: flat colour that brightens every frame (0.2, 0.5, 0.8)", z,
+                                1.f, [z](int k) { return flat(z, 0.2f + 0.3f * float(k)); }));
+    out.push_back(sequence_case("corrected/noise", "corrected vectors: independent uniform noise every frame", z,
+                                1.f, [z](int k) { return noise(z, uint32_t(k)); }));
+    const FrameFormat zf = format_of(480, 270);
+    out.push_back(sequence_case("corrected/pan-216px",
+                                "corrected vectors: 480x270, full-frame pan of 216 px per frame, given zero",
+                                zf, 1.f, [zf](int k) { return panned(zf, glm::vec2(216.f * float(k), 0.f), 7); }));
 
     // A cut the client does not flag: two frames of one scene (a slow pan), then another scene.
     const FrameFormat g = colour_format(96, 54);

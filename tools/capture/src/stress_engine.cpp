@@ -144,8 +144,10 @@ class Runner {
             if (!checks_.check_repeat_and_drift(st, images, where)) return false;
 
             if (st.op == Op::submit && cpu && !step_cpu_submit(s, st.frame, sr, lut, where)) return false;
-            // Colour-only sessions: the estimated vectors and depth proxy of every frame are finite.
-            if (st.op == Op::submit && !cpu && (!f.has_vectors || !f.has_depth) && !check_ingested(s, where))
+            // Colour-only sessions (and corrected vectors): the estimated or corrected vectors and the
+            // depth proxy of every frame are finite.
+            if (st.op == Op::submit && !cpu && (!f.has_vectors || !f.has_depth || c_.params.correct_vectors) &&
+                !check_ingested(s, where))
                 return false;
             if ((st.op == Op::interpolate || st.op == Op::extrapolate) && cpu &&
                 !step_cpu_generate(s, st, images, sr, lut, where))

@@ -201,8 +201,10 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         own_vectors = std::move(*own);
     }
     VectorReference reference(own_vectors ? own_vectors->format : cap.format);
+    // Vectors that are not the capture's are scored (EPE) and, with --out, written: estimated ones,
+    // --vectors-from's, and the corrected ones of --correct-vectors.
     auto scores_vectors = [&](const std::string& m) {
-        return is_engine_method(m) && (is_colour_method(m) || o.vectors_from);
+        return is_engine_method(m) && (is_colour_method(m) || o.vectors_from || o.params.correct_vectors);
     };
     const bool any_scores_vectors = std::any_of(o.methods.begin(), o.methods.end(), scores_vectors);
 
