@@ -75,6 +75,11 @@ FGSR_INLINE float flow_cost(ivec2 q, vec2 v, FlowParams p) {
     return s * 0.2f;
 }
 
+// Offset k (0..3: left, right, up, down) at distance r.
+FGSR_INLINE ivec2 flow_cross(int k, int r) {
+    return k == 0 ? ivec2(-r, 0) : (k == 1 ? ivec2(r, 0) : (k == 2 ? ivec2(0, -r) : ivec2(0, r)));
+}
+
 // The cost of a sub-pixel vector: as flow_cost, with the previous frame read bilinearly.
 FGSR_INLINE float flow_prev_bilinear(vec2 at, FlowParams p) {
     vec2 f0 = floor(at);
@@ -88,7 +93,7 @@ FGSR_INLINE float flow_prev_bilinear(vec2 at, FlowParams p) {
 FGSR_INLINE float flow_cost_subpixel(ivec2 q, vec2 v, FlowParams p) {
     float s = 0.0f;
     for (int k = 0; k < 5; ++k) {
-        ivec2 o = k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1))));
+        ivec2 o = k == 0 ? ivec2(0) : flow_cross(k - 1, 1);
         s += abs(flow_luma(q + o, false, p) - flow_prev_bilinear(vec2(q + o) + v, p));
     }
     return s * 0.2f;
@@ -141,8 +146,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         //    Nor next to a depth edge of the current frame, where the colour mismatch is the edge's
         //    (antialiasing, the moving silhouette): shading moves over smooth surfaces.
         for (int k = 0; k < 4; ++k) {
-            ivec2 o = k == 0 ? ivec2(-FLOW_EDGE_REACH, 0) : (k == 1 ? ivec2(FLOW_EDGE_REACH, 0) : (k == 2 ? ivec2(0, -FLOW_EDGE_REACH) : ivec2(0, FLOW_EDGE_REACH)));
-            ivec2 n = clamp(q + o, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+            ivec2 n = clamp(q + flow_cross(k, FLOW_EDGE_REACH), ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
             float dn = load_depth(uint(n.y) * p.width + uint(n.x));
             if (!(abs(dn - d1) <= FLOW_EDGE_DEPTH * min(dn, d1))) return;
         }
@@ -169,9 +173,9 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         //    colour some candidate happens to match better is noise.
         int agree = 0;
         for (int k = 0; k < 4; ++k) {
-            ivec2 o = k == 0 ? ivec2(-FLOW_EDGE_REACH, 0) : (k == 1 ? ivec2(FLOW_EDGE_REACH, 0) : (k == 2 ? ivec2(0, -FLOW_EDGE_REACH) : ivec2(0, FLOW_EDGE_REACH)));
-            ivec2 n = clamp(q + o, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
-            agree += flow_cost_subpixel(n, e, p) < p.correct_ratio * flow_cost_subpixel(n, given, p) - p.correct_margin ? 1 : 0;
+            ivec2 n = clamp(q + flow_cross(k, FLOW_EDGE_REACH), ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+            float limit_n = p.correct_ratio * flow_cost_subpixel(n, given, p) - p.correct_margin;
+            agree += flow_cost_subpixel(n, e, p) < limit_n ? 1 : 0;
         }
         if (agree >= FLOW_AGREE_NEIGHBOURS) store_flow(i, e, 0.0f, false);
         return;

@@ -76,7 +76,8 @@ fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_sessio
                       out_h, d.width, d.height, (double)d.scale, FGSR_MAX_FRAME_SIDE, FGSR_MAX_FRAME_SIDE);
     if (d.flags & ~kKnownSessionFlags) return refuse(reason, reason_size, "unknown session flags");
     if ((d.flags & FGSR_SESSION_CORRECT_MVS) && (d.flags & FGSR_SESSION_NO_MVS))
-        return refuse(reason, reason_size, "FGSR_SESSION_CORRECT_MVS needs vectors: not with FGSR_SESSION_NO_MVS");
+        return refuse(reason, reason_size,
+                      "FGSR_SESSION_CORRECT_MVS needs vectors: not with FGSR_SESSION_NO_MVS");
     if (d.queue_policy > FGSR_QUEUE_MAILBOX) return refuse(reason, reason_size, "unknown queue policy");
     if (d.input_slots > FGSR_MAX_SLOTS || d.output_slots > FGSR_MAX_SLOTS)
         return refuse(reason, reason_size, "slot counts must be 1..%u", FGSR_MAX_SLOTS);

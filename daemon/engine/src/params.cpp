@@ -18,7 +18,8 @@ Result<void> validate(const Params& p) {
     if (!(p.sr_a >= 0.f && p.sr_a <= 1.f)) return bad("sr_a", p.sr_a, "[0, 1]");
     if (!(std::isfinite(p.sr_b) && p.sr_b >= 0.f)) return bad("sr_b", p.sr_b, "[0, inf)");
     if (!(std::isfinite(p.sr_clip) && p.sr_clip >= 0.f)) return bad("sr_clip", p.sr_clip, "[0, inf)");
-    if (!(p.correct_ratio >= 0.f && p.correct_ratio <= 1.f)) return bad("correct_ratio", p.correct_ratio, "[0, 1]");
+    if (!(p.correct_ratio >= 0.f && p.correct_ratio <= 1.f))
+        return bad("correct_ratio", p.correct_ratio, "[0, 1]");
     if (!(std::isfinite(p.correct_margin) && p.correct_margin >= 0.f))
         return bad("correct_margin", p.correct_margin, "[0, inf)");
     if (!(p.correct_depth >= 0.f)) return bad("correct_depth", p.correct_depth, "[0, inf]");

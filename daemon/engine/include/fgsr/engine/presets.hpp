@@ -92,7 +92,7 @@ inline constexpr std::array<SwitchInfo, 9> kSwitches{{
     {"dilate_mvs", {"on", "off", ""}, "SR: vector of the frontmost 3x3 neighbour"},
     {"denoise", {"on", "off", ""}, "SR: pre-filter input whose estimated noise exceeds the floor"},
     {"passes", {"fused", "separate", ""}, "one fused generate pass or refine/disocc/warp/blend"},
-    {"correct_vectors", {"on", "off", ""}, "replace given vectors where the colour follows an estimate (shadows)"},
+    {"correct_vectors", {"on", "off", ""}, "given vectors corrected where shading moves (shadows)"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
