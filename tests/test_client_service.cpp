@@ -339,6 +339,38 @@ TEST_F(ClientService, SceneCutsOfACaptureAreHonouredByEvalAndReplay) {
     fs::remove_all(dir, ec);
 }
 
+// `--correct-vectors` through fgsrd (the session flag FGSR_SESSION_CORRECT_MVS, as `fgsr replay
+// --correct-vectors` sends it): the motion passes run in the daemon and the scores equal the
+// in-process ones with the same option; without it no motion pass runs.
+TEST_F(ClientService, CorrectedVectorsGoThroughTheDaemon) {
+    char tmpl[] = "/tmp/fgsr-correct-XXXXXX";
+    const fs::path dir = mkdtemp(tmpl);
+    fgsr::capture::SceneOptions so;
+    so.width = 64;
+    so.height = 36;
+    auto cap = fgsr::capture::make_synthetic_capture(so, 4);
+    ASSERT_TRUE(cap);
+    ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
+    const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
+    const std::string common = bin + " eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
+    auto ev = fgsr::test::run_process(common + " --correct-vectors");
+    auto rp = fgsr::test::run_process(common + " --correct-vectors --socket " + daemon_->socket_path());
+    auto plain = fgsr::test::run_process(common + " --socket " + daemon_->socket_path());
+    ASSERT_EQ(ev.status, 0) << ev.out;
+    ASSERT_EQ(rp.status, 0) << rp.out;
+    ASSERT_EQ(plain.status, 0) << plain.out;
+    const auto a = nlohmann::json::parse(ev.out, nullptr, false), b = nlohmann::json::parse(rp.out, nullptr, false),
+               c = nlohmann::json::parse(plain.out, nullptr, false);
+    ASSERT_FALSE(a.is_discarded() || b.is_discarded() || c.is_discarded());
+    EXPECT_EQ(a["methods"]["fgsr"]["psnr"], b["methods"]["fgsr"]["psnr"]);
+    for (const char* pass : {"luma", "match", "flow"}) {
+        EXPECT_TRUE(b["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << rp.out;
+        EXPECT_FALSE(c["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << plain.out;
+    }
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+}
+
 // `fgsr replay` and `fgsr eval` on the same small capture print the same PSNR and SSIM.
 TEST_F(ClientService, ReplayPrintsTheSameMetricsAsEval) {
     char tmpl[] = "/tmp/fgsr-replay-XXXXXX";

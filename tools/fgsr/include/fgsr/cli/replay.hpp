@@ -27,7 +27,7 @@ struct ReplayOptions {
     bool progress = true;
     bool mailbox = false;     // queue policy mailbox instead of fifo
     bool closed_loop = false; // wait for each submit's last completion before the next (benchmark)
-    Params params;            // t_depth, t_bright, sr_a, sr_b, dilate_mvs, mvs_contain_jitter are sent
+    Params params; // t_depth, t_bright, sr_a, sr_b, dilate_mvs, mvs_contain_jitter, correct_vectors are sent
 };
 
 struct ReplaySummary {
