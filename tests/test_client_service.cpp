@@ -352,14 +352,16 @@ TEST_F(ClientService, CorrectedVectorsGoThroughTheDaemon) {
     ASSERT_TRUE(cap);
     ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
     const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
-    const std::string common = bin + " eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
+    const std::string common =
+        bin + " eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
     auto ev = fgsr::test::run_process(common + " --correct-vectors");
     auto rp = fgsr::test::run_process(common + " --correct-vectors --socket " + daemon_->socket_path());
     auto plain = fgsr::test::run_process(common + " --socket " + daemon_->socket_path());
     ASSERT_EQ(ev.status, 0) << ev.out;
     ASSERT_EQ(rp.status, 0) << rp.out;
     ASSERT_EQ(plain.status, 0) << plain.out;
-    const auto a = nlohmann::json::parse(ev.out, nullptr, false), b = nlohmann::json::parse(rp.out, nullptr, false),
+    const auto a = nlohmann::json::parse(ev.out, nullptr, false),
+               b = nlohmann::json::parse(rp.out, nullptr, false),
                c = nlohmann::json::parse(plain.out, nullptr, false);
     ASSERT_FALSE(a.is_discarded() || b.is_discarded() || c.is_discarded());
     EXPECT_EQ(a["methods"]["fgsr"]["psnr"], b["methods"]["fgsr"]["psnr"]);

@@ -166,9 +166,10 @@ int main(int argc, char** argv) {
     replay->add_option("--frames", ro.max_frames, "Replay at most this many targets (0: all)");
     replay->add_flag("--lr", ro.prefer_lr, "Mob-FGSR captures: use LR_Inputs");
     replay->add_flag("--mailbox", ro.mailbox, "Queue policy mailbox (latest wins) instead of fifo");
-    replay->add_flag("--correct-vectors", ro.params.correct_vectors,
-                     "Session flag FGSR_SESSION_CORRECT_MVS: fgsrd corrects the capture's vectors by colour where "
-                     "shading moves on its own");
+    replay->add_flag(
+        "--correct-vectors", ro.params.correct_vectors,
+        "Session flag FGSR_SESSION_CORRECT_MVS: fgsrd corrects the capture's vectors by colour where "
+        "shading moves on its own");
     replay->add_flag("--bench", replay_bench,
                      "Benchmark the service overhead with spinning off and on (starts two fgsrd unless "
                      "--socket; prints figures)");
