@@ -65,22 +65,22 @@ FGSR_INLINE float flow_luma(ivec2 q, bool prev, FlowParams p) {
     return prev ? load_prev(i) : load_cur(i);
 }
 
-FGSR_INLINE float flow_cost(ivec2 q, vec2 v, FlowParams p) {
-    ivec2 d = ivec2(floor(v + 0.5f));
-    float s = 0.0f;
-    for (int k = 0; k < 5; ++k) {
-        ivec2 o = k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1))));
-        s += abs(flow_luma(q + o, false, p) - flow_luma(q + o + d, true, p));
-    }
-    return s * 0.2f;
-}
-
 // Offset k (0..3: left, right, up, down) at distance r.
 FGSR_INLINE ivec2 flow_cross(int k, int r) {
     return k == 0 ? ivec2(-r, 0) : (k == 1 ? ivec2(r, 0) : (k == 2 ? ivec2(0, -r) : ivec2(0, r)));
 }
 
-// The cost of a sub-pixel vector: as flow_cost, with the previous frame read bilinearly.
+FGSR_INLINE float flow_cost(ivec2 q, vec2 v, FlowParams p) {
+    ivec2 d = ivec2(floor(v + 0.5f));
+    float s = 0.0f;
+    for (int k = 0; k < 5; ++k) {
+        ivec2 o = k == 0 ? ivec2(0) : flow_cross(k - 1, 1);
+        s += abs(flow_luma(q + o, false, p) - flow_luma(q + o + d, true, p));
+    }
+    return s * 0.2f;
+}
+
+// The previous frame's luma at a position in pixels (bilinear, edges clamped).
 FGSR_INLINE float flow_prev_bilinear(vec2 at, FlowParams p) {
     vec2 f0 = floor(at);
     vec2 t = at - f0;
@@ -90,6 +90,7 @@ FGSR_INLINE float flow_prev_bilinear(vec2 at, FlowParams p) {
     return mix(top, bottom, t.y);
 }
 
+// The cost of a sub-pixel vector: as flow_cost, with the previous frame read bilinearly.
 FGSR_INLINE float flow_cost_subpixel(ivec2 q, vec2 v, FlowParams p) {
     float s = 0.0f;
     for (int k = 0; k < 5; ++k) {

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <dirent.h>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -314,18 +315,29 @@ std::pair<fgsr::test::ProcessRun, fgsr::test::ProcessRun> eval_both_ways(const f
     return {std::move(ev), std::move(rp)};
 }
 
-// A recorded scene cut (capture format "reset") is honoured in process and through fgsrd: the
-// pair across the cut is not generated, the others are, with the same scores both ways.
-TEST_F(ClientService, SceneCutsOfACaptureAreHonouredByEvalAndReplay) {
-    char tmpl[] = "/tmp/fgsr-cut-XXXXXX";
-    const fs::path dir = mkdtemp(tmpl);
+// A synthetic 64x36 capture of `inputs` frames (`supersample` samples per pixel), `edit`ed, saved
+// as dir / "cap" in a fresh directory under /tmp; the caller removes dir.
+fs::path saved_capture(const char* prefix, size_t inputs, uint32_t supersample,
+                       const std::function<void(fgsr::capture::Capture&)>& edit = {}) {
+    std::string tmpl = std::string("/tmp/") + prefix + "-XXXXXX";
+    const fs::path dir = mkdtemp(tmpl.data());
     fgsr::capture::SceneOptions so;
     so.width = 64;
     so.height = 36;
-    auto cap = fgsr::capture::make_synthetic_capture(so, 5);
-    ASSERT_TRUE(cap);
-    cap->inputs[2].reset = true;
-    ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
+    so.supersample = supersample;
+    auto cap = fgsr::capture::make_synthetic_capture(so, inputs);
+    EXPECT_TRUE(cap);
+    if (!cap) return dir;
+    if (edit) edit(*cap);
+    EXPECT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
+    return dir;
+}
+
+// A recorded scene cut (capture format "reset") is honoured in process and through fgsrd: the
+// pair across the cut is not generated, the others are, with the same scores both ways.
+TEST_F(ClientService, SceneCutsOfACaptureAreHonouredByEvalAndReplay) {
+    const fs::path dir =
+        saved_capture("fgsr-cut", 5, 4, [](fgsr::capture::Capture& cap) { cap.inputs[2].reset = true; });
     const auto [ev, rp] = eval_both_ways(dir / "cap", daemon_->socket_path());
     ASSERT_EQ(ev.status, 0);
     ASSERT_EQ(rp.status, 0);
@@ -343,14 +355,7 @@ TEST_F(ClientService, SceneCutsOfACaptureAreHonouredByEvalAndReplay) {
 // --correct-vectors` sends it): the motion passes run in the daemon and the scores equal the
 // in-process ones with the same option; without it no motion pass runs.
 TEST_F(ClientService, CorrectedVectorsGoThroughTheDaemon) {
-    char tmpl[] = "/tmp/fgsr-correct-XXXXXX";
-    const fs::path dir = mkdtemp(tmpl);
-    fgsr::capture::SceneOptions so;
-    so.width = 64;
-    so.height = 36;
-    auto cap = fgsr::capture::make_synthetic_capture(so, 4);
-    ASSERT_TRUE(cap);
-    ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
+    const fs::path dir = saved_capture("fgsr-correct", 4, 4);
     const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
     const std::string common =
         bin + " eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
@@ -375,15 +380,7 @@ TEST_F(ClientService, CorrectedVectorsGoThroughTheDaemon) {
 
 // `fgsr replay` and `fgsr eval` on the same small capture print the same PSNR and SSIM.
 TEST_F(ClientService, ReplayPrintsTheSameMetricsAsEval) {
-    char tmpl[] = "/tmp/fgsr-replay-XXXXXX";
-    const fs::path dir = mkdtemp(tmpl);
-    fgsr::capture::SceneOptions so;
-    so.width = 64;
-    so.height = 36;
-    so.supersample = 2;
-    auto cap = fgsr::capture::make_synthetic_capture(so, 5);
-    ASSERT_TRUE(cap);
-    ASSERT_TRUE(fgsr::capture::save_fgsr(*cap, dir / "cap"));
+    const fs::path dir = saved_capture("fgsr-replay", 5, 2);
     const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
     const auto [ev, rp] = eval_both_ways(dir / "cap", daemon_->socket_path());
     ASSERT_EQ(ev.status, 0);
