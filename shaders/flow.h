@@ -25,6 +25,10 @@
 //    or panning background are in front of it in the content this serves, and the rule needs no
 //    neighbourhood reasoning that fails on thin or textureless objects; it is wrong where the
 //    background is what moves behind a still overlay (the overlay then loses collisions).
+// 4. Correction (correct, Params::correct_vectors): the frame has the client's vectors and depth;
+//    steps 1 and 2 only supply candidates, and a pixel's given vector is replaced where a
+//    candidate explains its colour far better on the same surface, away from depth edges, with
+//    its neighbours agreeing (the guards and why: docs/ACCURACY.md, change 4). No depth written.
 //
 // Entry provides:
 //   float load_cur(uint pixel)   level-0 luma of the current frame
@@ -131,10 +135,10 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     bool occluded = length(best + back) > p.fb_tolerance + 0.1f * length(best);
     uint i = u.y * p.width + u.x;
     if (p.correct != 0u) {
-        // 4. Correction of given vectors: the estimate replaces the client's vector only where it is
-        //    consistent and its colour match is clearly better (shading that moves on its own).
-        //    Only where the given vector's previous position shows the same surface (depths agree):
-        //    elsewhere a colour mismatch is a disocclusion, which the given vector describes right.
+        // 4. Correction of given vectors: a candidate replaces the client's vector only where its
+        //    colour match is clearly better (shading that moves on its own), and only where the
+        //    given vector's previous position shows the same surface (depths agree): elsewhere a
+        //    colour mismatch is a disocclusion, which the given vector describes right.
         vec2 given = load_given(i);
         float cg = flow_cost_subpixel(q, given, p);
         float limit = p.correct_ratio * cg - p.correct_margin;
@@ -147,7 +151,8 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         //    Nor next to a depth edge of the current frame, where the colour mismatch is the edge's
         //    (antialiasing, the moving silhouette): shading moves over smooth surfaces.
         for (int k = 0; k < 4; ++k) {
-            ivec2 n = clamp(q + flow_cross(k, FLOW_EDGE_REACH), ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+            ivec2 n = clamp(q + flow_cross(k, FLOW_EDGE_REACH), ivec2(0),
+                            ivec2(int(p.width) - 1, int(p.height) - 1));
             float dn = load_depth(uint(n.y) * p.width + uint(n.x));
             if (!(abs(dn - d1) <= FLOW_EDGE_DEPTH * min(dn, d1))) return;
         }
@@ -174,7 +179,8 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         //    colour some candidate happens to match better is noise.
         int agree = 0;
         for (int k = 0; k < 4; ++k) {
-            ivec2 n = clamp(q + flow_cross(k, FLOW_EDGE_REACH), ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+            ivec2 n = clamp(q + flow_cross(k, FLOW_EDGE_REACH), ivec2(0),
+                            ivec2(int(p.width) - 1, int(p.height) - 1));
             float limit_n = p.correct_ratio * flow_cost_subpixel(n, given, p) - p.correct_margin;
             agree += flow_cost_subpixel(n, e, p) < limit_n ? 1 : 0;
         }
