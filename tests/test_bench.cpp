@@ -203,12 +203,13 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
         std::string(FGSR_BIN_DIR) + "/fgsr bench --quick --no-plots --out " + out.string());
     ASSERT_EQ(r.status, 0) << r.out;
     const auto rows = read_csv(out / "bench.csv");
-    // builtin: interp (3 presets + 5 switches that act on it), extrap (no blend switch), and each
+    // builtin: interp (3 presets + 6 switches that act on it), extrap (no blend switch), and each
     // on colour alone (balanced+colour).
     std::set<std::string> got, expected;
     for (const char* c :
          {"performance", "balanced", "quality", "balanced+motion=linear", "balanced+fill_gaps=off",
-          "balanced+fill_holes=off", "balanced+passes=separate", "balanced+colour"}) {
+          "balanced+fill_holes=off", "balanced+passes=separate", "balanced+correct_vectors=on",
+          "balanced+colour"}) {
         expected.insert(std::string("interp ") + c);
         expected.insert(std::string("extrap ") + c);
     }
@@ -225,12 +226,17 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
         EXPECT_GT(std::stod(row.at("psnr")), 15.0); // generated frames resemble the ground truth
         pareto += row.at("pareto") == "yes";
         // Colour-only rows: the EPE of the estimated vectors and the motion passes' time (0 until
-        // the engine times them); the others have neither.
+        // the engine times them); corrected-vector rows: the same of the corrected vectors (the
+        // synthetic scene's vectors are exact: few pixels change); the others have neither.
         if (row.at("config") == "balanced+colour") {
             EXPECT_EQ(row.at("switch"), "input=colour");
             const double epe = std::stod(row.at("epe"));
             EXPECT_TRUE(std::isfinite(epe) && epe > 0) << row.at("epe"); // the scene moves
             EXPECT_GE(std::stod(row.at("motion_ms")), 0.0);
+        } else if (row.at("config") == "balanced+correct_vectors=on") {
+            const double epe = std::stod(row.at("epe"));
+            EXPECT_TRUE(std::isfinite(epe) && epe >= 0 && epe < 0.5) << row.at("epe");
+            EXPECT_GT(std::stod(row.at("motion_ms")), 0.0);
         } else {
             EXPECT_EQ(row.at("epe"), "") << row.at("config");
             EXPECT_EQ(row.at("motion_ms"), "") << row.at("config");

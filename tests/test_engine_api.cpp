@@ -94,6 +94,29 @@ TEST(EngineApi, SubmitRejectsBadPlanesAndKeepsTheSession) {
     expect_no_validation_errors();
 }
 
+// The correction of given vectors: its parameters are range-checked, and it is refused with super
+// resolution (scale > 1), where it measured worse on every capture (docs/ACCURACY.md, change 4).
+TEST(EngineApi, VectorCorrectionParametersAreChecked) {
+    const FrameFormat f = internal_format(W, H);
+    Params p;
+    p.correct_vectors = true;
+    EXPECT_TRUE(engine().create_session(f, p));
+    for (int k = 0; k < 4; ++k) {
+        Params q = p;
+        if (k == 0) q.correct_ratio = 1.5f;
+        if (k == 1) q.correct_margin = -0.1f;
+        if (k == 2) q.correct_depth = std::numeric_limits<float>::quiet_NaN();
+        if (k == 3) q.scale = 2.f;
+        auto r = engine().create_session(f, q);
+        ASSERT_FALSE(r) << k;
+        EXPECT_EQ(r.error().code, Errc::invalid_argument) << k;
+        EXPECT_NE(r.error().message.find("correct"), std::string::npos) << r.error().message;
+    }
+    p.correct_vectors = false;
+    p.scale = 2.f;
+    EXPECT_TRUE(engine().create_session(f, p)) << "SR without the correction";
+}
+
 TEST(EngineApi, AlphaOutOfRangeIsRejected) {
     auto s = session();
     ASSERT_TRUE(s->submit(random_frame(W, H, 1, 3.f).view()));

@@ -257,7 +257,14 @@ TEST(SessionDesc, FormatsModesFlagsAndFloats) {
     expect_refused([](fgsr_session_desc& d) { d.modes = 0; }, "no modes");
     expect_refused([](fgsr_session_desc& d) { d.modes = 0x8; }, "unknown mode");
     expect_ok([](fgsr_session_desc& d) { d.flags = 0x1f; }, "every known flag");
-    expect_ok([](fgsr_session_desc& d) { d.flags = FGSR_SESSION_CORRECT_MVS; }, "vectors corrected by colour");
+    expect_ok(
+        [](fgsr_session_desc& d) {
+            d.flags = FGSR_SESSION_CORRECT_MVS;
+            d.scale = 1.f;
+            d.modes = FGSR_MODE_INTERPOLATE;
+        },
+        "vectors corrected by colour");
+    expect_refused([](fgsr_session_desc& d) { d.flags = FGSR_SESSION_CORRECT_MVS; }, "corrected vectors with SR");
     expect_refused([](fgsr_session_desc& d) { d.flags = 0x100; }, "unknown flag");
     expect_refused([](fgsr_session_desc& d) { d.reserved[9] = 1; }, "reserved");
     expect_ok([](fgsr_session_desc& d) { d.far_plane = INFINITY; }, "infinite far plane");
@@ -417,10 +424,14 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
     fgsr_session_desc in = base_desc(), d{};
     in.flags = FGSR_SESSION_CORRECT_MVS << 1;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, nullptr, 0), FGSR_STATUS_INVALID_ARGUMENT);
-    // Correction of given vectors needs given vectors.
+    // Correction of given vectors needs given vectors, and no super resolution.
     char reason[160];
     in.flags = FGSR_SESSION_CORRECT_MVS;
-    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK);
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(reason).find("scale 1"), std::string::npos) << reason;
+    in.scale = 1.f;
+    in.modes = FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
     in.flags = FGSR_SESSION_CORRECT_MVS | FGSR_SESSION_NO_MVS;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(reason).find("CORRECT_MVS"), std::string::npos) << reason;

@@ -122,7 +122,7 @@ typedef enum fgsr_queue_policy {
  * for NO_MVS, and replaces a pixel's vector by the estimate where the colour follows the estimate
  * by far better than the given vector (shading that moves on its own: sun shadows, shadows of
  * objects fixed to the camera). Depth stays the client's. Costs the motion passes at every submit.
- * Refused together with NO_MVS. */
+ * Refused together with NO_MVS, and with a scale other than 1 (on jittered, aliased input it loses). */
 #define FGSR_SESSION_CORRECT_MVS 0x80u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */

@@ -82,6 +82,7 @@ bool switch_applies(const std::string& key, const std::string& mode) {
     if (key == "resample") return mode == "sr" || joint;
     if (key == "dilate_mvs") return mode == "sr";
     if (key == "denoise") return mode == "sr" || joint;
+    if (key == "correct_vectors") return fg; // refused with super resolution
     return false;
 }
 
@@ -179,10 +180,11 @@ Result<std::vector<Samples>> time_configs(const BenchOptions& o, Engine& engine,
         sessions.push_back(std::move(*s));
     }
     std::vector<Samples> out(configs.size());
-    // A colour-only frame costs the motion estimation of the newest input too.
+    // A colour-only frame (or one with corrected vectors) costs the motion passes of the newest
+    // input too; the other sessions run none.
     auto add = [&](size_t c, const GeneratedFrame& f) {
-        if (!configs[c].colour_only) return out[c].add(f);
         const std::vector<PassTiming> motion = sessions[c]->last_motion_timings();
+        if (motion.empty()) return out[c].add(f);
         double ms = 0;
         for (const PassTiming& p : motion) ms += p.ms;
         out[c].motion.push_back(ms);
@@ -290,6 +292,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 row.psnr = s.mean_psnr;
                 row.ssim = s.mean_ssim;
                 row.colour_only = c.colour_only;
+                row.motion = c.colour_only || c.params.correct_vectors;
                 if (!s.epe.empty()) row.epe = s.mean_epe;
                 row.bytes = total_bytes(frame_bytes(run.mode, c.params, input->format.width,
                                                     input->format.height, r->width, r->height));
@@ -313,7 +316,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 row.ms_mean = 0;
                 for (double v : sm.ms) row.ms_mean += v / double(sm.ms.size());
                 for (const auto& [pass, v] : sm.passes) row.pass_ms[pass] = median(v);
-                if (row.colour_only) row.motion_ms = sm.motion.empty() ? 0 : median(sm.motion);
+                if (row.motion) row.motion_ms = sm.motion.empty() ? 0 : median(sm.motion);
                 pts.push_back({row.ms, row.psnr});
                 progress(o, fmt::format("{} {} {}: {:.2f} ms (median of {})", label, mode, row.config, row.ms,
                                         row.samples));

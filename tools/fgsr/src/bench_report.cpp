@@ -174,7 +174,7 @@ std::string bench_csv(const BenchReport& r) {
                          num(row.ms_mean, 4));
         for (const char* p : kPasses)
             s += "," + (row.pass_ms.count(p) ? num(row.pass_ms.at(p), 4) : std::string());
-        s += fmt::format(",{},{},{},{},{},{}\n", row.colour_only ? num(row.motion_ms, 4) : std::string(),
+        s += fmt::format(",{},{},{},{},{},{}\n", row.motion ? num(row.motion_ms, 4) : std::string(),
                          row.bytes, num(row.psnr, 4), num(row.ssim, 5),
                          std::isfinite(row.epe) ? num(row.epe, 4) : std::string(), row.pareto ? "yes" : "no");
     }

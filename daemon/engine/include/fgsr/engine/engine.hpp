@@ -74,7 +74,8 @@ struct Params {
     // Sessions with vectors: estimate motion from colour as colour-only sessions do (luma, match,
     // flow passes) and replace, per pixel, the client's vector by the estimate where the colour
     // follows the estimate by far better (shading that moves on its own: shadows, reflections).
-    // The depth stays the client's. Costs the motion estimation's passes (docs/MOTION.md).
+    // The depth stays the client's. Costs the motion estimation's passes (docs/MOTION.md). Only
+    // with scale 1: on jittered, aliased SR input it loses (validate refuses it).
     bool correct_vectors = false;
     float correct_ratio = defaults::correct_ratio;   // [0, 1]
     float correct_margin = defaults::correct_margin; // >= 0, luma units
@@ -104,7 +105,7 @@ struct Params {
 
 // Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b and
 // sr_clip finite and >= 0, correct_ratio in [0, 1], correct_margin finite and >= 0, correct_depth
-// >= 0, scale finite in [1, 4], lut empty or kLutSize finite weights, denoise_strength in [0, 64],
+// >= 0 (correct_vectors only with scale 1), scale finite in [1, 4], lut empty or kLutSize finite weights, denoise_strength in [0, 64],
 // noise_floor finite and >= 0, known enum values.
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);

@@ -187,9 +187,11 @@ struct BenchRow {
     double ms = 0, ms_mean = 0;            // median / mean over samples
     std::map<std::string, double> pass_ms; // median per pass
     double psnr = 0, ssim = 0;             // mean over frames
-    // Colour-only rows (balanced+colour): ms includes the motion passes of the newest input's
-    // submit, motion_ms is their median alone; epe the mean EPE in pixels (NaN elsewhere).
+    // Rows that run the motion passes (balanced+colour; correct_vectors=on): ms includes those of
+    // the newest input's submit, motion_ms is their median alone; epe the mean EPE in pixels of the
+    // estimated or corrected vectors (NaN elsewhere).
     bool colour_only = false;
+    bool motion = false;
     double motion_ms = 0;
     double epe = std::numeric_limits<double>::quiet_NaN();
     uint64_t bytes = 0;  // frame_bytes estimate per generated frame
