@@ -206,10 +206,9 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
     // builtin: interp (3 presets + 6 switches that act on it), extrap (no blend switch), and each
     // on colour alone (balanced+colour).
     std::set<std::string> got, expected;
-    for (const char* c :
-         {"performance", "balanced", "quality", "balanced+motion=linear", "balanced+fill_gaps=off",
-          "balanced+fill_holes=off", "balanced+passes=separate", "balanced+correct_vectors=on",
-          "balanced+colour"}) {
+    for (const char* c : {"performance", "balanced", "quality", "balanced+motion=linear",
+                          "balanced+fill_gaps=off", "balanced+fill_holes=off", "balanced+passes=separate",
+                          "balanced+correct_vectors=on", "balanced+colour"}) {
         expected.insert(std::string("interp ") + c);
         expected.insert(std::string("extrap ") + c);
     }

@@ -264,7 +264,8 @@ TEST(SessionDesc, FormatsModesFlagsAndFloats) {
             d.modes = FGSR_MODE_INTERPOLATE;
         },
         "vectors corrected by colour");
-    expect_refused([](fgsr_session_desc& d) { d.flags = FGSR_SESSION_CORRECT_MVS; }, "corrected vectors with SR");
+    expect_refused([](fgsr_session_desc& d) { d.flags = FGSR_SESSION_CORRECT_MVS; },
+                   "corrected vectors with SR");
     expect_refused([](fgsr_session_desc& d) { d.flags = 0x100; }, "unknown flag");
     expect_refused([](fgsr_session_desc& d) { d.reserved[9] = 1; }, "reserved");
     expect_ok([](fgsr_session_desc& d) { d.far_plane = INFINITY; }, "infinite far plane");

@@ -79,7 +79,8 @@ fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_sessio
         return refuse(reason, reason_size,
                       "FGSR_SESSION_CORRECT_MVS needs vectors: not with FGSR_SESSION_NO_MVS");
     if ((d.flags & FGSR_SESSION_CORRECT_MVS) && d.scale != 1.f)
-        return refuse(reason, reason_size, "FGSR_SESSION_CORRECT_MVS is for scale 1, not %g (no super resolution)",
+        return refuse(reason, reason_size,
+                      "FGSR_SESSION_CORRECT_MVS is for scale 1, not %g (no super resolution)",
                       (double)d.scale);
     if (d.queue_policy > FGSR_QUEUE_MAILBOX) return refuse(reason, reason_size, "unknown queue policy");
     if (d.input_slots > FGSR_MAX_SLOTS || d.output_slots > FGSR_MAX_SLOTS)

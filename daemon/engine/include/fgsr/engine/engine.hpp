@@ -105,8 +105,8 @@ struct Params {
 
 // Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b and
 // sr_clip finite and >= 0, correct_ratio in [0, 1], correct_margin finite and >= 0, correct_depth
-// >= 0 (correct_vectors only with scale 1), scale finite in [1, 4], lut empty or kLutSize finite weights, denoise_strength in [0, 64],
-// noise_floor finite and >= 0, known enum values.
+// >= 0 (correct_vectors only with scale 1), scale finite in [1, 4], lut empty or kLutSize finite
+// weights, denoise_strength in [0, 64], noise_floor finite and >= 0, known enum values.
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);
 
