@@ -67,7 +67,9 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
     return vec4(m1, m0);
 }
 
-FGSR_INLINE vec4 source_velocities(ivec2 p1, GenParams g) { return source_velocities_at_depth(p1, load_depth1(p1), g); }
+FGSR_INLINE vec4 source_velocities(ivec2 p1, GenParams g) {
+    return source_velocities_at_depth(p1, load_depth1(p1), g);
+}
 
 // Positions vec4(p_target.xy, p0.xy) at alpha `a` of the point at pixel centre c1 with the motion
 // `m` = vec4(m1, m0) of source_velocities.

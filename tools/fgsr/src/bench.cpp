@@ -458,8 +458,9 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             mv_passes["ingest"].push_back((*s)->last_ingest_ms());
         }
         progress(o, "moving, fresh pairs, per pass: " + pass_medians(mv_passes));
-        progress(o, fmt::format("moving, fresh pairs, wall time of submit + interpolate (host included): {:.2f} ms",
-                                median(mv_wall)));
+        progress(o, fmt::format(
+                        "moving, fresh pairs, wall time of submit + interpolate (host included): {:.2f} ms",
+                        median(mv_wall)));
         if (o.colour) FGSR_TRY(time_colour_only(o, engine, *cap, balanced, rep));
         rep.still_ms = median(st);
         rep.moving_ms = median(mv);
