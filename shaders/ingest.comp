@@ -7,14 +7,33 @@ layout(push_constant) uniform Push { IngestParams p; } pc;
 layout(std430, binding = INGEST_COLOR_RAW) readonly buffer ColorRaw { uint color_raw[]; };
 layout(std430, binding = INGEST_DEPTH_RAW) readonly buffer DepthRaw { uint depth_raw[]; };
 layout(std430, binding = INGEST_MV_RAW) readonly buffer MvRaw { uint mv_raw[]; };
-layout(std430, binding = INGEST_COLOR) writeonly buffer Color { uvec2 color[]; }; // pack_color
+// The internal planes as 64-bit words (shaders/load64.h): one store per packed colour and per
+// vector instead of two on CPU devices; the same bits.
+layout(std430, binding = INGEST_COLOR) writeonly buffer Color { uint64_t color[]; }; // pack_color (uvec2)
 layout(std430, binding = INGEST_DEPTH) writeonly buffer Depth { float depth[]; };
-layout(std430, binding = INGEST_MV) writeonly buffer Mv { vec2 mv[]; };
+layout(std430, binding = INGEST_MV) writeonly buffer Mv { uint64_t mv[]; }; // vec2
+#include "load64.h"
 
 uint load_color_word(uint w) { return color_raw[w]; }
 uint load_depth_word(uint i) { return depth_raw[i]; }
 uint load_mv_word(uint w) { return mv_raw[w]; }
-void store_frame(uint i, uvec2 c, float d, vec2 m) { color[i] = c; depth[i] = d; mv[i] = m; }
+#if defined(FGSR_INGEST_COLOR) && FGSR_GROUP == 32
+// Fixed-format CPU builds read word pairs of the raw planes as one 64-bit access (aliases of the
+// same bindings). Only there: the bindings' offsets are multiples of minStorageBufferOffsetAlignment
+// (16 on lavapipe), which need not be 8 on every GPU.
+layout(std430, binding = INGEST_COLOR_RAW) readonly buffer ColorRaw64 { uint64_t color_raw64[]; };
+layout(std430, binding = INGEST_MV_RAW) readonly buffer MvRaw64 { uint64_t mv_raw64[]; };
+uvec2 load_color_pair(uint p) { return as_uvec2(color_raw64[p]); }
+uvec2 load_mv_pair(uint p) { return as_uvec2(mv_raw64[p]); }
+#else
+uvec2 load_color_pair(uint p) { return uvec2(color_raw[2u * p], color_raw[2u * p + 1u]); }
+uvec2 load_mv_pair(uint p) { return uvec2(mv_raw[2u * p], mv_raw[2u * p + 1u]); }
+#endif
+void store_frame(uint i, uvec2 c, float d, vec2 m) {
+    color[i] = as_u64(c);
+    depth[i] = d;
+    mv[i] = as_u64(floatBitsToUint(m));
+}
 
 #include "ingest.h"
 

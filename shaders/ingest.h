@@ -3,8 +3,11 @@
 //
 // Entry provides:
 //   uint  load_color_word(uint word)      raw colour plane as 32-bit words
+//   uvec2 load_color_pair(uint pair)      its words 2 pair and 2 pair + 1 (one 64-bit access where
+//                                         the entry can: CPU devices, shaders/load64.h)
 //   uint  load_depth_word(uint pixel)     raw depth plane (one float per pixel)
 //   uint  load_mv_word(uint word)         raw vector plane as 32-bit words
+//   uvec2 load_mv_pair(uint pair)         its words 2 pair and 2 pair + 1
 //   void  store_frame(uint pixel, uvec2 color, float depth, vec2 mv)   colour packed by pack_color
 
 FGSR_INLINE bool is_finite(float v) { return !(isnan(v) || isinf(v)); }
@@ -36,10 +39,12 @@ FGSR_INLINE vec4 decode_color(uint pixel, IngestParams p) {
         c = unpackUnorm4x8(load_color_word(pixel));
         c = vec4(srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z), c.w);
     } else if (p.color_format == 1u) {
-        c = vec4(unpackHalf2x16(load_color_word(2u * pixel)), unpackHalf2x16(load_color_word(2u * pixel + 1u)));
+        uvec2 w = load_color_pair(pixel);
+        c = vec4(unpackHalf2x16(w.x), unpackHalf2x16(w.y));
     } else {
-        c = vec4(uintBitsToFloat(load_color_word(4u * pixel)), uintBitsToFloat(load_color_word(4u * pixel + 1u)),
-                 uintBitsToFloat(load_color_word(4u * pixel + 2u)), uintBitsToFloat(load_color_word(4u * pixel + 3u)));
+        uvec2 w0 = load_color_pair(2u * pixel);
+        uvec2 w1 = load_color_pair(2u * pixel + 1u);
+        c = vec4(uintBitsToFloat(w0.x), uintBitsToFloat(w0.y), uintBitsToFloat(w1.x), uintBitsToFloat(w1.y));
     }
     // Non-finite channels become 0; negative light is clamped; HDR values are kept up to half max.
     for (int k = 0; k < 4; ++k) c[k] = is_finite(c[k]) ? clamp(c[k], 0.0f, 65504.0f) : 0.0f;
@@ -48,8 +53,7 @@ FGSR_INLINE vec4 decode_color(uint pixel, IngestParams p) {
 
 FGSR_INLINE vec2 decode_mv(uint pixel, IngestParams p) {
     if (p.has_mv == 0u) return vec2(0.0f);
-    vec2 m = p.mv_format == 0u ? unpackHalf2x16(load_mv_word(pixel))
-                               : vec2(uintBitsToFloat(load_mv_word(2u * pixel)), uintBitsToFloat(load_mv_word(2u * pixel + 1u)));
+    vec2 m = p.mv_format == 0u ? unpackHalf2x16(load_mv_word(pixel)) : uintBitsToFloat(load_mv_pair(pixel));
     m = vec2(m.x * p.mv_scale_x + p.mv_offset_x, m.y * p.mv_scale_y + p.mv_offset_y);
     // Non-finite vectors carry no motion; huge ones are clamped so positions stay exact in float.
     float limit = 4.0f * float(p.width + p.height);

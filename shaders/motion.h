@@ -26,19 +26,21 @@
 // motion_at per alpha.
 #define MOTION_ACCEL_PX 2.0f // chosen on the train captures (docs/ACCURACY.md, "Changes", 3)
 #define MOTION_ACCEL_RATIO 1.0f
-// The motion of the point: vec4(m1, m0), m0 = m1 for uniform velocity.
-FGSR_INLINE vec4 source_velocities(ivec2 p1, GenParams g) {
+// The motion of the point: vec4(m1, m0), m0 = m1 for uniform velocity. d1: load_depth1(p1) (splat
+// reads it once for this and for its key).
+FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
     vec2 c1 = vec2(p1) + vec2(0.5f);
     vec2 m1 = -load_mv1(p1);
     vec2 p0 = c1 - m1;
     vec2 m0 = m1;
     if (g.quadratic != 0u && g.frame0_has_mv != 0u) {
         ivec2 q = ivec2(floor(p0));
-        float d1 = load_depth1(p1);
         float tolerance = 4.0f * g.t_depth;
-        if (inside(q, g) && relative_depth_difference(load_depth0(q), d1) < tolerance) {
-            m0 = -load_mv0(q);
-        } else {
+        // The pixel whose vector is taken is chosen first and its vector read once: on CPU devices
+        // each load in a branch costs every lane, taken or not.
+        ivec2 from = q;
+        bool found = inside(q, g) && relative_depth_difference(load_depth0(q), d1) < tolerance;
+        if (!found) {
             // The centre missed: the 4 edge neighbours, closest depth wins (first on ties).
             float best = tolerance;
             for (int k = 0; k < 4; ++k) {
@@ -47,11 +49,13 @@ FGSR_INLINE vec4 source_velocities(ivec2 p1, GenParams g) {
                     float rel = relative_depth_difference(load_depth0(qq), d1);
                     if (rel < best) {
                         best = rel;
-                        m0 = -load_mv0(qq);
+                        from = qq;
+                        found = true;
                     }
                 }
             }
         }
+        if (found) m0 = -load_mv0(from);
     }
     // An acceleration the model cannot follow (the motion changing by more than MOTION_ACCEL_PX
     // plus MOTION_ACCEL_RATIO times the newer speed in one frame): a camera cut between frames -1
@@ -61,6 +65,10 @@ FGSR_INLINE vec4 source_velocities(ivec2 p1, GenParams g) {
     // a camera speeding up, a turning fan) changes the motion by less and keeps the parabola.
     if (length(m1 - m0) > MOTION_ACCEL_PX + MOTION_ACCEL_RATIO * length(m1)) m0 = m1;
     return vec4(m1, m0);
+}
+
+FGSR_INLINE vec4 source_velocities(ivec2 p1, GenParams g) {
+    return source_velocities_at_depth(p1, load_depth1(p1), g);
 }
 
 // Positions vec4(p_target.xy, p0.xy) at alpha `a` of the point at pixel centre c1 with the motion

@@ -12,15 +12,18 @@ layout(push_constant) uniform Push {
     float alpha2;
     float alpha3;
 } pc; // SplatParams
-layout(std430, binding = GEN_MV1) readonly buffer Mv1 { vec2 mv1[]; };
-layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
+// Vectors and the motion field as 64-bit words (shaders/load64.h): one access per vec2 and two
+// per vec4 instead of two and four on CPU devices; the same bits.
+layout(std430, binding = GEN_MV1) readonly buffer Mv1 { uint64_t mv1[]; };                 // vec2
+layout(std430, binding = GEN_MV0) readonly buffer Mv0 { uint64_t mv0[]; };                 // vec2
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = GEN_KEYS) buffer Keys { uint64_t keys[]; };
-layout(std430, binding = GEN_MOTION) writeonly buffer Motion { vec4 motion[]; };
+layout(std430, binding = GEN_MOTION) writeonly buffer Motion { u64vec2 motion[]; }; // vec4
+#include "load64.h"
 
-vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
-vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
+vec2 load_mv1(ivec2 q) { return as_vec2(mv1[q.y * int(pc.g.width) + q.x]); }
+vec2 load_mv0(ivec2 q) { return as_vec2(mv0[q.y * int(pc.g.width) + q.x]); }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
 #ifdef FGSR_TILED
@@ -58,7 +61,7 @@ void splat_min(uint slice, uint i, uint64_t key) {
     mark_dirty(i); // tiled splats are single-alpha (slice 0)
 #endif
 }
-void store_motion(uint slice, uint i, vec4 m) { motion[slice * pc.stride + i] = m; }
+void store_motion(uint slice, uint i, vec4 m) { motion[slice * pc.stride + i] = as_u64vec2(m); }
 
 #include "field.h"
 #include "motion.h"

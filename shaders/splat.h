@@ -19,10 +19,11 @@
 
 FGSR_INLINE void splat_pixel(ivec2 p1, GenParams g) {
     if (!inside(p1, g)) return;
-    vec4 m = source_velocities(p1, g);
+    float d1 = load_depth1(p1);
+    vec4 m = source_velocities_at_depth(p1, d1, g);
     vec2 c1 = vec2(p1) + vec2(0.5f);
     uint src = uint(p1.y) * g.width + uint(p1.x);
-    uint64_t key = (uint64_t(floatBitsToUint(load_depth1(p1))) << 32) | uint64_t(src);
+    uint64_t key = (uint64_t(floatBitsToUint(d1)) << 32) | uint64_t(src);
     for (uint k = 0u; k < splat_count(); ++k) {
         vec4 pos = motion_at(c1, m, splat_alpha(k), g);
         vec2 pt = vec2(pos.x, pos.y);

@@ -213,8 +213,10 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         const size_t out_n = size_t(out_w) * out_h;
         gf.color.width = out_w;
         gf.color.height = out_h;
-        gf.color.rgba.resize(out_n * 4);
-        std::memcpy(gf.color.rgba.data(), outputs[k].mapped(), out_n * 16);
+        // One pass over the frame: resize() would zero-fill it (a memset of 15 MB at 720p) before
+        // the copy overwrites it.
+        const float* src = static_cast<const float*>(outputs[k].mapped());
+        gf.color.rgba.assign(src, src + out_n * 4);
     }
     last_extrapolate = extrapolate;
     last_separate = params.separate_passes && !sr();

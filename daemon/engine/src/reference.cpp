@@ -29,8 +29,10 @@ struct IngestCpu {
     ref::InternalFrame* out;
 
     uint load_color_word(uint w) const { return word_at(color, w); }
+    uvec2 load_color_pair(uint p) const { return uvec2(word_at(color, 2 * p), word_at(color, 2 * p + 1)); }
     uint load_depth_word(uint i) const { return word_at(depth, i); }
     uint load_mv_word(uint w) const { return word_at(mv, w); }
+    uvec2 load_mv_pair(uint p) const { return uvec2(word_at(mv, 2 * p), word_at(mv, 2 * p + 1)); }
     void store_frame(uint i, uvec2 c, float d, vec2 m) {
         out->color[i] = unpack_color(c); // exactly the values the GPU passes unpack
         out->depth[i] = d;
