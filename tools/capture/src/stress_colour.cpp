@@ -8,9 +8,9 @@
 // request may fail except by the engine restarting where it takes the content for a scene cut
 // (Step::cut_allowed: noise, fades and pans beyond the search range may be), each case ends within
 // max_seconds, and across the unflagged cut the generated frame is one of the two inputs or the
-// request is refused as after a reset (Step::across_cut). The same content also runs as given
-// (zero) vectors and depth corrected by colour (Params::correct_vectors): every pixel then disagrees
-// with its vector or matches anything.
+// request is refused as after a reset (Step::across_cut). Three of them also run with zero vectors
+// and depth given and corrected by colour (Params::correct_vectors): content where the correction
+// has nothing to go by (flat, noise) or where every pixel disagrees with its given vector (the pan).
 #include "stress_internal.hpp"
 
 #include <cmath>
@@ -98,7 +98,7 @@ Case sequence_case(std::string name, std::string checks, const FrameFormat& f, f
     c.checks = std::move(checks);
     c.format = f;
     c.params = params_of(scale);
-    c.params.correct_vectors = f.has_vectors; // a corrected-vectors case (corrected_cases below)
+    c.params.correct_vectors = f.has_vectors; // the corrected/* cases below
     c.cpu_reference = false; // the CPU reference has no motion estimation; GPU-CPU tests are the passes'
     c.max_seconds = kMaxSeconds;
     std::vector<StepFn> s;
