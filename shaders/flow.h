@@ -44,6 +44,16 @@
 #define FLOW_EDGE_REACH 2      // correction: pixels to the depth samples of the edge test
 #define FLOW_EDGE_DEPTH 0.04f  // correction: relative depth step over that reach that is an edge
 #define FLOW_AGREE_NEIGHBOURS 3 // correction: of the 4 neighbours at that reach, those that must agree
+// Step 4 exists only in the flow_correct build (FGSR_FLOW_CORRECT; the CPU reference reads
+// p.correct): on CPU devices a branch costs every lane whether taken or not, and compiled into the
+// colour-only build it made that pass about 3x slower.
+#if defined(FGSR_FLOW_CORRECT)
+#define FLOW_CORRECTS(p) true
+#elif defined(__cplusplus)
+#define FLOW_CORRECTS(p) ((p).correct != 0u)
+#else
+#define FLOW_CORRECTS(p) false
+#endif
 
 // A block's vector in pixels of the frame (blocks of a coarser level hold vectors of theirs).
 FGSR_INLINE vec2 flow_block(ivec2 b, uint offset, FlowParams p) {
@@ -134,7 +144,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     vec2 back = flow_bilinear(pos + best, p.fwd_offset, p);
     bool occluded = length(best + back) > p.fb_tolerance + 0.1f * length(best);
     uint i = u.y * p.width + u.x;
-    if (p.correct != 0u) {
+    if (FLOW_CORRECTS(p)) {
         // 4. Correction of given vectors: a candidate replaces the client's vector only where its
         //    colour match is clearly better (shading that moves on its own), and only where the
         //    given vector's previous position shows the same surface (depths agree): elsewhere a

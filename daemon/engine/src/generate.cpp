@@ -127,7 +127,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
                 if (!r) return r.error();
                 gap_list = std::move(*r);
             }
-            const std::array<uint32_t, TILE_LIST_HEADER> empty{0, 1, 1, 0, 0, 1, 0, 0};
+            const auto empty = empty_list_header(0, 1); // entries are pixels, x | y << 16
             vkCmdUpdateBuffer(rec.cmd(), gap_list.handle(), 0, sizeof(empty), empty.data());
             rec.barrier();
             const auto gen_frames = generated_frames(slice);

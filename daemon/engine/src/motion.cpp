@@ -241,7 +241,8 @@ Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global) {
         at<FLOW_FIELD>(estimator.field), at<FLOW_MV>(f.mv), at<FLOW_DEPTH>(f.depth),
         at<FLOW_PREV_DEPTH>(frames[size_t(prev)].depth));
     const gpu::FlowParams p = ref::flow_params(estimator.levels, global, !format.has_depth, correction());
-    return rec.dispatch_pixels(Variant::flow, b, &p, format.width, format.height);
+    return rec.dispatch_pixels(p.correct != 0u ? Variant::flow_correct : Variant::flow, b, &p, format.width,
+                               format.height);
 }
 
 std::vector<PassTiming> Session::last_motion_timings() const {

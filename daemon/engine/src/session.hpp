@@ -192,6 +192,11 @@ struct Session::Impl {
     uint32_t tiles_total() const;
     Result<void> ensure_tile_sets(size_t count);
     void reset_lists(const TileSet& t, uint32_t work_span, uint32_t output_span);
+    // The header of an empty list (common.h, TILE_LIST_HEADER): no workgroups yet (0, 1, 1), no
+    // entries, the tile side (0: entries are pixels) and the span of invocations per entry.
+    static std::array<uint32_t, TILE_LIST_HEADER> empty_list_header(uint32_t side, uint32_t span) {
+        return {0, 1, 1, 0, side, span, 0, 0};
+    }
     static uint32_t list_count(const vk::Buffer& list);
     Result<void> classify(gpu::ClassifyParams c, const Slots<PassId::classify>& s);
     Result<void> record_sr_tiled(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,

@@ -72,8 +72,7 @@ Result<void> Session::Impl::ensure_tile_sets(size_t count) {
 // invocation span per listed tile of the passes over the work list and over the others.
 void Session::Impl::reset_lists(const TileSet& t, uint32_t work_span, uint32_t output_span) {
     const uint32_t side = tile_side();
-    const std::array<uint32_t, TILE_LIST_HEADER> work{0, 1, 1, 0, side, work_span, 0, 0};
-    const std::array<uint32_t, TILE_LIST_HEADER> out{0, 1, 1, 0, side, output_span, 0, 0};
+    const auto work = empty_list_header(side, work_span), out = empty_list_header(side, output_span);
     vkCmdUpdateBuffer(rec.cmd(), t.work.handle(), 0, sizeof(work), work.data());
     vkCmdUpdateBuffer(rec.cmd(), t.generate.handle(), 0, sizeof(out), out.data());
     vkCmdUpdateBuffer(rec.cmd(), t.statics.handle(), 0, sizeof(out), out.data());
