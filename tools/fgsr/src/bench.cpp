@@ -418,16 +418,24 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             if (count < 1 || count > 64)
                 return make_error(Errc::invalid_argument, "alpha count outside [1, 64]");
         std::vector<std::vector<double>> calls(counts.size());
+        std::vector<std::map<std::string, std::vector<double>>> call_passes(counts.size());
         for (int i = 0; i < reps; ++i)
             for (size_t c = 0; c < counts.size(); ++c) {
                 std::vector<float> alphas;
                 for (int k = 1; k <= counts[c]; ++k) alphas.push_back(float(k) / float(counts[c] + 1));
-                auto ms = timed_call(**s, alphas, nullptr);
+                std::map<std::string, double> passes;
+                auto ms = timed_call(**s, alphas, &passes);
                 if (!ms) return ms.error();
                 calls[c].push_back(*ms);
+                for (const auto& [name, pass_ms] : passes) call_passes[c][name].push_back(pass_ms);
             }
         for (size_t c = 0; c < counts.size(); ++c) {
-            rep.alphas.push_back({counts[c], median(calls[c])});
+            AlphaRow row{counts[c], median(calls[c]), {}, {}};
+            for (const auto& [name, v] : call_passes[c]) {
+                row.pass_ms[name] = median(v);
+                row.pass_calls[name] = v.size();
+            }
+            rep.alphas.push_back(std::move(row));
             progress(o,
                      fmt::format("{} frames per pair: {:.2f} ms per call", counts[c], rep.alphas.back().ms));
         }

@@ -223,11 +223,16 @@ std::string bench_markdown(const BenchReport& r) {
     }
     if (!r.alphas.empty()) {
         s += fmt::format("\n## Frames generated per pair ({}, one interpolate() call)\n\n", r.headline.name);
-        s += "| frames per call | GPU ms per call | ms per frame | call time / 1-frame call "
-             "|\n|---:|---:|---:|---:|\n";
-        for (const AlphaRow& a : r.alphas)
-            s += fmt::format("| {} | {} | {} | {} |\n", a.count, num(a.ms, 2), num(a.ms / a.count, 2),
-                             num(a.ms / r.alphas[0].ms, 2));
+        s += "| frames per call | GPU ms per call | ms per frame | call time / 1-frame call | per pass in the "
+             "call (ms: median of the calls that ran it (how many)) |\n|---:|---:|---:|---:|---|\n";
+        for (const AlphaRow& a : r.alphas) {
+            std::string passes;
+            for (const auto& [name, ms] : a.pass_ms)
+                passes += fmt::format("{}{} {} ({})", passes.empty() ? "" : ", ", name, num(ms, 2),
+                                      a.pass_calls.at(name));
+            s += fmt::format("| {} | {} | {} | {} | {} |\n", a.count, num(a.ms, 2), num(a.ms / a.count, 2),
+                             num(a.ms / r.alphas[0].ms, 2), passes);
+        }
     }
     if (r.moving_ms > 0)
         s += fmt::format(
