@@ -223,8 +223,9 @@ std::string bench_markdown(const BenchReport& r) {
     }
     if (!r.alphas.empty()) {
         s += fmt::format("\n## Frames generated per pair ({}, one interpolate() call)\n\n", r.headline.name);
-        s += "| frames per call | GPU ms per call | ms per frame | call time / 1-frame call | per pass in the "
-             "call (ms: median of the calls that ran it (how many)) |\n|---:|---:|---:|---:|---|\n";
+        s +=
+            "| frames per call | GPU ms per call | ms per frame | call time / 1-frame call | per pass in the "
+            "call (ms: median of the calls that ran it (how many)) |\n|---:|---:|---:|---:|---|\n";
         for (const AlphaRow& a : r.alphas) {
             std::string passes;
             for (const auto& [name, ms] : a.pass_ms)
