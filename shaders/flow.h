@@ -11,8 +11,13 @@
 //    each pixel takes the side it matches.
 // 2. Consistency: the previous -> current field at the pixel's previous position should point
 //    back at it. Where |v + forward(p + v)| exceeds fb_tolerance + 10 % of |v|, the pixel is
-//    occluded in the previous frame (background the motion uncovered): its own match is
-//    unreliable, so it takes, of its candidates, the one nearest the dominant motion.
+//    taken as occluded in the previous frame (background the motion uncovered): it is background
+//    for the depth proxy, and it takes, of its candidates, the one nearest the dominant motion,
+//    unless its own match explains its colour far better (the candidate costs more than
+//    FLOW_OCC_RATIO x its own plus FLOW_OCC_MARGIN). Uncovered background matches nothing well,
+//    so there every candidate costs about the same; a pixel whose own match is good failed the
+//    test through the coarser, noisier check field (an object's edge, a rotating or bobbing
+//    surface) and keeps it (docs/MOTION.md, "Occluded pixels").
 // 3. Depth proxy (write_depth): the splat orders colliding surfaces by depth, and where there is
 //    none the proxy says that what moves unlike the dominant motion (the camera's, for most
 //    content) is in front: depth = 1 - FLOW_PROXY_RANGE * m / (m + depth_scale), m = max(|v -
@@ -41,6 +46,10 @@
 #define FLOW_SMOOTH_BIAS 0.9f // cost factor of the bilinear candidate
 #define FLOW_AGREE 0.25f     // pixels: blocks this close to their blend need no per-pixel choice
 #define FLOW_PROXY_RANGE 0.04f // depth proxies lie in (1 - range, 1]
+// Step 2: an occluded pixel takes the candidate nearest the dominant motion only where that
+// candidate's cost is at most FLOW_OCC_RATIO x its own match's plus FLOW_OCC_MARGIN (luma).
+#define FLOW_OCC_RATIO 2.0f
+#define FLOW_OCC_MARGIN 0.02f
 #define FLOW_EDGE_REACH 2      // correction: pixels to the depth samples of the edge test
 #define FLOW_EDGE_DEPTH 0.04f  // correction: relative depth step over that reach that is an edge
 #define FLOW_AGREE_NEIGHBOURS 3 // correction: of the 4 neighbours at that reach, those that must agree
@@ -197,7 +206,11 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         if (agree >= FLOW_AGREE_NEIGHBOURS) store_flow(i, e, 0.0f, false);
         return;
     }
-    vec2 v = occluded ? nearest_g : best;
+    vec2 v = best;
+    if (occluded && nearest_g != best) {
+        float cb = flow_cost(q, best, p);
+        if (flow_cost(q, nearest_g, p) <= FLOW_OCC_RATIO * cb + FLOW_OCC_MARGIN) v = nearest_g;
+    }
     float m = occluded ? 0.0f : max(length(v - g) - 1.0f, 0.0f);
     store_flow(i, v, 1.0f - FLOW_PROXY_RANGE * m / (m + p.depth_scale), p.write_depth != 0u);
 }

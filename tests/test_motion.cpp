@@ -269,6 +269,64 @@ TEST(Motion, ColourOnlyInterpolationBeatsBlendAgainstTheExactFrame) {
     expect_no_validation_errors();
 }
 
+// The flow pass's occlusion rule (flow.h step 2) on a hand-made block field: the left half of the
+// blocks holds (4, 0), the right half zero (the dominant motion), and the check field is zero, so
+// every pixel that takes (4, 0) fails the forward-backward test. Where the previous frame really
+// is the current one shifted by 4 px, those pixels' own match is exact and they keep it; where the
+// previous frame shows unrelated content (uncovered background: nothing matches), they take the
+// candidate nearest the dominant motion, as before.
+TEST(Motion, OccludedPixelsKeepAMatchThatExplainsTheirColour) {
+    const uint32_t w = 64, h = 64;
+    const auto levels = ref::motion_levels(w, h);
+    ASSERT_EQ(ref::motion_first_level(levels), 0u);
+    const ref::MotionLevel& l0 = levels[0];
+    const gpu::FlowParams p = ref::flow_params(levels, glm::vec2(0.f), true);
+    std::vector<glm::vec4> field(size_t(ref::motion_field_blocks(levels)) * ref::kFieldRegions, glm::vec4(0.f));
+    for (uint32_t by = 0; by < l0.blocks_y; ++by)
+        for (uint32_t bx = 0; bx < l0.blocks_x; ++bx)
+            field[p.back_offset + by * l0.blocks_x + bx] = bx < l0.blocks_x / 2 ? glm::vec4(4.f, 0.f, 0.f, 0.f)
+                                                                                : glm::vec4(0.f);
+    auto luma = [&](float x, float y) { return texture(glm::vec2(x, y), 11u).x; };
+    std::vector<float> cur(size_t(w) * h), shifted(cur.size()), unrelated(cur.size());
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            cur[i] = luma(x + 0.5f, y + 0.5f);
+            shifted[i] = luma(x - 4.f + 0.5f, y + 0.5f); // prev(p + (4, 0)) = cur(p)
+            unrelated[i] = lattice(int(x), int(y), 99u);  // matches nothing
+        }
+    // The pixels between the last (4, 0) block centre and the first zero one: both are candidates.
+    const uint32_t x0 = (l0.blocks_x / 2 - 1) * MOTION_BLOCK + MOTION_BLOCK / 2;
+    for (int uncovered = 0; uncovered < 2; ++uncovered) {
+        ref::InternalFrame f;
+        f.width = w;
+        f.height = h;
+        f.mv.assign(size_t(w) * h, glm::vec2(-1.f));
+        f.depth.assign(size_t(w) * h, -1.f);
+        ref::flow(cur, uncovered ? unrelated : shifted, field, p, f);
+        int own = 0, dominant = 0, counted = 0;
+        for (uint32_t y = MOTION_BLOCK; y + MOTION_BLOCK < h; ++y)
+            for (uint32_t x = x0 + 1; x < x0 + MOTION_BLOCK; ++x) {
+                const size_t i = size_t(y) * w + x;
+                ++counted;
+                own += f.mv[i] == glm::vec2(4.f, 0.f) ? 1 : 0;
+                dominant += f.mv[i] == glm::vec2(0.f) ? 1 : 0;
+                // (4, 0) fails the check everywhere: an occluded pixel is background to the proxy.
+                if (f.mv[i] == glm::vec2(4.f, 0.f)) {
+                    EXPECT_EQ(f.depth[i], 1.f);
+                }
+            }
+        std::printf("[ measured ] %s previous frame: %d of %d boundary pixels keep (4, 0), %d take zero\n",
+                    uncovered ? "unrelated" : "shifted", own, counted, dominant);
+        if (uncovered) { // (the rest take the blend of the two, the best match of their own)
+            EXPECT_LT(own, counted / 10) << "an occluded pixel's match that explains nothing is replaced";
+            EXPECT_GT(dominant, counted / 2);
+        } else { // (a few pixels where the texture is flat enough for zero to match as well take it)
+            EXPECT_GT(own, counted * 19 / 20) << "an exact match that fails the check keeps its vector";
+        }
+    }
+}
+
 TEST(Motion, FlatColourGivesFiniteZeroMotion) {
     const uint32_t w = 96, h = 64;
     auto s = session_of(colour_only(w, h));
