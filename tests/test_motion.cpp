@@ -281,11 +281,12 @@ TEST(Motion, OccludedPixelsKeepAMatchThatExplainsTheirColour) {
     ASSERT_EQ(ref::motion_first_level(levels), 0u);
     const ref::MotionLevel& l0 = levels[0];
     const gpu::FlowParams p = ref::flow_params(levels, glm::vec2(0.f), true);
-    std::vector<glm::vec4> field(size_t(ref::motion_field_blocks(levels)) * ref::kFieldRegions, glm::vec4(0.f));
+    std::vector<glm::vec4> field(size_t(ref::motion_field_blocks(levels)) * ref::kFieldRegions,
+                                 glm::vec4(0.f));
     for (uint32_t by = 0; by < l0.blocks_y; ++by)
         for (uint32_t bx = 0; bx < l0.blocks_x; ++bx)
-            field[p.back_offset + by * l0.blocks_x + bx] = bx < l0.blocks_x / 2 ? glm::vec4(4.f, 0.f, 0.f, 0.f)
-                                                                                : glm::vec4(0.f);
+            field[p.back_offset + by * l0.blocks_x + bx] =
+                bx < l0.blocks_x / 2 ? glm::vec4(4.f, 0.f, 0.f, 0.f) : glm::vec4(0.f);
     auto luma = [&](float x, float y) { return texture(glm::vec2(x, y), 11u).x; };
     std::vector<float> cur(size_t(w) * h), shifted(cur.size()), unrelated(cur.size());
     for (uint32_t y = 0; y < h; ++y)
@@ -293,7 +294,7 @@ TEST(Motion, OccludedPixelsKeepAMatchThatExplainsTheirColour) {
             const size_t i = size_t(y) * w + x;
             cur[i] = luma(x + 0.5f, y + 0.5f);
             shifted[i] = luma(x - 4.f + 0.5f, y + 0.5f); // prev(p + (4, 0)) = cur(p)
-            unrelated[i] = lattice(int(x), int(y), 99u);  // matches nothing
+            unrelated[i] = lattice(int(x), int(y), 99u); // matches nothing
         }
     // The pixels between the last (4, 0) block centre and the first zero one: both are candidates.
     const uint32_t x0 = (l0.blocks_x / 2 - 1) * MOTION_BLOCK + MOTION_BLOCK / 2;
