@@ -138,16 +138,25 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     float spread = 0.0f;
     for (int k = 0; k < 4; ++k) spread = max(spread, length(corner[k] - best));
     vec2 nearest_g = best;
+    // The costs (flow_cost) of the chosen candidate and of the one nearest the dominant motion,
+    // for the occlusion rule of step 2; only compared where they differ.
+    float own_cost = 0.0f, nearest_g_cost = 0.0f;
     // Where the four blocks agree (most of a frame) the blend is the answer: no costs to compare.
     if (spread > FLOW_AGREE) {
-        float best_cost = FLOW_SMOOTH_BIAS * flow_cost(q, best, p);
+        own_cost = flow_cost(q, best, p);
+        nearest_g_cost = own_cost;
+        float best_cost = FLOW_SMOOTH_BIAS * own_cost;
         for (int k = 0; k < 4; ++k) {
             float cost = flow_cost(q, corner[k], p);
             if (cost < best_cost) {
                 best_cost = cost;
+                own_cost = cost;
                 best = corner[k];
             }
-            if (length(corner[k] - g) < length(nearest_g - g)) nearest_g = corner[k];
+            if (length(corner[k] - g) < length(nearest_g - g)) {
+                nearest_g = corner[k];
+                nearest_g_cost = cost;
+            }
         }
     }
     vec2 back = flow_bilinear(pos + best, p.fwd_offset, p);
@@ -206,11 +215,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         if (agree >= FLOW_AGREE_NEIGHBOURS) store_flow(i, e, 0.0f, false);
         return;
     }
-    vec2 v = best;
-    if (occluded && nearest_g != best) {
-        float cb = flow_cost(q, best, p);
-        if (flow_cost(q, nearest_g, p) <= FLOW_OCC_RATIO * cb + FLOW_OCC_MARGIN) v = nearest_g;
-    }
+    vec2 v = occluded && nearest_g_cost <= FLOW_OCC_RATIO * own_cost + FLOW_OCC_MARGIN ? nearest_g : best;
     float m = occluded ? 0.0f : max(length(v - g) - 1.0f, 0.0f);
     store_flow(i, v, 1.0f - FLOW_PROXY_RANGE * m / (m + p.depth_scale), p.write_depth != 0u);
 }
