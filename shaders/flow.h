@@ -82,8 +82,13 @@ FGSR_INLINE vec2 flow_bilinear(vec2 pos, uint offset, FlowParams p) {
     return mix(top, bottom, f.y);
 }
 
+// A pixel position clamped to the frame.
+FGSR_INLINE ivec2 flow_clamp(ivec2 q, FlowParams p) {
+    return clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+}
+
 FGSR_INLINE float flow_luma(ivec2 q, bool prev, FlowParams p) {
-    q = clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+    q = flow_clamp(q, p);
     uint i = uint(q.y) * p.width + uint(q.x);
     return prev ? load_prev(i) : load_cur(i);
 }
@@ -139,7 +144,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     for (int k = 0; k < 4; ++k) spread = max(spread, length(corner[k] - best));
     vec2 nearest_g = best;
     // The costs (flow_cost) of the chosen candidate and of the one nearest the dominant motion,
-    // for the occlusion rule of step 2; only compared where they differ.
+    // for the occlusion rule of step 2 (both 0 where the blocks agree: the two are the same).
     float own_cost = 0.0f, nearest_g_cost = 0.0f;
     // Where the four blocks agree (most of a frame) the blend is the answer: no costs to compare.
     if (spread > FLOW_AGREE) {
@@ -179,8 +184,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         //    Nor next to a depth edge of the current frame, where the colour mismatch is the edge's
         //    (antialiasing, the moving silhouette): shading moves over smooth surfaces.
         for (int k = 0; k < 4; ++k) {
-            ivec2 n = clamp(q + flow_cross(k, FLOW_EDGE_REACH), ivec2(0),
-                            ivec2(int(p.width) - 1, int(p.height) - 1));
+            ivec2 n = flow_clamp(q + flow_cross(k, FLOW_EDGE_REACH), p);
             float dn = load_depth(uint(n.y) * p.width + uint(n.x));
             if (!(abs(dn - d1) <= FLOW_EDGE_DEPTH * min(dn, d1))) return;
         }
@@ -207,8 +211,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         //    colour some candidate happens to match better is noise.
         int agree = 0;
         for (int k = 0; k < 4; ++k) {
-            ivec2 n = clamp(q + flow_cross(k, FLOW_EDGE_REACH), ivec2(0),
-                            ivec2(int(p.width) - 1, int(p.height) - 1));
+            ivec2 n = flow_clamp(q + flow_cross(k, FLOW_EDGE_REACH), p);
             float limit_n = p.correct_ratio * flow_cost_subpixel(n, given, p) - p.correct_margin;
             agree += flow_cost_subpixel(n, e, p) < limit_n ? 1 : 0;
         }

@@ -249,7 +249,27 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
     EXPECT_EQ(scaling[0].at("width"), "320");
     EXPECT_GT(std::stod(scaling[0].at("x_memcpy")), 0.0);
     EXPECT_EQ(read_csv(out / "alphas.csv").size(), 2u);
-    EXPECT_TRUE(std::filesystem::exists(out / "bench.md"));
+    // The frames-per-pair table names each pass with its median and how many of the 2 calls of
+    // --quick ran it: splat and generate run in every call, at 1 and 2 frames per call.
+    std::ifstream in(out / "bench.md");
+    const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t table = md.find("## Frames generated per pair");
+    ASSERT_NE(table, std::string::npos) << md;
+    for (const char* count : {"\n| 1 | ", "\n| 2 | "}) {
+        const size_t row = md.find(count, table);
+        ASSERT_NE(row, std::string::npos) << count << " in " << md;
+        const std::string line = md.substr(row + 1, md.find('\n', row + 1) - row - 1);
+        for (const char* pass : {"generate ", "splat "}) {
+            const size_t at = line.find(pass);
+            ASSERT_NE(at, std::string::npos) << pass << " in " << line;
+            std::stringstream ss(line.substr(at + std::string(pass).size()));
+            double ms = 0;
+            std::string calls;
+            ss >> ms >> calls;
+            EXPECT_GT(ms, 0.0) << line;
+            EXPECT_EQ(calls.substr(0, 3), "(2)") << line;
+        }
+    }
     std::filesystem::remove_all(out);
 }
 
