@@ -247,6 +247,28 @@ TEST_F(ClientService, DaemonKilledUnderAClientThenReconnect) {
     EXPECT_EQ(count_fds(), base);
 }
 
+// A layer polls: fgsr_acquire_input and fgsr_wait with timeout 0, every frame. They must see a
+// daemon that died with every input slot in flight (found by the layer's kill test under load: the
+// calls answered NO_SLOT / TIMEOUT for good, and the layer never noticed nor reconnected).
+TEST_F(ClientService, ZeroTimeoutCallsSeeADaemonThatDiedWithEverySlotHeld) {
+    const Expected& e = expected();
+    fgsr::client::Connection c;
+    ASSERT_EQ(c.connect(daemon_->socket_path().c_str()), FGSR_STATUS_OK);
+    fgsr::client::Session held, idle;
+    ASSERT_EQ(held.create(c, desc_for(e.cap.format)), FGSR_STATUS_OK);
+    ASSERT_EQ(idle.create(c, desc_for(e.cap.format)), FGSR_STATUS_OK);
+    fgsr_pool_layout l{};
+    held.layout(l);
+    fgsr_input_slot in{};
+    for (uint32_t i = 0; i < l.input_slot_count; ++i) ASSERT_EQ(held.acquire_input(0, in), FGSR_STATUS_OK) << i;
+    EXPECT_EQ(held.acquire_input(0, in), FGSR_STATUS_NO_SLOT); // alive: none free, no wait
+    fgsr_output out{};
+    EXPECT_EQ(idle.wait(0, out), FGSR_STATUS_TIMEOUT);
+    daemon_->kill9();
+    EXPECT_EQ(held.acquire_input(0, in), FGSR_STATUS_DISCONNECTED);
+    EXPECT_EQ(idle.wait(0, out), FGSR_STATUS_DISCONNECTED);
+}
+
 TEST_F(ClientService, FifoAndMailboxSemantics) {
     const Expected& e = expected();
     for (uint32_t policy : {uint32_t(FGSR_QUEUE_FIFO), uint32_t(FGSR_QUEUE_MAILBOX)}) {

@@ -123,8 +123,15 @@ struct fgsr_session {
     fgsr_status pump();
     // Waits until a completion may be there: first spins up to wait_spin_ns for the completion ring's
     // head to move (no syscall; a completion published meanwhile needs no wake-up of this thread),
-    // then sleeps on the complete eventfd.
-    fgsr_status wait_event(uint64_t deadline_ns);
+    // then sleeps on the complete eventfd. When the daemon has hung up it returns OK only while
+    // what the caller waits for is still there (a queued completion; with for_input, a free input
+    // slot), else DISCONNECTED.
+    fgsr_status wait_event(uint64_t deadline_ns, bool for_input = false);
+    bool input_free() const {
+        for (uint32_t i = 0; i < layout.input_slot_count; ++i)
+            if (inputs[i] == fgsr::client::InputState::free) return true;
+        return false;
+    }
     fgsr_status fail(fgsr_status s) {
         if (broken == FGSR_STATUS_OK) broken = s;
         return s;

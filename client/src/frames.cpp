@@ -59,7 +59,7 @@ fgsr_status fgsr_session::pump() {
 
 // Waits until the complete eventfd is readable (OK), the deadline passes (TIMEOUT) or the
 // daemon hangs up (DISCONNECTED).
-fgsr_status fgsr_session::wait_event(uint64_t deadline_ns) {
+fgsr_status fgsr_session::wait_event(uint64_t deadline_ns, bool for_input) {
     if (wait_spin_ns > 0) {
         const uint64_t now = monotonic_ns();
         // Any change of the head ends the spin; pump() validates what is there (a head the daemon
@@ -75,8 +75,9 @@ fgsr_status fgsr_session::wait_event(uint64_t deadline_ns) {
         if (r < 0) return fail(FGSR_STATUS_INTERNAL);
         if (p[0].revents & POLLIN) return FGSR_STATUS_OK;
         if (p[1].revents & (POLLHUP | POLLERR | POLLNVAL)) {
-            // Completions pushed before the daemon went away are still returned first.
-            if (pump() == FGSR_STATUS_OK && !ready.empty()) return FGSR_STATUS_OK;
+            // Completions pushed before the daemon went away are still returned first (and the
+            // input slots they released handed out).
+            if (pump() == FGSR_STATUS_OK && (for_input ? input_free() : !ready.empty())) return FGSR_STATUS_OK;
             std::lock_guard<std::mutex> lock(conn->mutex);
             conn->dead = true;
             return fail(FGSR_STATUS_DISCONNECTED);
@@ -91,6 +92,7 @@ fgsr_status fgsr_acquire_input(fgsr_session* session, uint32_t timeout_ms, fgsr_
     if (!session || !out) return FGSR_STATUS_INVALID_ARGUMENT;
     return guarded([&]() -> fgsr_status {
         const uint64_t deadline = monotonic_ns() + uint64_t(timeout_ms) * 1000000ull;
+        bool polled = false; // the one poll at the deadline (below)
         for (;;) {
             fgsr_status st = session->pump();
             if (st != FGSR_STATUS_OK) return st;
@@ -106,8 +108,14 @@ fgsr_status fgsr_acquire_input(fgsr_session* session, uint32_t timeout_ms, fgsr_
                 out->mv = session->layout.mv.size ? slot + session->layout.mv.offset : nullptr;
                 return FGSR_STATUS_OK;
             }
-            if (ms_left(deadline) == 0) return FGSR_STATUS_NO_SLOT;
-            st = session->wait_event(deadline);
+            // At the deadline wait_event still polls once (with a zero timeout), so that a call
+            // with timeout 0 (a layer's, every frame) sees the daemon hang up. Without it, a daemon
+            // killed with every slot in flight left such a caller on NO_SLOT for good.
+            if (ms_left(deadline) == 0) {
+                if (polled) return FGSR_STATUS_NO_SLOT;
+                polled = true;
+            }
+            st = session->wait_event(deadline, true);
             if (st == FGSR_STATUS_TIMEOUT) return FGSR_STATUS_NO_SLOT;
             if (st != FGSR_STATUS_OK) return st;
         }
@@ -186,6 +194,7 @@ fgsr_status fgsr_wait(fgsr_session* session, uint32_t timeout_ms, fgsr_output* o
     if (!session || !out) return FGSR_STATUS_INVALID_ARGUMENT;
     return guarded([&]() -> fgsr_status {
         const uint64_t deadline = monotonic_ns() + uint64_t(timeout_ms) * 1000000ull;
+        bool polled = false; // the one poll at the deadline (below)
         for (;;) {
             if (session->ready.empty()) {
                 const fgsr_status st = session->pump();
@@ -213,7 +222,11 @@ fgsr_status fgsr_wait(fgsr_session* session, uint32_t timeout_ms, fgsr_output* o
                 }
                 return FGSR_STATUS_OK;
             }
-            if (ms_left(deadline) == 0) return FGSR_STATUS_TIMEOUT;
+            // As in fgsr_acquire_input: at the deadline wait_event still polls once for a hang-up.
+            if (ms_left(deadline) == 0) {
+                if (polled) return FGSR_STATUS_TIMEOUT;
+                polled = true;
+            }
             const fgsr_status st = session->wait_event(deadline);
             if (st != FGSR_STATUS_OK) return st;
         }

@@ -347,8 +347,17 @@ TEST_F(LayerE2E, NoDaemonTheAppKeepsAllItsFrames) {
 
 TEST_F(LayerE2E, DaemonKilledMidRunTheAppKeepsAllItsFrames) {
     start_daemon();
+    // Killed about 2 s (some 20 application frames at 10 fps) after the layer's session opened,
+    // not at a fixed time from the start, which under load may come before the application
+    // connects. (This test's failures under load were the client library's: with every input slot
+    // in flight at the kill, the layer's zero-timeout calls never reported the hang-up;
+    // ClientService.ZeroTimeoutCallsSeeADaemonThatDiedWithEverySlotHeld.)
     std::thread killer([&] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+        const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        while (daemon_->stderr_text().find(" on the ") == std::string::npos &&
+               std::chrono::steady_clock::now() < give_up)
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        std::this_thread::sleep_for(std::chrono::milliseconds(2000));
         daemon_->kill9();
     });
     const AppRun r = run(app() + " --frames 60 --width 192 --height 108 --fps 10");

@@ -83,7 +83,8 @@ typedef struct fgsr_input_slot {
 } fgsr_input_slot;
 
 /* Takes a free input slot, waiting up to timeout_ms for the daemon to hand one back (0: do not
- * wait). Returns OK; NO_SLOT (none free within the timeout); DISCONNECTED; INVALID_ARGUMENT. */
+ * wait). Returns OK; NO_SLOT (none free within the timeout); DISCONNECTED (also with timeout 0:
+ * every call checks whether the daemon hung up); INVALID_ARGUMENT. */
 fgsr_status fgsr_acquire_input(fgsr_session* session, uint32_t timeout_ms, fgsr_input_slot* out);
 
 typedef struct fgsr_submit_info {
