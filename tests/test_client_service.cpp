@@ -260,7 +260,8 @@ TEST_F(ClientService, ZeroTimeoutCallsSeeADaemonThatDiedWithEverySlotHeld) {
     fgsr_pool_layout l{};
     held.layout(l);
     fgsr_input_slot in{};
-    for (uint32_t i = 0; i < l.input_slot_count; ++i) ASSERT_EQ(held.acquire_input(0, in), FGSR_STATUS_OK) << i;
+    for (uint32_t i = 0; i < l.input_slot_count; ++i)
+        ASSERT_EQ(held.acquire_input(0, in), FGSR_STATUS_OK) << i;
     EXPECT_EQ(held.acquire_input(0, in), FGSR_STATUS_NO_SLOT); // alive: none free, no wait
     fgsr_output out{};
     EXPECT_EQ(idle.wait(0, out), FGSR_STATUS_TIMEOUT);

@@ -77,7 +77,8 @@ fgsr_status fgsr_session::wait_event(uint64_t deadline_ns, bool for_input) {
         if (p[1].revents & (POLLHUP | POLLERR | POLLNVAL)) {
             // Completions pushed before the daemon went away are still returned first (and the
             // input slots they released handed out).
-            if (pump() == FGSR_STATUS_OK && (for_input ? input_free() : !ready.empty())) return FGSR_STATUS_OK;
+            if (pump() == FGSR_STATUS_OK && (for_input ? input_free() : !ready.empty()))
+                return FGSR_STATUS_OK;
             std::lock_guard<std::mutex> lock(conn->mutex);
             conn->dead = true;
             return fail(FGSR_STATUS_DISCONNECTED);
