@@ -96,6 +96,14 @@
 #define FLOW_COUNT 6
 #define FLOW_TEXELS ((1u << FLOW_CUR) | (1u << FLOW_PREV) | (1u << FLOW_FIELD))
 
+// polish (polish.h): variational refinement of the estimated vectors, in place.
+#define POLISH_CUR 0  // pyramid of the current frame (level 0 read)
+#define POLISH_PREV 1 // pyramid of the previous frame
+#define POLISH_MV 2   // the current frame's vectors (vec2, internal convention), written ...
+#define POLISH_MV_TEXELS 3 // ... and read (the same buffer as RG32F texels; a dispatch never reads what it writes)
+#define POLISH_COUNT 4
+#define POLISH_TEXELS ((1u << POLISH_CUR) | (1u << POLISH_PREV) | (1u << POLISH_MV_TEXELS))
+
 // classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current
 // vectors, GEN_DEPTH1 = current depth, GEN_DEPTH0 = previous depth), then:
 #define CLASSIFY_COLOR0 6

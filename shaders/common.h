@@ -223,6 +223,18 @@ struct FlowParams {
     float correct_depth;  // and the given vector's previous position has the pixel's depth (relative)
 };
 
+// polish.h: one red-black half-sweep of the variational refinement of estimated vectors.
+struct PolishParams {
+    uint width;
+    uint height;
+    uint parity;      // the checkerboard colour updated: (x + y) & 1
+    float alpha;      // weight of the smoothness term
+    float eps_data;   // Charbonnier epsilon of the (gradient-normalised) data term
+    float eps_smooth; // Charbonnier epsilon of the smoothness term, pixels
+    float zeta;       // luma gradient added to the data term's normalisation
+    uint pad;
+};
+
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
 // (uvec2: packHalf2x16(r, g), packHalf2x16(b, a)). Ingest clamps channels to [0, 65504], so packing
 // never overflows; the half rounding (relative error <= 2^-11) is far below what the metrics see,

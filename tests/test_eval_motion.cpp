@@ -230,7 +230,7 @@ TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
     ASSERT_FALSE(j.is_discarded());
     const nlohmann::json& c = j["methods"]["fgsr-colour"];
     double motion = 0, all = 0;
-    for (const char* pass : {"luma", "match", "flow"}) {
+    for (const char* pass : {"luma", "match", "flow", "polish"}) {
         ASSERT_TRUE(c["pass_ms"].contains(pass)) << c.dump();
         motion += c["pass_ms"][pass].get<double>();
     }

@@ -86,9 +86,10 @@ void expect_gpu_matches_cpu(uint32_t w, uint32_t h) {
     ASSERT_TRUE(gpu);
     ASSERT_TRUE(gpu->has_mv);
     EXPECT_FALSE(s->last_scene_cut());
-    ASSERT_EQ(s->last_motion_timings().size(), 3u);
+    ASSERT_EQ(s->last_motion_timings().size(), 4u);
     EXPECT_EQ(s->last_motion_timings()[0].pass, PassId::luma);
     EXPECT_EQ(s->last_motion_timings()[2].pass, PassId::flow);
+    EXPECT_EQ(s->last_motion_timings()[3].pass, PassId::polish);
 
     auto r0 = s->read_frame(0);
     ASSERT_TRUE(r0);
@@ -170,6 +171,63 @@ TEST(Motion, SubPixelAndLargeTranslationsAreRecovered) {
                 near += f->depth[size_t(y) * w + x] < 0.99f ? 1 : 0;
         EXPECT_LT(near, interior / 20);
     }
+}
+
+// The variational refinement (shaders/polish.h) on its own, CPU reference: a continuous luma
+// pattern translated by a sub-pixel vector. What it is for: vectors torn from their neighbours
+// (the per-pixel choice leaves speckle where texture does not decide between neighbouring blocks)
+// are pulled back to the motion around them and the colour, and a right field stays right (to
+// within the bias of the bilinear reading of the previous frame).
+TEST(Motion, PolishPullsTornVectorsBackToTheColourAndTheirNeighbours) {
+    const uint32_t w = 96, h = 64;
+    const glm::vec2 truth(1.3f, -0.6f); // current -> previous: prev(p + truth) = cur(p)
+    const auto pattern = [](glm::vec2 p) {
+        return 0.5f + 0.2f * std::sin(0.61f * p.x + 0.23f * p.y) + 0.15f * std::cos(0.37f * p.y - 0.41f * p.x) +
+               0.1f * std::sin(0.45f * p.x + 0.7f * p.y);
+    };
+    std::vector<float> cur(size_t(w) * h), prev(size_t(w) * h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            cur[size_t(y) * w + x] = pattern(glm::vec2(float(x), float(y)));
+            prev[size_t(y) * w + x] = pattern(glm::vec2(float(x), float(y)) - truth);
+        }
+    const auto torn = [](uint32_t x, uint32_t y) { return (x * 7u + y * 13u + (x * y) % 5u) % 5u == 0u; };
+    ref::InternalFrame exact, speckled;
+    for (ref::InternalFrame* f : {&exact, &speckled}) {
+        f->width = w;
+        f->height = h;
+        f->mv.assign(size_t(w) * h, truth);
+    }
+    size_t n_torn = 0;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x)
+            if (torn(x, y)) {
+                speckled.mv[size_t(y) * w + x] = glm::vec2(0.f);
+                ++n_torn;
+            }
+    ASSERT_GT(n_torn, size_t(w) * h / 8);
+    ref::polish(cur, prev, exact);
+    ref::polish(cur, prev, speckled);
+    double exact_error = 0, torn_error = 0, rest_error = 0;
+    size_t n = 0, nt = 0;
+    for (uint32_t y = 8; y + 8 < h; ++y)
+        for (uint32_t x = 8; x + 8 < w; ++x, ++n) {
+            const size_t i = size_t(y) * w + x;
+            ASSERT_TRUE(std::isfinite(speckled.mv[i].x) && std::isfinite(speckled.mv[i].y)) << i;
+            exact_error += glm::length(exact.mv[i] - truth);
+            const double e = glm::length(speckled.mv[i] - truth);
+            (torn(x, y) ? torn_error : rest_error) += e;
+            nt += torn(x, y) ? 1 : 0;
+        }
+    exact_error /= double(n);
+    torn_error /= double(nt);
+    rest_error /= double(n - nt);
+    std::printf("[ polish   ] mean error: exact start %.4f px; speckled start: torn pixels %.4f (from %.4f), "
+                "the others %.4f\n",
+                exact_error, torn_error, double(glm::length(truth)), rest_error);
+    EXPECT_LT(exact_error, 0.1);                              // the bilinear reading's bias at most
+    EXPECT_LT(torn_error, 0.15 * double(glm::length(truth))); // torn pixels rejoin the motion
+    EXPECT_LT(rest_error, 0.15);                              // and do not drag the others along
 }
 
 TEST(Motion, MovingSquareIsInFrontAndItsVectorsAreItsMotion) {

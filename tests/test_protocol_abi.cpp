@@ -367,7 +367,8 @@ TEST(ProtocolAbi, EnumValues) {
     EXPECT_EQ(int64_t(FGSR_PASS_LUMA), int64_t(11));
     EXPECT_EQ(int64_t(FGSR_PASS_MATCH), int64_t(12));
     EXPECT_EQ(int64_t(FGSR_PASS_FLOW), int64_t(13));
-    EXPECT_EQ(int64_t(FGSR_PASS_COUNT_), int64_t(14));
+    EXPECT_EQ(int64_t(FGSR_PASS_POLISH), int64_t(14));
+    EXPECT_EQ(int64_t(FGSR_PASS_COUNT_), int64_t(15));
 }
 
 TEST(ProtocolAbi, DefineValues) {
@@ -422,6 +423,7 @@ TEST(ProtocolAbi, PassNames) {
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_LUMA)), "luma");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_MATCH)), "match");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_FLOW)), "flow");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_POLISH)), "polish");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_COUNT_)), "unknown");
 }
 

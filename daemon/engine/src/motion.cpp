@@ -118,6 +118,18 @@ gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::ve
     return f;
 }
 
+gpu::PolishParams ref::polish_params(uint32_t width, uint32_t height, uint32_t parity) {
+    gpu::PolishParams p{};
+    p.width = width;
+    p.height = height;
+    p.parity = parity;
+    p.alpha = kPolishAlpha;
+    p.eps_data = kPolishEpsData;
+    p.eps_smooth = kPolishEpsSmooth;
+    p.zeta = kPolishZeta;
+    return p;
+}
+
 ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, float typical_share) {
     MotionSummary s;
     if (blocks.empty()) return s;
@@ -176,6 +188,8 @@ Result<void> Session::Impl::init_motion() {
         *ctx, VkDeviceSize(ref::motion_field_blocks(estimator.levels)) * ref::kFieldRegions * 16, true);
     if (!f) return f.error();
     estimator.field = std::move(*f);
+    // polish reads the vectors with texelFetch (and writes them through a storage binding).
+    for (GpuFrame& fr : frames) FGSR_TRY(fr.mv.make_texel_view(VK_FORMAT_R32G32_SFLOAT));
     return estimator.field.make_texel_view(VK_FORMAT_R32G32B32A32_SFLOAT); // flow reads it with texelFetch
 }
 
@@ -243,6 +257,19 @@ Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global) {
     const gpu::FlowParams p = ref::flow_params(estimator.levels, global, !format.has_depth, correction());
     return rec.dispatch_pixels(p.correct != 0u ? Variant::flow_correct : Variant::flow, b, &p, format.width,
                                format.height);
+}
+
+Result<void> Session::Impl::record_polish(int cur, int prev) {
+    const GpuFrame& f = frames[size_t(cur)];
+    const auto b = make_slots<PassId::polish>(at<POLISH_CUR>(estimator.pyramid[size_t(cur)]),
+                                              at<POLISH_PREV>(estimator.pyramid[size_t(prev)]), at<POLISH_MV>(f.mv),
+                                              at<POLISH_MV_TEXELS>(f.mv));
+    for (uint32_t k = 0; k < 2 * ref::kPolishIterations; ++k) {
+        if (k > 0) rec.barrier();
+        const gpu::PolishParams p = ref::polish_params(format.width, format.height, k & 1u);
+        FGSR_TRY(rec.dispatch_pixels(Variant::polish, b, &p, (format.width + 1) / 2, format.height));
+    }
+    return {};
 }
 
 std::vector<PassTiming> Session::last_motion_timings() const {

@@ -48,6 +48,17 @@ struct FlowCpu {
 #include "flow.h"
 };
 
+struct PolishCpu {
+    const std::vector<float>* cur_luma;
+    const std::vector<float>* prev_luma;
+    ref::InternalFrame* out;
+    float load_cur(uint i) const { return (*cur_luma)[i]; }
+    float load_prev(uint i) const { return (*prev_luma)[i]; }
+    vec2 load_mv(uint i) const { return out->mv[i]; }
+    void store_mv(uint i, vec2 v) { out->mv[i] = v; }
+#include "polish.h"
+};
+
 } // namespace
 } // namespace fgsr::gpu
 // clang-format on
@@ -88,6 +99,15 @@ void flow(const std::vector<float>& cur, const std::vector<float>& prev, const s
         for (uint32_t x = 0; x < p.width; ++x) cpu.flow_pixel(glm::uvec2(x, y), p);
 }
 
+void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f) {
+    gpu::PolishCpu cpu{&cur, &prev, &f};
+    for (uint32_t k = 0; k < 2 * kPolishIterations; ++k) {
+        const PolishParams p = polish_params(f.width, f.height, k & 1u);
+        for (uint32_t y = 0; y < p.height; ++y)
+            for (uint32_t x = 0; x < (p.width + 1) / 2; ++x) cpu.polish_pixel(glm::uvec2(x, y), p);
+    }
+}
+
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
                               std::vector<glm::vec4>& field, VectorCorrection correct) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
@@ -111,6 +131,7 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     fill_level(field, fill_params(levels, false));
     fill_level(field, fill_params(levels, true));
     flow(p1, p0, field, flow_params(levels, s.global, write_depth, correct), f1, &f0);
+    if (!correct.on) polish(p1, p0, f1);
     f1.has_mv = true;
     return s;
 }

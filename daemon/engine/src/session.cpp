@@ -260,6 +260,11 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             FGSR_TRY(s.record_flow(slot, s.newest, s.estimator.global));
             s.rec.barrier();
             s.rec.timestamp(q++);
+            if (!correcting) {
+                FGSR_TRY(s.record_polish(slot, s.newest));
+                s.rec.barrier();
+                s.rec.timestamp(q++);
+            }
         }
         if (!correcting) frame_has_mv = !restart;
         s.estimator.field_valid = !restart && !s.estimator.last_cut;
@@ -285,6 +290,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (s.estimates_motion()) {
         s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
         if (!flow_skipped) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
+        if (!flow_skipped && !correcting) s.estimator.timings.push_back(timing_of(PassId::polish, (*t)[ti++]));
     } else {
         s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
     }

@@ -97,7 +97,7 @@ struct Session::Impl {
         std::vector<ref::MotionLevel> levels;
         std::array<vk::Buffer, 2> pyramid; // luma pyramid of frames[i]
         vk::Buffer field;                  // host-visible block vectors, both directions
-        std::vector<PassTiming> timings;   // of the last submit: luma, match, flow (those run)
+        std::vector<PassTiming> timings;   // of the last submit: luma, match, flow, polish (those run)
         bool last_cut = false;
         bool field_valid = false;   // the field holds the previous submit's vectors (temporal candidates)
         float typical_share = -1.f; // running mean of unmatched blocks since the restart (scene cuts)
@@ -142,6 +142,8 @@ struct Session::Impl {
     Result<void> record_match(int cur, int prev);
     ref::MotionSummary summarise_motion() const;
     Result<void> record_flow(int cur, int prev, glm::vec2 global);
+    // The variational refinement's sweeps over the estimated vectors (after record_flow and a barrier).
+    Result<void> record_polish(int cur, int prev);
 
     // generate.cpp
     // The bindings (GEN_*) of frame 1, frame 0 and the splat keys and motion that splat, refine,

@@ -88,6 +88,8 @@ constexpr uint32_t pass_bindings(PassId p) {
         return MATCH_COUNT;
     case PassId::flow:
         return FLOW_COUNT;
+    case PassId::polish:
+        return POLISH_COUNT;
     case PassId::count:
         break;
     }
@@ -121,6 +123,8 @@ constexpr uint32_t pass_push(PassId p) {
         return sizeof(gpu::MatchParams);
     case PassId::flow:
         return sizeof(gpu::FlowParams);
+    case PassId::polish:
+        return sizeof(gpu::PolishParams);
     case PassId::count:
         break;
     }
@@ -135,6 +139,8 @@ constexpr uint32_t pass_texels(PassId p) {
         return MATCH_TEXELS;
     case PassId::flow:
         return FLOW_TEXELS;
+    case PassId::polish:
+        return POLISH_TEXELS;
     default:
         return 0;
     }

@@ -70,7 +70,7 @@ class Buffer {
     VkBuffer handle() const { return buffer_; }
     VkDeviceSize size() const { return size_; }
     void* mapped() const { return mapped_; }
-    // A view of the whole buffer as texels of `format` (R32_SFLOAT, R32G32B32A32_SFLOAT), for
+    // A view of the whole buffer as texels of `format` (R32_SFLOAT, R32G32_SFLOAT, R32G32B32A32_SFLOAT), for
     // passes that read it as a uniform texel buffer (texelFetch): on llvmpipe a texel fetch is a
     // vector gather, while a storage-buffer load at a per-invocation index is a loop over the SIMD
     // lanes. Created once; lives as long as the buffer. VK_NULL_HANDLE until make_texel_view().

@@ -23,6 +23,7 @@
     X(DENOISE, denoise, 10)        /* SR: noise estimate and pre-filter of the rendered frame */            \
     X(LUMA, luma, 11)              /* colour-only: luma pyramid of a submitted frame */                      \
     X(MATCH, match, 12)            /* colour-only: block matching, coarse to fine, both directions */       \
-    X(FLOW, flow, 13)              /* colour-only: per-pixel vectors, consistency, depth proxy */
+    X(FLOW, flow, 13)              /* colour-only: per-pixel vectors, consistency, depth proxy */    \
+    X(POLISH, polish, 14)          /* colour-only: variational refinement of the vectors */
 
 #endif

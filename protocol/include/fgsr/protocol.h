@@ -244,7 +244,7 @@ typedef enum fgsr_pass_id {
 #undef FGSR_PASS_ID_
     FGSR_PASS_COUNT_
 } fgsr_pass_id;
-FGSR_STATIC_ASSERT(FGSR_PASS_COUNT_ == 14, "the pass table's values are 0..13 in order");
+FGSR_STATIC_ASSERT(FGSR_PASS_COUNT_ == 15, "the pass table's values are 0..14 in order");
 
 /* The engine's name of a pass ("ingest", ..., "flow"; "unknown" for values out of range). */
 const char* fgsr_pass_name(uint32_t pass);

@@ -25,6 +25,7 @@ using gpu::GenParams;
 using gpu::IngestParams;
 using gpu::LumaParams;
 using gpu::MatchParams;
+using gpu::PolishParams;
 using gpu::SrParams;
 
 // One frame in the engine's internal convention (see types.hpp).
@@ -170,6 +171,15 @@ FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global,
                        VectorCorrection correct = {});
 // The fill stage of the first level (match.h fill_block): final blocks in, first-pass region out.
 MatchParams fill_params(const std::vector<MotionLevel>& levels, bool forward);
+// Variational refinement of estimated vectors (shaders/polish.h; not when correcting given ones):
+// kPolishIterations red-black sweeps (two dispatches each). Chosen on the train captures only
+// (docs/MOTION.md, "Variational refinement").
+inline constexpr uint32_t kPolishIterations = 5;
+inline constexpr float kPolishAlpha = 0.5f;
+inline constexpr float kPolishEpsData = 0.01f;
+inline constexpr float kPolishEpsSmooth = 0.05f;
+inline constexpr float kPolishZeta = 0.01f;
+PolishParams polish_params(uint32_t width, uint32_t height, uint32_t parity);
 
 // What the host reads from the level-0 current -> previous blocks between the match and flow
 // passes: the dominant motion (mean of the vectors within kMotionModeRadius of the most common
@@ -202,6 +212,8 @@ void fill_level(std::vector<glm::vec4>& field, const MatchParams& p);
 // prev_frame: the previous frame, whose depth the correction of given vectors reads (p.correct).
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
           const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame = nullptr);
+// The refinement's sweeps (both colours, kPolishIterations times) over f.mv.
+void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f);
 // The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
 // cut f1 keeps its input (has_mv false). `field`: the field buffer carried from the previous call
 // (the engine's temporal candidates), or empty for a first frame; it is resized and updated. With

@@ -1,0 +1,19 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.h"
+#include "bindings.h"
+layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
+layout(push_constant) uniform Push { PolishParams p; } pc;
+layout(binding = POLISH_CUR) uniform samplerBuffer cur; // texel buffers, as in flow.comp
+layout(binding = POLISH_PREV) uniform samplerBuffer prev;
+layout(std430, binding = POLISH_MV) writeonly buffer Mv { vec2 mv[]; };
+layout(binding = POLISH_MV_TEXELS) uniform samplerBuffer mv_texels; // RG32F view of the same buffer
+
+float load_cur(uint i) { return texelFetch(cur, int(i)).x; }
+float load_prev(uint i) { return texelFetch(prev, int(i)).x; }
+vec2 load_mv(uint i) { return texelFetch(mv_texels, int(i)).xy; }
+void store_mv(uint i, vec2 v) { mv[i] = v; }
+
+#include "polish.h"
+
+void main() { polish_pixel(gl_GlobalInvocationID.xy, pc.p); }

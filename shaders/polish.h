@@ -1,0 +1,86 @@
+// Pass `polish`: variational refinement of the estimated vectors (colour-only sessions, after
+// `flow`), the third stage of DIS optical flow (Kroeger et al., ECCV 2016) in a form that suits a
+// compute pass. One invocation per pixel of one colour of a checkerboard (p.parity): the host runs
+// it 2 x kPolishIterations times, alternating the colours (red-black Gauss-Seidel), so that each
+// pixel reads only neighbours that the same dispatch does not write, and the vectors are updated in
+// place.
+//
+// Energy of the field v (internal convention: pixels, current -> previous):
+//   sum over pixels of psi_d( (I1(x + v) - I0(x))^2 / (|grad I0|^2 + zeta^2) )
+//   + alpha x sum over neighbour pairs of psi_s( |v(x) - v(n)|^2 ),
+// psi(s^2) = sqrt(s^2 + eps^2) (Charbonnier: robust to occlusions and motion boundaries), I0 the
+// current frame's level-0 luma, I1 the previous frame's. The data term is normalised by the
+// gradient (as DIS's refinement does), so that alpha means the same in dark and bright, flat and
+// contrasted regions. Each update linearises the data term at the pixel's current vector (I1
+// read bilinearly at x + v, the gradient taken from I0, which the match approximates there),
+// takes the robust weights at the current values, and solves the pixel's 2x2 system for the
+// increment, clamped to 1 px a step. Block matching leaves vectors constant over blocks and wrong
+// in pixels the per-pixel choice tore from their object; this pulls them toward what the colour
+// and their neighbours say (docs/MOTION.md, "Variational refinement").
+//
+// Entry provides:
+//   float load_cur(uint pixel)   level-0 luma of the current frame
+//   float load_prev(uint pixel)  level-0 luma of the previous frame
+//   vec2  load_mv(uint pixel)    the vectors (written by flow, then by this pass)
+//   void  store_mv(uint pixel, vec2 v)
+
+#define POLISH_STEP 1.0f // pixels: the largest change of a vector in one update
+
+FGSR_INLINE ivec2 polish_clamp(ivec2 q, PolishParams p) {
+    return clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+}
+
+FGSR_INLINE float polish_cur(ivec2 q, PolishParams p) {
+    q = polish_clamp(q, p);
+    return load_cur(uint(q.y) * p.width + uint(q.x));
+}
+
+FGSR_INLINE float polish_prev(ivec2 q, PolishParams p) {
+    q = polish_clamp(q, p);
+    return load_prev(uint(q.y) * p.width + uint(q.x));
+}
+
+// The previous frame's luma at a position in pixels (bilinear, edges clamped; flow.h's reading).
+FGSR_INLINE float polish_prev_bilinear(vec2 at, PolishParams p) {
+    vec2 f0 = floor(at);
+    vec2 t = at - f0;
+    ivec2 c = ivec2(f0);
+    float top = mix(polish_prev(c, p), polish_prev(c + ivec2(1, 0), p), t.x);
+    float bottom = mix(polish_prev(c + ivec2(0, 1), p), polish_prev(c + ivec2(1, 1), p), t.x);
+    return mix(top, bottom, t.y);
+}
+
+// Invocation h covers the pixel of row h.y, column 2 h.x or 2 h.x + 1, whichever has the colour
+// p.parity: the dispatch is (width + 1) / 2 wide, so that no invocation idles on the other colour.
+FGSR_INLINE void polish_pixel(uvec2 h, PolishParams p) {
+    uvec2 u = uvec2(2u * h.x + ((h.y + p.parity) & 1u), h.y);
+    if (u.x >= p.width || u.y >= p.height) return;
+    ivec2 q = ivec2(u);
+    uint i = u.y * p.width + u.x;
+    vec2 v = load_mv(i);
+    float gx = 0.5f * (polish_cur(q + ivec2(1, 0), p) - polish_cur(q - ivec2(1, 0), p));
+    float gy = 0.5f * (polish_cur(q + ivec2(0, 1), p) - polish_cur(q - ivec2(0, 1), p));
+    float norm = 1.0f / (gx * gx + gy * gy + p.zeta * p.zeta);
+    float it = polish_prev_bilinear(vec2(q) + v, p) - polish_cur(q, p);
+    float wd = norm / sqrt(it * it * norm + p.eps_data * p.eps_data);
+    // Smoothness toward the four neighbours (at the frame's edge the pixel itself: no pull).
+    vec2 pull = vec2(0.0f);
+    float ws = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        ivec2 o = k == 0 ? ivec2(-1, 0) : (k == 1 ? ivec2(1, 0) : (k == 2 ? ivec2(0, -1) : ivec2(0, 1)));
+        ivec2 n = polish_clamp(q + o, p);
+        vec2 d = load_mv(uint(n.y) * p.width + uint(n.x)) - v;
+        float w = 1.0f / sqrt(dot(d, d) + p.eps_smooth * p.eps_smooth);
+        pull += w * d;
+        ws += w;
+    }
+    float a11 = wd * gx * gx + p.alpha * ws;
+    float a12 = wd * gx * gy;
+    float a22 = wd * gy * gy + p.alpha * ws;
+    float b1 = p.alpha * pull.x - wd * gx * it;
+    float b2 = p.alpha * pull.y - wd * gy * it;
+    float det = a11 * a22 - a12 * a12;
+    if (!(det > 1.0e-20f)) return; // (a non-finite vector never comes from a finite one)
+    vec2 step = vec2(a22 * b1 - a12 * b2, a11 * b2 - a12 * b1) / det;
+    store_mv(i, v + clamp(step, vec2(-POLISH_STEP), vec2(POLISH_STEP)));
+}
