@@ -182,8 +182,8 @@ TEST(Motion, PolishPullsTornVectorsBackToTheColourAndTheirNeighbours) {
     const uint32_t w = 96, h = 64;
     const glm::vec2 truth(1.3f, -0.6f); // current -> previous: prev(p + truth) = cur(p)
     const auto pattern = [](glm::vec2 p) {
-        return 0.5f + 0.2f * std::sin(0.61f * p.x + 0.23f * p.y) + 0.15f * std::cos(0.37f * p.y - 0.41f * p.x) +
-               0.1f * std::sin(0.45f * p.x + 0.7f * p.y);
+        return 0.5f + 0.2f * std::sin(0.61f * p.x + 0.23f * p.y) +
+               0.15f * std::cos(0.37f * p.y - 0.41f * p.x) + 0.1f * std::sin(0.45f * p.x + 0.7f * p.y);
     };
     std::vector<float> cur(size_t(w) * h), prev(size_t(w) * h);
     for (uint32_t y = 0; y < h; ++y)

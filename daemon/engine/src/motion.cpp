@@ -262,8 +262,8 @@ Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global) {
 Result<void> Session::Impl::record_polish(int cur, int prev) {
     const GpuFrame& f = frames[size_t(cur)];
     const auto b = make_slots<PassId::polish>(at<POLISH_CUR>(estimator.pyramid[size_t(cur)]),
-                                              at<POLISH_PREV>(estimator.pyramid[size_t(prev)]), at<POLISH_MV>(f.mv),
-                                              at<POLISH_MV_TEXELS>(f.mv));
+                                              at<POLISH_PREV>(estimator.pyramid[size_t(prev)]),
+                                              at<POLISH_MV>(f.mv), at<POLISH_MV_TEXELS>(f.mv));
     for (uint32_t k = 0; k < 2 * ref::kPolishIterations; ++k) {
         if (k > 0) rec.barrier();
         const gpu::PolishParams p = ref::polish_params(format.width, format.height, k & 1u);

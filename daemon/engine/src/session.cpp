@@ -290,7 +290,8 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (s.estimates_motion()) {
         s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
         if (!flow_skipped) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
-        if (!flow_skipped && !correcting) s.estimator.timings.push_back(timing_of(PassId::polish, (*t)[ti++]));
+        if (!flow_skipped && !correcting)
+            s.estimator.timings.push_back(timing_of(PassId::polish, (*t)[ti++]));
     } else {
         s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
     }

@@ -334,8 +334,10 @@ Result<void> Buffer::make_texel_view(VkFormat format) {
         return make_error(Errc::invalid_argument, "internal: a texel view of an imported or empty buffer");
     const VkDeviceSize texel =
         format == VK_FORMAT_R32G32B32A32_SFLOAT ? 16 : (format == VK_FORMAT_R32G32_SFLOAT ? 8 : 4);
-    if (format != VK_FORMAT_R32_SFLOAT && format != VK_FORMAT_R32G32_SFLOAT && format != VK_FORMAT_R32G32B32A32_SFLOAT)
-        return make_error(Errc::invalid_argument, "internal: texel views are R32, R32G32 or R32G32B32A32 floats");
+    if (format != VK_FORMAT_R32_SFLOAT && format != VK_FORMAT_R32G32_SFLOAT &&
+        format != VK_FORMAT_R32G32B32A32_SFLOAT)
+        return make_error(Errc::invalid_argument,
+                          "internal: texel views are R32, R32G32 or R32G32B32A32 floats");
     if (size_ / texel > ctx_->props.limits.maxTexelBufferElements)
         return make_error(Errc::unsupported, "a texel buffer of " + std::to_string(size_ / texel) +
                                                  " texels exceeds maxTexelBufferElements (" +

@@ -20,10 +20,10 @@
     X(SR, sr, 7)                   /* temporal super resolution */                                           \
     X(GENERATE_SR, generate_sr, 8) /* generation at output resolution (ISR/ESR) */                           \
     X(CLASSIFY, classify, 9)       /* per-tile work classification */                                        \
-    X(DENOISE, denoise, 10)        /* SR: noise estimate and pre-filter of the rendered frame */            \
+    X(DENOISE, denoise, 10)        /* SR: noise estimate and pre-filter of the rendered frame */             \
     X(LUMA, luma, 11)              /* colour-only: luma pyramid of a submitted frame */                      \
-    X(MATCH, match, 12)            /* colour-only: block matching, coarse to fine, both directions */       \
-    X(FLOW, flow, 13)              /* colour-only: per-pixel vectors, consistency, depth proxy */    \
+    X(MATCH, match, 12)            /* colour-only: block matching, coarse to fine, both directions */        \
+    X(FLOW, flow, 13)              /* colour-only: per-pixel vectors, consistency, depth proxy */            \
     X(POLISH, polish, 14)          /* colour-only: variational refinement of the vectors */
 
 #endif
