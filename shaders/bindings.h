@@ -100,8 +100,7 @@
 #define POLISH_CUR 0  // pyramid of the current frame (level 0 read)
 #define POLISH_PREV 1 // pyramid of the previous frame
 #define POLISH_MV 2   // the current frame's vectors (vec2, internal convention), written ...
-#define POLISH_MV_TEXELS                                                                                     \
-    3 // ... and read (the same buffer as RG32F texels; a dispatch never reads what it writes)
+#define POLISH_MV_TEXELS 3 // ... and read as RG32F texels (a dispatch never reads what it writes)
 #define POLISH_COUNT 4
 #define POLISH_TEXELS ((1u << POLISH_CUR) | (1u << POLISH_PREV) | (1u << POLISH_MV_TEXELS))
 
