@@ -230,6 +230,30 @@ TEST(Motion, PolishPullsTornVectorsBackToTheColourAndTheirNeighbours) {
     EXPECT_LT(rest_error, 0.15);                              // and do not drag the others along
 }
 
+// An SR session refines the estimate of unjittered frames only (session.cpp: on jittered ones the
+// colour it would fit is their aliasing).
+TEST(Motion, PolishRunsOnUnjitteredFramesOfSuperResolutionOnly) {
+    const uint32_t w = 64, h = 48;
+    for (float jitter : {0.f, 0.25f}) {
+        Params p;
+        p.scale = 2.f;
+        auto s = session_of(colour_only(w, h), p);
+        ASSERT_TRUE(s);
+        const RawFrame f0 = render(w, h, [](glm::vec2 q) { return texture(q, 3); });
+        const RawFrame f1 = render(w, h, [](glm::vec2 q) { return texture(q + glm::vec2(2.f, 1.f), 3); });
+        FrameView v0 = f0.view(), v1 = f1.view();
+        v0.jitter_x = v1.jitter_y = jitter;
+        v0.jitter_y = v1.jitter_x = -jitter;
+        ASSERT_TRUE(s->submit(v0));
+        ASSERT_TRUE(s->submit(v1));
+        std::vector<PassId> passes;
+        for (const PassTiming& t : s->last_motion_timings()) passes.push_back(t.pass);
+        const bool polished = std::find(passes.begin(), passes.end(), PassId::polish) != passes.end();
+        EXPECT_EQ(passes.size(), polished ? 4u : 3u);
+        EXPECT_EQ(polished, jitter == 0.f) << "jitter " << jitter;
+    }
+}
+
 TEST(Motion, MovingSquareIsInFrontAndItsVectorsAreItsMotion) {
     const uint32_t w = 192, h = 128;
     const glm::vec2 start(40.f, 30.f), step(9.f, 4.f);

@@ -225,6 +225,10 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     bool frame_has_mv = has_mv;
     const bool correcting = s.correction().on;
     bool flow_skipped = false;
+    // The refinement fits the colour: on jittered frames of an SR session that is their aliasing,
+    // different every frame (measured on the train captures: ISR / ESR -0.01 to -0.06 dB with it,
+    // docs/MOTION.md, "Variational refinement"), as the correction of given vectors is refused there.
+    const bool polishing = !correcting && !(s.sr() && (frame.jitter_x != 0.f || frame.jitter_y != 0.f));
     s.estimator.timings.clear();
     s.estimator.last_cut = false;
     if (s.estimates_motion()) {
@@ -260,7 +264,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             FGSR_TRY(s.record_flow(slot, s.newest, s.estimator.global));
             s.rec.barrier();
             s.rec.timestamp(q++);
-            if (!correcting) {
+            if (polishing) {
                 FGSR_TRY(s.record_polish(slot, s.newest));
                 s.rec.barrier();
                 s.rec.timestamp(q++);
@@ -290,8 +294,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (s.estimates_motion()) {
         s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
         if (!flow_skipped) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
-        if (!flow_skipped && !correcting)
-            s.estimator.timings.push_back(timing_of(PassId::polish, (*t)[ti++]));
+        if (!flow_skipped && polishing) s.estimator.timings.push_back(timing_of(PassId::polish, (*t)[ti++]));
     } else {
         s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
     }
