@@ -232,7 +232,7 @@ struct PolishParams {
     float eps_data;   // Charbonnier epsilon of the (gradient-normalised) data term
     float eps_smooth; // Charbonnier epsilon of the smoothness term, pixels
     float zeta;       // luma gradient added to the data term's normalisation
-    uint pad;
+    float omega;      // over-relaxation of each update (successive over-relaxation; 1: Gauss-Seidel)
 };
 
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel

@@ -14,7 +14,7 @@
 // contrasted regions. Each update linearises the data term at the pixel's current vector (I1
 // read bilinearly at x + v, the gradient taken from I0, which the match approximates there),
 // takes the robust weights at the current values, and solves the pixel's 2x2 system for the
-// increment, clamped to 1 px a step. Block matching leaves vectors constant over blocks and wrong
+// increment, which is over-relaxed (p.omega, successive over-relaxation) and clamped to 1 px. Block matching leaves vectors constant over blocks and wrong
 // in pixels the per-pixel choice tore from their object; this pulls them toward what the colour
 // and their neighbours say (docs/MOTION.md, "Variational refinement").
 //
@@ -82,5 +82,5 @@ FGSR_INLINE void polish_pixel(uvec2 h, PolishParams p) {
     float det = a11 * a22 - a12 * a12;
     if (!(det > 1.0e-20f)) return; // (a non-finite vector never comes from a finite one)
     vec2 step = vec2(a22 * b1 - a12 * b2, a11 * b2 - a12 * b1) / det;
-    store_mv(i, v + clamp(step, vec2(-POLISH_STEP), vec2(POLISH_STEP)));
+    store_mv(i, v + clamp(p.omega * step, vec2(-POLISH_STEP), vec2(POLISH_STEP)));
 }

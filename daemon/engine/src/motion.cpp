@@ -127,6 +127,7 @@ gpu::PolishParams ref::polish_params(uint32_t width, uint32_t height, uint32_t p
     p.eps_data = kPolishEpsData;
     p.eps_smooth = kPolishEpsSmooth;
     p.zeta = kPolishZeta;
+    p.omega = kPolishOmega;
     return p;
 }
 
