@@ -179,7 +179,8 @@ inline constexpr float kPolishAlpha = 0.5f;
 inline constexpr float kPolishEpsData = 0.01f;
 inline constexpr float kPolishEpsSmooth = 0.05f;
 inline constexpr float kPolishZeta = 0.01f;
-inline constexpr float kPolishOmega = 1.5f; // over-relaxation: 5 sweeps then gain about what 10 of plain Gauss-Seidel do
+inline constexpr float kPolishOmega =
+    1.5f; // over-relaxation: 5 sweeps then gain about what 10 of plain Gauss-Seidel do
 PolishParams polish_params(uint32_t width, uint32_t height, uint32_t parity);
 
 // What the host reads from the level-0 current -> previous blocks between the match and flow
