@@ -131,7 +131,7 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     fill_level(field, fill_params(levels, false));
     fill_level(field, fill_params(levels, true));
     flow(p1, p0, field, flow_params(levels, s.global, write_depth, correct), f1, &f0);
-    if (!correct.on) polish(p1, p0, f1);
+    if (!correct.on && polishes(f1.width, f1.height)) polish(p1, p0, f1);
     f1.has_mv = true;
     return s;
 }

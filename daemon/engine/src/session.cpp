@@ -228,7 +228,9 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // The refinement fits the colour: on jittered frames of an SR session that is their aliasing,
     // different every frame (measured on the train captures: ISR / ESR -0.01 to -0.06 dB with it,
     // docs/MOTION.md, "Variational refinement"), as the correction of given vectors is refused there.
-    const bool polishing = !correcting && !(s.sr() && (frame.jitter_x != 0.f || frame.jitter_y != 0.f));
+    // Nor above ref::kPolishMaxPixels, for time.
+    const bool polishing = !correcting && !(s.sr() && (frame.jitter_x != 0.f || frame.jitter_y != 0.f)) &&
+                           ref::polishes(s.format.width, s.format.height);
     s.estimator.timings.clear();
     s.estimator.last_cut = false;
     if (s.estimates_motion()) {

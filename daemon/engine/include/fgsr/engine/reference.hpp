@@ -181,6 +181,13 @@ inline constexpr float kPolishEpsSmooth = 0.05f;
 inline constexpr float kPolishZeta = 0.01f;
 inline constexpr float kPolishOmega =
     1.5f; // over-relaxation: 5 sweeps then gain about what 10 of plain Gauss-Seidel do
+// Frames above this many pixels are not refined: at 1280x720 the sweeps took 53-86 ms against
+// 75 ms of the other motion passes and 40-58 ms of ingest and interpolation (fgsr bench, two
+// runs), which breaks issue 12's limit (motion at most 2x the rest); there they gained 0.02 dB.
+inline constexpr uint32_t kPolishMaxPixels = 960 * 540;
+inline bool polishes(uint32_t width, uint32_t height) {
+    return uint64_t(width) * height <= kPolishMaxPixels;
+}
 PolishParams polish_params(uint32_t width, uint32_t height, uint32_t parity);
 
 // What the host reads from the level-0 current -> previous blocks between the match and flow
@@ -214,7 +221,8 @@ void fill_level(std::vector<glm::vec4>& field, const MatchParams& p);
 // prev_frame: the previous frame, whose depth the correction of given vectors reads (p.correct).
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
           const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame = nullptr);
-// The refinement's sweeps (both colours, kPolishIterations times) over f.mv.
+// The refinement's sweeps (both colours, kPolishIterations times) over f.mv (whatever its size:
+// estimate_motion applies polishes()).
 void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f);
 // The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
 // cut f1 keeps its input (has_mv false). `field`: the field buffer carried from the previous call
