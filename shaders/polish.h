@@ -14,9 +14,10 @@
 // contrasted regions. Each update linearises the data term at the pixel's current vector (I1
 // read bilinearly at x + v, the gradient taken from I0, which the match approximates there),
 // takes the robust weights at the current values, and solves the pixel's 2x2 system for the
-// increment, which is over-relaxed (p.omega, successive over-relaxation) and clamped to 1 px. Block matching
-// leaves vectors constant over blocks and wrong in pixels the per-pixel choice tore from their object; this
-// pulls them toward what the colour and their neighbours say (docs/MOTION.md, "Variational refinement").
+// increment, which is over-relaxed (p.omega: successive over-relaxation) and clamped to 1 px.
+// Block matching leaves vectors constant over blocks, and wrong in pixels the per-pixel choice tore
+// from their object; this pulls them toward what the colour and their neighbours say
+// (docs/MOTION.md, "Variational refinement").
 //
 // Entry provides:
 //   float load_cur(uint pixel)   level-0 luma of the current frame
