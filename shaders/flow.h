@@ -82,15 +82,15 @@ FGSR_INLINE vec2 flow_bilinear(vec2 pos, uint offset, FlowParams p) {
     return mix(top, bottom, f.y);
 }
 
+#include "luma_read.h"
+
 // A pixel position clamped to the frame.
 FGSR_INLINE ivec2 flow_clamp(ivec2 q, FlowParams p) {
-    return clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
+    return luma_clamp(q, p.width, p.height);
 }
 
 FGSR_INLINE float flow_luma(ivec2 q, bool prev, FlowParams p) {
-    q = flow_clamp(q, p);
-    uint i = uint(q.y) * p.width + uint(q.x);
-    return prev ? load_prev(i) : load_cur(i);
+    return luma_at(q, prev, p.width, p.height);
 }
 
 // Offset k (0..3: left, right, up, down) at distance r.
@@ -108,22 +108,12 @@ FGSR_INLINE float flow_cost(ivec2 q, vec2 v, FlowParams p) {
     return s * 0.2f;
 }
 
-// The previous frame's luma at a position in pixels (bilinear, edges clamped).
-FGSR_INLINE float flow_prev_bilinear(vec2 at, FlowParams p) {
-    vec2 f0 = floor(at);
-    vec2 t = at - f0;
-    ivec2 c = ivec2(f0);
-    float top = mix(flow_luma(c, true, p), flow_luma(c + ivec2(1, 0), true, p), t.x);
-    float bottom = mix(flow_luma(c + ivec2(0, 1), true, p), flow_luma(c + ivec2(1, 1), true, p), t.x);
-    return mix(top, bottom, t.y);
-}
-
 // The cost of a sub-pixel vector: as flow_cost, with the previous frame read bilinearly.
 FGSR_INLINE float flow_cost_subpixel(ivec2 q, vec2 v, FlowParams p) {
     float s = 0.0f;
     for (int k = 0; k < 5; ++k) {
         ivec2 o = k == 0 ? ivec2(0) : flow_cross(k - 1, 1);
-        s += abs(flow_luma(q + o, false, p) - flow_prev_bilinear(vec2(q + o) + v, p));
+        s += abs(flow_luma(q + o, false, p) - luma_prev_bilinear(vec2(q + o) + v, p.width, p.height));
     }
     return s * 0.2f;
 }

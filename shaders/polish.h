@@ -27,28 +27,10 @@
 
 #define POLISH_STEP 1.0f // pixels: the largest change of a vector in one update
 
-FGSR_INLINE ivec2 polish_clamp(ivec2 q, PolishParams p) {
-    return clamp(q, ivec2(0), ivec2(int(p.width) - 1, int(p.height) - 1));
-}
+#include "luma_read.h"
 
 FGSR_INLINE float polish_cur(ivec2 q, PolishParams p) {
-    q = polish_clamp(q, p);
-    return load_cur(uint(q.y) * p.width + uint(q.x));
-}
-
-FGSR_INLINE float polish_prev(ivec2 q, PolishParams p) {
-    q = polish_clamp(q, p);
-    return load_prev(uint(q.y) * p.width + uint(q.x));
-}
-
-// The previous frame's luma at a position in pixels (bilinear, edges clamped; flow.h's reading).
-FGSR_INLINE float polish_prev_bilinear(vec2 at, PolishParams p) {
-    vec2 f0 = floor(at);
-    vec2 t = at - f0;
-    ivec2 c = ivec2(f0);
-    float top = mix(polish_prev(c, p), polish_prev(c + ivec2(1, 0), p), t.x);
-    float bottom = mix(polish_prev(c + ivec2(0, 1), p), polish_prev(c + ivec2(1, 1), p), t.x);
-    return mix(top, bottom, t.y);
+    return luma_at(q, false, p.width, p.height);
 }
 
 // Invocation h covers the pixel of row h.y, column 2 h.x or 2 h.x + 1, whichever has the colour
@@ -62,14 +44,14 @@ FGSR_INLINE void polish_pixel(uvec2 h, PolishParams p) {
     float gx = 0.5f * (polish_cur(q + ivec2(1, 0), p) - polish_cur(q - ivec2(1, 0), p));
     float gy = 0.5f * (polish_cur(q + ivec2(0, 1), p) - polish_cur(q - ivec2(0, 1), p));
     float norm = 1.0f / (gx * gx + gy * gy + p.zeta * p.zeta);
-    float it = polish_prev_bilinear(vec2(q) + v, p) - polish_cur(q, p);
+    float it = luma_prev_bilinear(vec2(q) + v, p.width, p.height) - polish_cur(q, p);
     float wd = norm / sqrt(it * it * norm + p.eps_data * p.eps_data);
     // Smoothness toward the four neighbours (at the frame's edge the pixel itself: no pull).
     vec2 pull = vec2(0.0f);
     float ws = 0.0f;
     for (int k = 0; k < 4; ++k) {
         ivec2 o = k == 0 ? ivec2(-1, 0) : (k == 1 ? ivec2(1, 0) : (k == 2 ? ivec2(0, -1) : ivec2(0, 1)));
-        ivec2 n = polish_clamp(q + o, p);
+        ivec2 n = luma_clamp(q + o, p.width, p.height);
         vec2 d = load_mv(uint(n.y) * p.width + uint(n.x)) - v;
         float w = 1.0f / sqrt(dot(d, d) + p.eps_smooth * p.eps_smooth);
         pull += w * d;
