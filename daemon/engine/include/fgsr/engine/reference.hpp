@@ -179,11 +179,11 @@ inline constexpr float kPolishAlpha = 0.5f;
 inline constexpr float kPolishEpsData = 0.01f;
 inline constexpr float kPolishEpsSmooth = 0.05f;
 inline constexpr float kPolishZeta = 0.01f;
-inline constexpr float kPolishOmega =
-    1.5f; // over-relaxation: 5 sweeps then gain about what 10 of plain Gauss-Seidel do
-// Frames above this many pixels are not refined: at 1280x720 the sweeps took 53-86 ms against
-// 75 ms of the other motion passes and 40-58 ms of ingest and interpolation (fgsr bench, two
-// runs), which breaks issue 12's limit (motion at most 2x the rest); there they gained 0.02 dB.
+// Over-relaxation: 5 sweeps then gain about what 10 of plain Gauss-Seidel do.
+inline constexpr float kPolishOmega = 1.5f;
+// Frames above this many pixels are not refined: at 1280x720 the sweeps added 59-86 ms to 75 ms of
+// the other motion passes, against 45-58 ms of ingest and interpolation (fgsr bench, two runs),
+// which breaks issue 12's limit (motion at most 2x the rest); there they gained 0.02 dB.
 inline constexpr uint32_t kPolishMaxPixels = 960 * 540;
 inline bool polishes(uint32_t width, uint32_t height) {
     return uint64_t(width) * height <= kPolishMaxPixels;
