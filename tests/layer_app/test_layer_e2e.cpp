@@ -354,7 +354,8 @@ TEST_F(LayerE2E, DaemonKilledMidRunTheAppKeepsAllItsFrames) {
     // ClientService.ZeroTimeoutCallsSeeADaemonThatDiedWithEverySlotHeld.)
     std::thread killer([&] {
         const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-        while (daemon_->stderr_text().find(" on the ") == std::string::npos &&
+        // fgsrd logs "client N (name): session S WxH xM on the <lane> lane (...)" when it opens one.
+        while (daemon_->stderr_text().find(" lane (") == std::string::npos &&
                std::chrono::steady_clock::now() < give_up)
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
         std::this_thread::sleep_for(std::chrono::milliseconds(2000));
