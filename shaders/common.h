@@ -221,6 +221,12 @@ struct FlowParams {
     float correct_ratio;  // the estimated vector's cost must be below ratio x the given one's ...
     float correct_margin; // ... minus this margin (luma units)
     float correct_depth;  // and the given vector's previous position has the pixel's depth (relative)
+    // The coarse-to-fine refined field (polish.h, polish_coarse): a further candidate of each pixel,
+    // read bilinearly from level coarse_level (0: none) at coarse_offset in the coarse buffer.
+    uint coarse_level;
+    uint coarse_width;
+    uint coarse_height;
+    uint coarse_offset;
 };
 
 // polish.h: one red-black half-sweep of the variational refinement of estimated vectors.
@@ -233,6 +239,18 @@ struct PolishParams {
     float eps_smooth; // Charbonnier epsilon of the smoothness term, pixels
     float zeta;       // luma gradient added to the data term's normalisation
     float omega;      // over-relaxation of each update (successive over-relaxation; 1: Gauss-Seidel)
+    uint luma_offset; // the level's luma in both pyramids (0: level 0)
+    uint mv_offset;   // the field's first vector in the vectors buffer (0: the frame's own)
+    // The polish_seed build (polish.h, polish_seed_pixel) writes the field of a coarse level from
+    // the next coarser level's field (src_width > 0), else from the finest matched blocks.
+    uint level;       // the level the field belongs to: pixels of 2^level frame pixels
+    uint src_width;   // the coarser level's field: its size and first vector (0: from the blocks)
+    uint src_height;
+    uint src_offset;
+    uint blocks_x;    // the finest matched level's block grid (flow's)
+    uint blocks_y;
+    uint block_offset; // its current -> previous blocks in the block field
+    uint block_shift;  // blocks of MOTION_BLOCK << shift frame pixels, vectors x 2^shift
 };
 
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
@@ -264,7 +282,8 @@ static_assert(sizeof(IngestParams) == 52 && sizeof(GenParams) == 48 && sizeof(Sr
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
-static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 60 && sizeof(FlowParams) == 64,
+static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 60 && sizeof(FlowParams) == 80 &&
+                  sizeof(PolishParams) == 72,
               "motion push constants");
 } // namespace fgsr::gpu
 #endif

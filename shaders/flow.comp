@@ -10,6 +10,7 @@ layout(binding = FLOW_FIELD) uniform samplerBuffer field; // RGBA32F texels
 layout(std430, binding = FLOW_MV) buffer Mv { vec2 mv[]; }; // read: the given vectors (correct)
 layout(std430, binding = FLOW_DEPTH) buffer Depth { float depth[]; };
 layout(std430, binding = FLOW_PREV_DEPTH) readonly buffer PrevDepth { float prev_depth[]; };
+layout(binding = FLOW_COARSE) uniform samplerBuffer coarse; // RG32F texels
 
 float load_cur(uint i) { return texelFetch(cur, int(i)).x; }
 float load_prev(uint i) { return texelFetch(prev, int(i)).x; }
@@ -17,6 +18,7 @@ vec4 load_field(uint i) { return texelFetch(field, int(i)); }
 vec2 load_given(uint i) { return mv[i]; }
 float load_depth(uint i) { return depth[i]; }
 float load_prev_depth(uint i) { return prev_depth[i]; }
+vec2 load_coarse(uint i) { return texelFetch(coarse, int(i)).xy; }
 void store_flow(uint i, vec2 m, float d, bool write_depth) {
     mv[i] = m;
     if (write_depth) depth[i] = d;

@@ -8,12 +8,18 @@ layout(binding = POLISH_CUR) uniform samplerBuffer cur; // texel buffers, as in 
 layout(binding = POLISH_PREV) uniform samplerBuffer prev;
 layout(std430, binding = POLISH_MV) writeonly buffer Mv { vec2 mv[]; };
 layout(binding = POLISH_MV_TEXELS) uniform samplerBuffer mv_texels; // RG32F view of the same buffer
+layout(binding = POLISH_FIELD) uniform samplerBuffer field;         // RGBA32F texels
 
-float load_cur(uint i) { return texelFetch(cur, int(i)).x; }
-float load_prev(uint i) { return texelFetch(prev, int(i)).x; }
+float load_cur(uint i) { return texelFetch(cur, int(pc.p.luma_offset + i)).x; }
+float load_prev(uint i) { return texelFetch(prev, int(pc.p.luma_offset + i)).x; }
 vec2 load_mv(uint i) { return texelFetch(mv_texels, int(i)).xy; }
 void store_mv(uint i, vec2 v) { mv[i] = v; }
+vec4 load_field(uint i) { return texelFetch(field, int(i)); }
 
 #include "polish.h"
 
+#ifdef FGSR_POLISH_SEED
+void main() { polish_seed_pixel(gl_GlobalInvocationID.xy, pc.p); }
+#else
 void main() { polish_pixel(gl_GlobalInvocationID.xy, pc.p); }
+#endif

@@ -19,11 +19,22 @@
 // from their object; this pulls them toward what the colour and their neighbours say
 // (docs/MOTION.md, "Variational refinement").
 //
+// Coarse to fine (polish_coarse, colour-only sessions): before `flow`, the same sweeps refine a
+// dense field on the coarser levels of the pyramids, from the top one (kPolishCoarseTop) down to
+// level 1, each level seeded (polish_seed_pixel) from the one above it, the top one from the
+// finest matched blocks. A wrong block match of a few frame pixels is a fraction of a pixel there,
+// within reach of the linearised data term, and the smoothness spreads the neighbours' motion over
+// it; flow then takes the level-1 field, upsampled, as one more candidate per pixel, where it
+// explains the pixel's colour better than flow's own choice. This is DIS's scheme (a refinement
+// at every scale) on top of the block matching (docs/MOTION.md, "Coarse to fine").
+//
 // Entry provides:
-//   float load_cur(uint pixel)   level-0 luma of the current frame
-//   float load_prev(uint pixel)  level-0 luma of the previous frame
-//   vec2  load_mv(uint pixel)    the vectors (written by flow, then by this pass)
-//   void  store_mv(uint pixel, vec2 v)
+//   float load_cur(uint pixel)   luma of the current frame at the level (p.luma_offset added)
+//   float load_prev(uint pixel)  luma of the previous frame at the level
+//   vec2  load_mv(uint index)    the vectors buffer: the frame's vectors (written by flow, then by
+//                                this pass) or the coarse levels' fields (p.mv_offset)
+//   void  store_mv(uint index, vec2 v)
+//   vec4  load_field(uint index) the block field (polish_seed_pixel from the blocks only)
 
 #define POLISH_STEP 1.0f // pixels: the largest change of a vector in one update
 
@@ -39,7 +50,7 @@ FGSR_INLINE void polish_pixel(uvec2 h, PolishParams p) {
     uvec2 u = uvec2(2u * h.x + ((h.y + p.parity) & 1u), h.y);
     if (u.x >= p.width || u.y >= p.height) return;
     ivec2 q = ivec2(u);
-    uint i = u.y * p.width + u.x;
+    uint i = p.mv_offset + u.y * p.width + u.x;
     vec2 v = load_mv(i);
     float gx = 0.5f * (polish_cur(q + ivec2(1, 0), p) - polish_cur(q - ivec2(1, 0), p));
     float gy = 0.5f * (polish_cur(q + ivec2(0, 1), p) - polish_cur(q - ivec2(0, 1), p));
@@ -52,7 +63,7 @@ FGSR_INLINE void polish_pixel(uvec2 h, PolishParams p) {
     for (int k = 0; k < 4; ++k) {
         ivec2 o = k == 0 ? ivec2(-1, 0) : (k == 1 ? ivec2(1, 0) : (k == 2 ? ivec2(0, -1) : ivec2(0, 1)));
         ivec2 n = luma_clamp(q + o, p.width, p.height);
-        vec2 d = load_mv(uint(n.y) * p.width + uint(n.x)) - v;
+        vec2 d = load_mv(p.mv_offset + uint(n.y) * p.width + uint(n.x)) - v;
         float w = 1.0f / sqrt(dot(d, d) + p.eps_smooth * p.eps_smooth);
         pull += w * d;
         ws += w;
@@ -66,4 +77,40 @@ FGSR_INLINE void polish_pixel(uvec2 h, PolishParams p) {
     if (!(det > 1.0e-20f)) return; // (a non-finite vector never comes from a finite one)
     vec2 step = vec2(a22 * b1 - a12 * b2, a11 * b2 - a12 * b1) / det;
     store_mv(i, v + clamp(p.omega * step, vec2(-POLISH_STEP), vec2(POLISH_STEP)));
+}
+
+// The initial field of a coarse level (in pixels of the level): the next coarser level's field
+// doubled, or at the top level the finest matched blocks' vectors, both read bilinearly between
+// their centres (edges clamped).
+FGSR_INLINE vec2 polish_seed_bilinear(vec2 b, bool from_blocks, PolishParams p) {
+    vec2 fb = floor(b);
+    vec2 f = b - fb;
+    ivec2 c = ivec2(fb);
+    ivec2 hi = from_blocks ? ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1)
+                      : ivec2(int(p.src_width) - 1, int(p.src_height) - 1);
+    vec2 corner[4];
+    for (int k = 0; k < 4; ++k) {
+        ivec2 q = clamp(c + ivec2(k & 1, k >> 1), ivec2(0), hi);
+        if (from_blocks) {
+            vec4 v = load_field(p.block_offset + uint(q.y) * p.blocks_x + uint(q.x));
+            corner[k] = vec2(v.x, v.y);
+        } else {
+            corner[k] = load_mv(p.src_offset + uint(q.y) * p.src_width + uint(q.x));
+        }
+    }
+    return mix(mix(corner[0], corner[1], f.x), mix(corner[2], corner[3], f.x), f.y);
+}
+
+FGSR_INLINE void polish_seed_pixel(uvec2 u, PolishParams p) {
+    if (u.x >= p.width || u.y >= p.height) return;
+    vec2 centre = vec2(u) + vec2(0.5f);
+    vec2 v;
+    if (p.src_width > 0u) {
+        v = 2.0f * polish_seed_bilinear(centre * 0.5f - vec2(0.5f), false, p);
+    } else {
+        // Block vectors are in pixels of level block_shift; blocks cover MOTION_BLOCK of its pixels.
+        vec2 b = centre * (float(1u << p.level) / float(MOTION_BLOCK << p.block_shift)) - vec2(0.5f);
+        v = polish_seed_bilinear(b, true, p) * (float(1u << p.block_shift) / float(1u << p.level));
+    }
+    store_mv(p.mv_offset + u.y * p.width + u.x, v);
 }

@@ -95,7 +95,7 @@ gpu::MatchParams ref::fill_params(const std::vector<MotionLevel>& levels, bool f
 }
 
 gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth,
-                                 VectorCorrection correct) {
+                                 VectorCorrection correct, bool coarse) {
     gpu::FlowParams f{};
     const size_t finest = motion_first_level(levels);
     f.width = levels[0].width;
@@ -115,6 +115,12 @@ gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::ve
     f.correct_ratio = correct.ratio;
     f.correct_margin = correct.margin;
     f.correct_depth = correct.depth;
+    if (coarse && !correct.on && polish_coarse_top(levels) > 0) {
+        f.coarse_level = 1;
+        f.coarse_width = levels[1].width;
+        f.coarse_height = levels[1].height;
+        f.coarse_offset = 0;
+    }
     return f;
 }
 
@@ -128,6 +134,38 @@ gpu::PolishParams ref::polish_params(uint32_t width, uint32_t height, uint32_t p
     p.eps_smooth = kPolishEpsSmooth;
     p.zeta = kPolishZeta;
     p.omega = kPolishOmega;
+    return p;
+}
+
+uint32_t ref::polish_coarse_top(const std::vector<MotionLevel>& levels) {
+    return levels.size() < 2 ? 0u : std::min<uint32_t>(kPolishCoarseTop, uint32_t(levels.size() - 1));
+}
+
+uint32_t ref::polish_coarse_vectors(const std::vector<MotionLevel>& levels) {
+    const uint32_t top = polish_coarse_top(levels);
+    if (top == 0) return 0;
+    return levels[top].offset + levels[top].width * levels[top].height - levels[1].offset;
+}
+
+gpu::PolishParams ref::polish_coarse_params(const std::vector<MotionLevel>& levels, uint32_t level,
+                                            uint32_t parity, bool seed) {
+    const MotionLevel& l = levels[level];
+    gpu::PolishParams p = polish_params(l.width, l.height, parity);
+    p.luma_offset = l.offset;
+    p.mv_offset = l.offset - levels[1].offset;
+    p.level = level;
+    if (seed && level < polish_coarse_top(levels)) {
+        const MotionLevel& src = levels[level + 1];
+        p.src_width = src.width;
+        p.src_height = src.height;
+        p.src_offset = src.offset - levels[1].offset;
+    }
+    // The finest matched blocks, as flow reads them (flow_params).
+    const size_t finest = motion_first_level(levels);
+    p.blocks_x = levels[finest].blocks_x;
+    p.blocks_y = levels[finest].blocks_y;
+    p.block_offset = 2 * motion_field_blocks(levels) + levels[finest].field_offset;
+    p.block_shift = uint32_t(finest);
     return p;
 }
 
@@ -191,6 +229,12 @@ Result<void> Session::Impl::init_motion() {
     estimator.field = std::move(*f);
     // polish reads the vectors with texelFetch (and writes them through a storage binding).
     for (GpuFrame& fr : frames) FGSR_TRY(fr.mv.make_texel_view(VK_FORMAT_R32G32_SFLOAT));
+    // The coarse levels' fields: polish writes and reads them as the vectors, flow reads level 1.
+    auto c = vk::Buffer::create(
+        *ctx, VkDeviceSize(std::max<uint32_t>(1, ref::polish_coarse_vectors(estimator.levels))) * 8, false);
+    if (!c) return c.error();
+    estimator.coarse = std::move(*c);
+    FGSR_TRY(estimator.coarse.make_texel_view(VK_FORMAT_R32G32_SFLOAT));
     return estimator.field.make_texel_view(VK_FORMAT_R32G32B32A32_SFLOAT); // flow reads it with texelFetch
 }
 
@@ -249,26 +293,46 @@ ref::MotionSummary Session::Impl::summarise_motion() const {
     return ref::summarise_motion(estimator.levels, blocks, estimator.typical_share);
 }
 
-Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global) {
+Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global, bool coarse) {
     const GpuFrame& f = frames[size_t(cur)];
     const auto b = make_slots<PassId::flow>(
         at<FLOW_CUR>(estimator.pyramid[size_t(cur)]), at<FLOW_PREV>(estimator.pyramid[size_t(prev)]),
         at<FLOW_FIELD>(estimator.field), at<FLOW_MV>(f.mv), at<FLOW_DEPTH>(f.depth),
-        at<FLOW_PREV_DEPTH>(frames[size_t(prev)].depth));
-    const gpu::FlowParams p = ref::flow_params(estimator.levels, global, !format.has_depth, correction());
+        at<FLOW_PREV_DEPTH>(frames[size_t(prev)].depth), at<FLOW_COARSE>(estimator.coarse));
+    const gpu::FlowParams p =
+        ref::flow_params(estimator.levels, global, !format.has_depth, correction(), coarse);
     return rec.dispatch_pixels(p.correct != 0u ? Variant::flow_correct : Variant::flow, b, &p, format.width,
                                format.height);
 }
 
 Result<void> Session::Impl::record_polish(int cur, int prev) {
     const GpuFrame& f = frames[size_t(cur)];
-    const auto b = make_slots<PassId::polish>(at<POLISH_CUR>(estimator.pyramid[size_t(cur)]),
-                                              at<POLISH_PREV>(estimator.pyramid[size_t(prev)]),
-                                              at<POLISH_MV>(f.mv), at<POLISH_MV_TEXELS>(f.mv));
+    const auto b = make_slots<PassId::polish>(
+        at<POLISH_CUR>(estimator.pyramid[size_t(cur)]), at<POLISH_PREV>(estimator.pyramid[size_t(prev)]),
+        at<POLISH_MV>(f.mv), at<POLISH_MV_TEXELS>(f.mv), at<POLISH_FIELD>(estimator.field));
     for (uint32_t k = 0; k < 2 * ref::kPolishIterations; ++k) {
         if (k > 0) rec.barrier();
         const gpu::PolishParams p = ref::polish_params(format.width, format.height, k & 1u);
         FGSR_TRY(rec.dispatch_pixels(Variant::polish, b, &p, (format.width + 1) / 2, format.height));
+    }
+    return {};
+}
+
+Result<void> Session::Impl::record_polish_coarse(int cur, int prev) {
+    const auto b = make_slots<PassId::polish>(
+        at<POLISH_CUR>(estimator.pyramid[size_t(cur)]), at<POLISH_PREV>(estimator.pyramid[size_t(prev)]),
+        at<POLISH_MV>(estimator.coarse), at<POLISH_MV_TEXELS>(estimator.coarse),
+        at<POLISH_FIELD>(estimator.field));
+    for (uint32_t level = ref::polish_coarse_top(estimator.levels); level >= 1; --level) {
+        const ref::MotionLevel& l = estimator.levels[level];
+        const gpu::PolishParams seed = ref::polish_coarse_params(estimator.levels, level, 0, true);
+        FGSR_TRY(rec.dispatch_pixels(Variant::polish_seed, b, &seed, l.width, l.height));
+        for (uint32_t k = 0; k < 2 * ref::kPolishCoarseIterations; ++k) {
+            rec.barrier();
+            const gpu::PolishParams p = ref::polish_coarse_params(estimator.levels, level, k & 1u, false);
+            FGSR_TRY(rec.dispatch_pixels(Variant::polish, b, &p, (l.width + 1) / 2, l.height));
+        }
+        rec.barrier();
     }
     return {};
 }

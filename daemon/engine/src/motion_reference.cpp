@@ -35,12 +35,14 @@ struct FlowCpu {
     const std::vector<vec4>* blocks;
     ref::InternalFrame* out;
     const ref::InternalFrame* prev_frame; // read only when correcting
+    const std::vector<vec2>* coarse;       // read only where p.coarse_level > 0
     float load_cur(uint i) const { return (*cur_luma)[i]; }
     float load_prev(uint i) const { return (*prev_luma)[i]; }
     vec4 load_field(uint i) const { return (*blocks)[i]; }
     vec2 load_given(uint i) const { return out->mv[i]; }
     float load_depth(uint i) const { return out->depth[i]; }
     float load_prev_depth(uint i) const { return prev_frame->depth[i]; }
+    vec2 load_coarse(uint i) const { return (*coarse)[i]; }
     void store_flow(uint i, vec2 m, float d, bool write_depth) {
         out->mv[i] = m;
         if (write_depth) out->depth[i] = d;
@@ -51,11 +53,14 @@ struct FlowCpu {
 struct PolishCpu {
     const std::vector<float>* cur_luma;
     const std::vector<float>* prev_luma;
-    ref::InternalFrame* out;
-    float load_cur(uint i) const { return (*cur_luma)[i]; }
-    float load_prev(uint i) const { return (*prev_luma)[i]; }
-    vec2 load_mv(uint i) const { return out->mv[i]; }
-    void store_mv(uint i, vec2 v) { out->mv[i] = v; }
+    std::vector<vec2>* mv;           // the frame's vectors or the coarse fields
+    const std::vector<vec4>* blocks; // read by polish_seed_pixel from the blocks only
+    uint luma_offset = 0;            // the level's in the pyramids (PolishParams::luma_offset)
+    float load_cur(uint i) const { return (*cur_luma)[luma_offset + i]; }
+    float load_prev(uint i) const { return (*prev_luma)[luma_offset + i]; }
+    vec2 load_mv(uint i) const { return (*mv)[i]; }
+    void store_mv(uint i, vec2 v) { (*mv)[i] = v; }
+    vec4 load_field(uint i) const { return (*blocks)[i]; }
 #include "polish.h"
 };
 
@@ -93,19 +98,40 @@ void fill_level(std::vector<glm::vec4>& field, const MatchParams& p) {
 }
 
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
-          const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame) {
-    gpu::FlowCpu cpu{&cur, &prev, &field, &f, prev_frame};
+          const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame,
+          const std::vector<glm::vec2>* coarse) {
+    gpu::FlowCpu cpu{&cur, &prev, &field, &f, prev_frame, coarse};
     for (uint32_t y = 0; y < p.height; ++y)
         for (uint32_t x = 0; x < p.width; ++x) cpu.flow_pixel(glm::uvec2(x, y), p);
 }
 
-void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f) {
-    gpu::PolishCpu cpu{&cur, &prev, &f};
-    for (uint32_t k = 0; k < 2 * kPolishIterations; ++k) {
-        const PolishParams p = polish_params(f.width, f.height, k & 1u);
+namespace {
+void polish_sweeps(gpu::PolishCpu& cpu, PolishParams p, uint32_t iterations) {
+    cpu.luma_offset = p.luma_offset;
+    for (uint32_t k = 0; k < 2 * iterations; ++k) {
+        p.parity = k & 1u;
         for (uint32_t y = 0; y < p.height; ++y)
             for (uint32_t x = 0; x < (p.width + 1) / 2; ++x) cpu.polish_pixel(glm::uvec2(x, y), p);
     }
+}
+} // namespace
+
+void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f) {
+    gpu::PolishCpu cpu{&cur, &prev, &f.mv, nullptr};
+    polish_sweeps(cpu, polish_params(f.width, f.height, 0), kPolishIterations);
+}
+
+std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::vector<float>& prev,
+                                     const std::vector<glm::vec4>& field, const std::vector<MotionLevel>& levels) {
+    std::vector<glm::vec2> coarse(polish_coarse_vectors(levels));
+    gpu::PolishCpu cpu{&cur, &prev, &coarse, &field};
+    for (uint32_t level = polish_coarse_top(levels); level >= 1; --level) {
+        const PolishParams seed = polish_coarse_params(levels, level, 0, true);
+        for (uint32_t y = 0; y < seed.height; ++y)
+            for (uint32_t x = 0; x < seed.width; ++x) cpu.polish_seed_pixel(glm::uvec2(x, y), seed);
+        polish_sweeps(cpu, polish_coarse_params(levels, level, 0, false), kPolishCoarseIterations);
+    }
+    return coarse;
 }
 
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
@@ -130,8 +156,11 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     }
     fill_level(field, fill_params(levels, false));
     fill_level(field, fill_params(levels, true));
-    flow(p1, p0, field, flow_params(levels, s.global, write_depth, correct), f1, &f0);
-    if (!correct.on && polishes(f1.width, f1.height)) polish(p1, p0, f1);
+    const bool polishing = !correct.on && polishes(f1.width, f1.height);
+    const std::vector<glm::vec2> coarse =
+        polishing ? polish_coarse(p1, p0, field, levels) : std::vector<glm::vec2>();
+    flow(p1, p0, field, flow_params(levels, s.global, write_depth, correct, polishing), f1, &f0, &coarse);
+    if (polishing) polish(p1, p0, f1);
     f1.has_mv = true;
     return s;
 }

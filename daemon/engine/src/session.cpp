@@ -263,7 +263,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         s.rec.timestamp(q++);
         flow_skipped = flow_skipped || restart;
         if (!flow_skipped) {
-            FGSR_TRY(s.record_flow(slot, s.newest, s.estimator.global));
+            // The coarse levels' refinement, which flow reads, is timed with the other sweeps.
+            if (polishing) {
+                FGSR_TRY(s.record_polish_coarse(slot, s.newest));
+                s.rec.timestamp(q++);
+            }
+            FGSR_TRY(s.record_flow(slot, s.newest, s.estimator.global, polishing));
             s.rec.barrier();
             s.rec.timestamp(q++);
             if (polishing) {
@@ -295,8 +300,14 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     size_t ti = 0;
     if (s.estimates_motion()) {
         s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
+        const bool coarse = !flow_skipped && polishing;
+        const PassTiming coarse_time = coarse ? timing_of(PassId::polish, (*t)[ti++]) : PassTiming{};
         if (!flow_skipped) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
-        if (!flow_skipped && polishing) s.estimator.timings.push_back(timing_of(PassId::polish, (*t)[ti++]));
+        if (coarse) {
+            PassTiming sweeps = timing_of(PassId::polish, (*t)[ti++]);
+            sweeps.ms += coarse_time.ms;
+            s.estimator.timings.push_back(sweeps);
+        }
     } else {
         s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
     }

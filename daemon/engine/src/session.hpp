@@ -97,6 +97,7 @@ struct Session::Impl {
         std::vector<ref::MotionLevel> levels;
         std::array<vk::Buffer, 2> pyramid; // luma pyramid of frames[i]
         vk::Buffer field;                  // host-visible block vectors, both directions
+        vk::Buffer coarse;                 // the coarse levels' refined fields (polish_coarse)
         std::vector<PassTiming> timings;   // of the last submit: luma, match, flow, polish (those run)
         bool last_cut = false;
         bool field_valid = false;   // the field holds the previous submit's vectors (temporal candidates)
@@ -141,9 +142,12 @@ struct Session::Impl {
     Result<void> record_luma(int slot);
     Result<void> record_match(int cur, int prev);
     ref::MotionSummary summarise_motion() const;
-    Result<void> record_flow(int cur, int prev, glm::vec2 global);
+    // coarse: flow reads the coarse levels' field (record_polish_coarse, recorded before it).
+    Result<void> record_flow(int cur, int prev, glm::vec2 global, bool coarse);
     // The variational refinement's sweeps over the estimated vectors (after record_flow and a barrier).
     Result<void> record_polish(int cur, int prev);
+    // The coarse-to-fine refinement before flow (polish.h, polish_coarse): seed and sweeps per level.
+    Result<void> record_polish_coarse(int cur, int prev);
 
     // generate.cpp
     // The bindings (GEN_*) of frame 1, frame 0 and the splat keys and motion that splat, refine,

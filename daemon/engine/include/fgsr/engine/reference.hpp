@@ -167,8 +167,9 @@ struct VectorCorrection {
     float margin = 0.f;
     float depth = 0.f; // relative depth difference within which a surface counts as the same (T_D)
 };
+// coarse: flow reads the coarse-to-fine field's level 1 (polish_coarse) as a candidate.
 FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth,
-                       VectorCorrection correct = {});
+                       VectorCorrection correct = {}, bool coarse = false);
 // The fill stage of the first level (match.h fill_block): final blocks in, first-pass region out.
 MatchParams fill_params(const std::vector<MotionLevel>& levels, bool forward);
 // Variational refinement of estimated vectors (shaders/polish.h; not when correcting given ones):
@@ -189,6 +190,19 @@ inline bool polishes(uint32_t width, uint32_t height) {
     return uint64_t(width) * height <= kPolishMaxPixels;
 }
 PolishParams polish_params(uint32_t width, uint32_t height, uint32_t parity);
+// Coarse to fine (polish.h, polish_coarse): before flow, kPolishCoarseIterations sweeps on each
+// level from kPolishCoarseTop (or the pyramid's last, if lower) down to level 1, each seeded from
+// the level above (the top one from the finest matched blocks); flow reads level 1's field as a
+// candidate. Chosen on the train captures only (docs/MOTION.md, "Coarse to fine").
+inline constexpr uint32_t kPolishCoarseTop = 3;
+inline constexpr uint32_t kPolishCoarseIterations = 10;
+// The top coarse level of a pyramid (0: none, the pyramid has one level).
+uint32_t polish_coarse_top(const std::vector<MotionLevel>& levels);
+// The coarse fields' buffer: levels 1..top in the pyramid's layout less level 0 (vec2 each).
+uint32_t polish_coarse_vectors(const std::vector<MotionLevel>& levels);
+// A sweep over level `level` (>= 1) of the coarse fields; its seed (seed true: parity unused).
+PolishParams polish_coarse_params(const std::vector<MotionLevel>& levels, uint32_t level, uint32_t parity,
+                                  bool seed);
 
 // What the host reads from the level-0 current -> previous blocks between the match and flow
 // passes: the dominant motion (mean of the vectors within kMotionModeRadius of the most common
@@ -219,11 +233,16 @@ void match_level(const std::vector<float>& src, const std::vector<float>& dst, s
                  const MatchParams& p);
 void fill_level(std::vector<glm::vec4>& field, const MatchParams& p);
 // prev_frame: the previous frame, whose depth the correction of given vectors reads (p.correct).
+// coarse: the coarse fields (read where p.coarse_level > 0).
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
-          const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame = nullptr);
+          const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame = nullptr,
+          const std::vector<glm::vec2>* coarse = nullptr);
 // The refinement's sweeps (both colours, kPolishIterations times) over f.mv (whatever its size:
 // estimate_motion applies polishes()).
 void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f);
+// The coarse levels' fields (polish_coarse_vectors of them), refined from the field's blocks.
+std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::vector<float>& prev,
+                                     const std::vector<glm::vec4>& field, const std::vector<MotionLevel>& levels);
 // The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
 // cut f1 keeps its input (has_mv false). `field`: the field buffer carried from the previous call
 // (the engine's temporal candidates), or empty for a first frame; it is resized and updated. With
