@@ -236,28 +236,97 @@ TEST(Motion, PolishPullsTornVectorsBackToTheColourAndTheirNeighbours) {
     EXPECT_LT(rest_error, 0.15);                              // and do not drag the others along
 }
 
-// An SR session refines the estimate of unjittered frames only (session.cpp: on jittered ones the
-// colour it would fit is their aliasing).
-TEST(Motion, PolishRunsOnUnjitteredFramesOfSuperResolutionOnly) {
-    const uint32_t w = 64, h = 48;
-    for (float jitter : {0.f, 0.25f}) {
-        Params p;
-        p.scale = 2.f;
-        auto s = session_of(colour_only(w, h), p);
-        ASSERT_TRUE(s);
-        const RawFrame f0 = render(w, h, [](glm::vec2 q) { return texture(q, 3); });
-        const RawFrame f1 = render(w, h, [](glm::vec2 q) { return texture(q + glm::vec2(2.f, 1.f), 3); });
-        FrameView v0 = f0.view(), v1 = f1.view();
-        v0.jitter_x = v1.jitter_y = jitter;
-        v0.jitter_y = v1.jitter_x = -jitter;
-        ASSERT_TRUE(s->submit(v0));
-        ASSERT_TRUE(s->submit(v1));
-        std::vector<PassId> passes;
-        for (const PassTiming& t : s->last_motion_timings()) passes.push_back(t.pass);
-        const bool polished = std::find(passes.begin(), passes.end(), PassId::polish) != passes.end();
-        EXPECT_EQ(passes.size(), polished ? 4u : 3u);
-        EXPECT_EQ(polished, jitter == 0.f) << "jitter " << jitter;
+// Coarse to fine (polish.h, polish_coarse): a patch of wrong block vectors, several pixels off and
+// wider than the four blocks flow chooses among, is out of reach of flow's per-pixel choice and of
+// the level-0 sweeps (a step of at most 1 px, a data term linearised at the wrong place); on the
+// coarse levels it is a fraction of a pixel among right neighbours, and flow takes the refined field
+// there. The CPU reference's chain (the GPU's is checked against it above), with and without it.
+TEST(Motion, CoarseToFineRefinementMendsAPatchOfWrongBlocks) {
+    const uint32_t w = 192, h = 128; // pyramid levels 0..3: the top coarse level is level 3
+    const glm::vec2 truth(2.6f, -1.3f); // current -> previous: prev(p + truth) = cur(p)
+    const auto pattern = [](glm::vec2 p) {
+        return 0.3f + 0.15f * std::sin(0.31f * p.x + 0.17f * p.y) + 0.1f * std::cos(0.23f * p.y - 0.29f * p.x) +
+               0.08f * std::sin(0.53f * p.x + 0.41f * p.y);
+    };
+    ref::InternalFrame f0, f1;
+    for (ref::InternalFrame* f : {&f0, &f1}) {
+        f->width = w;
+        f->height = h;
+        f->color.resize(size_t(w) * h);
+        f->depth.assign(size_t(w) * h, 1.f);
+        f->mv.assign(size_t(w) * h, glm::vec2(0.f));
     }
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const glm::vec2 c(float(x) + 0.5f, float(y) + 0.5f);
+            f1.color[size_t(y) * w + x] = glm::vec4(glm::vec3(pattern(c)), 1.f);
+            f0.color[size_t(y) * w + x] = glm::vec4(glm::vec3(pattern(c - truth)), 1.f);
+        }
+    const std::vector<ref::MotionLevel> levels = ref::motion_levels(w, h);
+    ASSERT_EQ(ref::polish_coarse_top(levels), 3u);
+    const std::vector<float> p0 = ref::luma_pyramid(f0, levels), p1 = ref::luma_pyramid(f1, levels);
+    // The finest blocks as flow reads them (flow_params): the right motion both ways, except a
+    // patch of 3 x 3 blocks (24 x 24 pixels) whose current -> previous vectors are 5 px off.
+    const ref::MotionLevel& l0 = levels[0];
+    const size_t half = ref::motion_field_blocks(levels);
+    std::vector<glm::vec4> field(half * ref::kFieldRegions, glm::vec4(0.f));
+    const glm::ivec2 patch(10, 6); // its first block
+    for (uint32_t by = 0; by < l0.blocks_y; ++by)
+        for (uint32_t bx = 0; bx < l0.blocks_x; ++bx) {
+            const bool wrong = int(bx) - patch.x >= 0 && int(bx) - patch.x < 3 && int(by) - patch.y >= 0 &&
+                               int(by) - patch.y < 3;
+            const glm::vec2 v = truth + (wrong ? glm::vec2(4.f, 3.f) : glm::vec2(0.f));
+            const size_t b = l0.field_offset + size_t(by) * l0.blocks_x + bx;
+            field[2 * half + b] = glm::vec4(v, 0.f, 1.f);
+            field[3 * half + b] = glm::vec4(-truth, 0.f, 1.f);
+        }
+    double error[2] = {0, 0};
+    for (int coarse = 0; coarse < 2; ++coarse) {
+        ref::InternalFrame f = f1;
+        const std::vector<glm::vec2> fields =
+            coarse ? ref::polish_coarse(p1, p0, field, levels) : std::vector<glm::vec2>();
+        ref::flow(p1, p0, field, ref::flow_params(levels, truth, true, {}, coarse != 0), f, &f0, &fields);
+        ref::polish(p1, p0, f);
+        // The patch's pixels, 4 px in from its edges (where flow's neighbouring blocks are wrong too).
+        size_t n = 0;
+        for (int y = patch.y * 8 + 4; y < patch.y * 8 + 20; ++y)
+            for (int x = patch.x * 8 + 4; x < patch.x * 8 + 20; ++x, ++n) {
+                const glm::vec2 v = f.mv[size_t(y) * w + size_t(x)];
+                ASSERT_TRUE(std::isfinite(v.x) && std::isfinite(v.y));
+                error[coarse] += glm::length(v - truth);
+            }
+        error[coarse] /= double(n);
+    }
+    std::printf("[ coarse   ] mean error inside the wrong patch: %.3f px without the coarse levels, %.3f with "
+                "them (5 px before)\n",
+                error[0], error[1]);
+    EXPECT_GT(error[0], 1.0); // out of reach of flow and the level-0 sweeps
+    EXPECT_LT(error[1], 0.25);
+}
+
+// Sessions refine the estimate of unjittered frames only, with and without SR (session.cpp: on
+// jittered ones the colour it would fit is their aliasing).
+TEST(Motion, PolishRunsOnUnjitteredFramesOnly) {
+    const uint32_t w = 64, h = 48;
+    for (float scale : {1.f, 2.f})
+        for (float jitter : {0.f, 0.25f}) {
+            Params p;
+            p.scale = scale;
+            auto s = session_of(colour_only(w, h), p);
+            ASSERT_TRUE(s);
+            const RawFrame f0 = render(w, h, [](glm::vec2 q) { return texture(q, 3); });
+            const RawFrame f1 = render(w, h, [](glm::vec2 q) { return texture(q + glm::vec2(2.f, 1.f), 3); });
+            FrameView v0 = f0.view(), v1 = f1.view();
+            v0.jitter_x = v1.jitter_y = jitter;
+            v0.jitter_y = v1.jitter_x = -jitter;
+            ASSERT_TRUE(s->submit(v0));
+            ASSERT_TRUE(s->submit(v1));
+            std::vector<PassId> passes;
+            for (const PassTiming& t : s->last_motion_timings()) passes.push_back(t.pass);
+            const bool polished = std::find(passes.begin(), passes.end(), PassId::polish) != passes.end();
+            EXPECT_EQ(passes.size(), polished ? 4u : 3u);
+            EXPECT_EQ(polished, jitter == 0.f) << "scale " << scale << ", jitter " << jitter;
+        }
 }
 
 TEST(Motion, MovingSquareIsInFrontAndItsVectorsAreItsMotion) {

@@ -225,11 +225,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     bool frame_has_mv = has_mv;
     const bool correcting = s.correction().on;
     bool flow_skipped = false;
-    // The refinement fits the colour: on jittered frames of an SR session that is their aliasing,
-    // different every frame (measured on the train captures: ISR / ESR -0.01 to -0.06 dB with it,
-    // docs/MOTION.md, "Variational refinement"), as the correction of given vectors is refused there.
-    // Nor above ref::kPolishMaxPixels, for time.
-    const bool polishing = !correcting && !(s.sr() && (frame.jitter_x != 0.f || frame.jitter_y != 0.f)) &&
+    // The refinement (both its coarse levels and level 0) fits the colour: on jittered frames that
+    // is their aliasing, different every frame (measured on the train captures: SR sessions' ISR /
+    // ESR -0.01 to -0.06 dB with level 0 alone; orbit-sr's interpolation -0.19 with the coarse
+    // levels; docs/MOTION.md, "Variational refinement", "Coarse to fine"), as the correction of given
+    // vectors is refused there. Nor above ref::kPolishMaxPixels, for time.
+    const bool polishing = !correcting && frame.jitter_x == 0.f && frame.jitter_y == 0.f &&
                            ref::polishes(s.format.width, s.format.height);
     s.estimator.timings.clear();
     s.estimator.last_cut = false;
