@@ -102,15 +102,25 @@ void expect_gpu_matches_cpu(uint32_t w, uint32_t h) {
     const ref::MotionSummary summary = ref::estimate_motion(c0, c1, true);
     EXPECT_FALSE(summary.cut);
     ASSERT_TRUE(c1.has_mv);
-    size_t differ = 0;
+    size_t differ = 0, differ_01 = 0;
+    float largest = 0.f;
     for (size_t i = 0; i < size_t(w) * h; ++i) {
         ASSERT_TRUE(std::isfinite(gpu->mv[2 * i]) && std::isfinite(gpu->mv[2 * i + 1])) << i;
         const float d = std::abs(gpu->mv[2 * i] - c1.mv[i].x) + std::abs(gpu->mv[2 * i + 1] - c1.mv[i].y) +
                         std::abs(gpu->depth[i] - c1.depth[i]);
         differ += d > 1e-3f ? 1 : 0;
+        differ_01 += d > 0.1f ? 1 : 0;
+        largest = std::max(largest, d);
     }
-    // Float rounding may flip a tie between two candidates of equal cost in a handful of pixels.
-    EXPECT_LE(differ, size_t(w) * h / 500) << "pixels where GPU and CPU differ";
+    std::printf("[ measured ] %ux%u: GPU and CPU differ by more than 1e-3 in %zu pixels, more than 0.1 in %zu; "
+                "largest %.4g\n",
+                w, h, differ, differ_01, double(largest));
+    // Float rounding may flip a tie between two candidates of equal cost in a handful of pixels, and
+    // the refinement's sweeps then spread each flip to its neighbours. On lavapipe: none; on an
+    // NVIDIA H200 (which fuses multiply-adds): 33 of 14100 pixels at 150x94, 10 of them by more
+    // than 0.1 px.
+    EXPECT_LE(differ, size_t(w) * h / 200) << "pixels where GPU and CPU differ";
+    EXPECT_LE(differ_01, size_t(w) * h / 500) << "pixels where GPU and CPU differ by more than 0.1";
     // Both found the motion the frames were made with (interior pixels; content enters at the edges).
     size_t near = 0, counted = 0;
     for (uint32_t y = 16; y + 16 < h; ++y)
