@@ -93,7 +93,7 @@
 #define FLOW_MV 3    // the current frame's vectors (vec2, internal convention)
 #define FLOW_DEPTH 4 // the current frame's depth (written as a proxy; read when correcting)
 #define FLOW_PREV_DEPTH 5 // the previous frame's depth (read when correcting)
-#define FLOW_COARSE 6 // the coarse-to-fine refined field (RG32F texels; read where coarse_level > 0)
+#define FLOW_COARSE 6     // the coarse-to-fine refined field (RG32F texels; read where coarse_level > 0)
 #define FLOW_COUNT 7
 #define FLOW_TEXELS ((1u << FLOW_CUR) | (1u << FLOW_PREV) | (1u << FLOW_FIELD) | (1u << FLOW_COARSE))
 
@@ -102,9 +102,10 @@
 #define POLISH_PREV 1 // pyramid of the previous frame
 #define POLISH_MV 2   // the current frame's vectors (vec2, internal convention), written ...
 #define POLISH_MV_TEXELS 3 // ... and read as RG32F texels (a dispatch never reads what it writes)
-#define POLISH_FIELD 4 // the block field (RGBA32F texels; read by the polish_seed build)
+#define POLISH_FIELD 4     // the block field (RGBA32F texels; read by the polish_seed build)
 #define POLISH_COUNT 5
-#define POLISH_TEXELS ((1u << POLISH_CUR) | (1u << POLISH_PREV) | (1u << POLISH_MV_TEXELS) | (1u << POLISH_FIELD))
+#define POLISH_TEXELS                                                                                        \
+    ((1u << POLISH_CUR) | (1u << POLISH_PREV) | (1u << POLISH_MV_TEXELS) | (1u << POLISH_FIELD))
 
 // classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current
 // vectors, GEN_DEPTH1 = current depth, GEN_DEPTH0 = previous depth), then:

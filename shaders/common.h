@@ -243,11 +243,11 @@ struct PolishParams {
     uint mv_offset;   // the field's first vector in the vectors buffer (0: the frame's own)
     // The polish_seed build (polish.h, polish_seed_pixel) writes the field of a coarse level from
     // the next coarser level's field (src_width > 0), else from the finest matched blocks.
-    uint level;       // the level the field belongs to: pixels of 2^level frame pixels
-    uint src_width;   // the coarser level's field: its size and first vector (0: from the blocks)
+    uint level;     // the level the field belongs to: pixels of 2^level frame pixels
+    uint src_width; // the coarser level's field: its size and first vector (0: from the blocks)
     uint src_height;
     uint src_offset;
-    uint blocks_x;    // the finest matched level's block grid (flow's)
+    uint blocks_x; // the finest matched level's block grid (flow's)
     uint blocks_y;
     uint block_offset; // its current -> previous blocks in the block field
     uint block_shift;  // blocks of MOTION_BLOCK << shift frame pixels, vectors x 2^shift

@@ -87,7 +87,7 @@ FGSR_INLINE vec2 polish_seed_bilinear(vec2 b, bool from_blocks, PolishParams p) 
     vec2 f = b - fb;
     ivec2 c = ivec2(fb);
     ivec2 hi = from_blocks ? ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1)
-                      : ivec2(int(p.src_width) - 1, int(p.src_height) - 1);
+                           : ivec2(int(p.src_width) - 1, int(p.src_height) - 1);
     vec2 corner[4];
     for (int k = 0; k < 4; ++k) {
         ivec2 q = clamp(c + ivec2(k & 1, k >> 1), ivec2(0), hi);

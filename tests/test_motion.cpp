@@ -112,9 +112,10 @@ void expect_gpu_matches_cpu(uint32_t w, uint32_t h) {
         differ_01 += d > 0.1f ? 1 : 0;
         largest = std::max(largest, d);
     }
-    std::printf("[ measured ] %ux%u: GPU and CPU differ by more than 1e-3 in %zu pixels, more than 0.1 in %zu; "
-                "largest %.4g\n",
-                w, h, differ, differ_01, double(largest));
+    std::printf(
+        "[ measured ] %ux%u: GPU and CPU differ by more than 1e-3 in %zu pixels, more than 0.1 in %zu; "
+        "largest %.4g\n",
+        w, h, differ, differ_01, double(largest));
     // Float rounding may flip a tie between two candidates of equal cost in a handful of pixels, and
     // the refinement's sweeps then spread each flip to its neighbours. On lavapipe: none; on an
     // NVIDIA H200 (which fuses multiply-adds): 33 of 14100 pixels at 150x94, 10 of them by more
@@ -252,11 +253,11 @@ TEST(Motion, PolishPullsTornVectorsBackToTheColourAndTheirNeighbours) {
 // coarse levels it is a fraction of a pixel among right neighbours, and flow takes the refined field
 // there. The CPU reference's chain (the GPU's is checked against it above), with and without it.
 TEST(Motion, CoarseToFineRefinementMendsAPatchOfWrongBlocks) {
-    const uint32_t w = 192, h = 128; // pyramid levels 0..3: the top coarse level is level 3
+    const uint32_t w = 192, h = 128;    // pyramid levels 0..3: the top coarse level is level 3
     const glm::vec2 truth(2.6f, -1.3f); // current -> previous: prev(p + truth) = cur(p)
     const auto pattern = [](glm::vec2 p) {
-        return 0.3f + 0.15f * std::sin(0.31f * p.x + 0.17f * p.y) + 0.1f * std::cos(0.23f * p.y - 0.29f * p.x) +
-               0.08f * std::sin(0.53f * p.x + 0.41f * p.y);
+        return 0.3f + 0.15f * std::sin(0.31f * p.x + 0.17f * p.y) +
+               0.1f * std::cos(0.23f * p.y - 0.29f * p.x) + 0.08f * std::sin(0.53f * p.x + 0.41f * p.y);
     };
     ref::InternalFrame f0, f1;
     for (ref::InternalFrame* f : {&f0, &f1}) {
@@ -307,9 +308,10 @@ TEST(Motion, CoarseToFineRefinementMendsAPatchOfWrongBlocks) {
             }
         error[coarse] /= double(n);
     }
-    std::printf("[ coarse   ] mean error inside the wrong patch: %.3f px without the coarse levels, %.3f with "
-                "them (5 px before)\n",
-                error[0], error[1]);
+    std::printf(
+        "[ coarse   ] mean error inside the wrong patch: %.3f px without the coarse levels, %.3f with "
+        "them (5 px before)\n",
+        error[0], error[1]);
     EXPECT_GT(error[0], 1.0); // out of reach of flow and the level-0 sweeps
     EXPECT_LT(error[1], 0.25);
 }

@@ -122,7 +122,8 @@ void polish(const std::vector<float>& cur, const std::vector<float>& prev, Inter
 }
 
 std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::vector<float>& prev,
-                                     const std::vector<glm::vec4>& field, const std::vector<MotionLevel>& levels) {
+                                     const std::vector<glm::vec4>& field,
+                                     const std::vector<MotionLevel>& levels) {
     std::vector<glm::vec2> coarse(polish_coarse_vectors(levels));
     gpu::PolishCpu cpu{&cur, &prev, &coarse, &field};
     for (uint32_t level = polish_coarse_top(levels); level >= 1; --level) {

@@ -246,7 +246,8 @@ void flow(const std::vector<float>& cur, const std::vector<float>& prev, const s
 void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f);
 // The coarse levels' fields (polish_coarse_vectors of them), refined from the field's blocks.
 std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::vector<float>& prev,
-                                     const std::vector<glm::vec4>& field, const std::vector<MotionLevel>& levels);
+                                     const std::vector<glm::vec4>& field,
+                                     const std::vector<MotionLevel>& levels);
 // The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
 // cut f1 keeps its input (has_mv false). `field`: the field buffer carried from the previous call
 // (the engine's temporal candidates), or empty for a first frame; it is resized and updated. With
