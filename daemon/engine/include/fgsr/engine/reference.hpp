@@ -196,11 +196,12 @@ PolishParams polish_params(uint32_t width, uint32_t height, uint32_t parity);
 // level from kPolishCoarseTop (or the pyramid's last, if lower) down to level 1, each seeded from
 // the level above (the top one from the finest matched blocks); flow reads level 1's field as a
 // candidate. Chosen on the train captures only (docs/MOTION.md, "Coarse to fine").
-// From level 4 rather than 3 (where a block of level 0 is one pixel): the train mean +0.10 dB (pan s2
-// +0.63, builtin +0.19, bunker LR -0.07; from level 5, bunker LR -0.14). 20 sweeps instead of 10:
-// hdr-fg +0.21 dB, builtin +0.06, the others level or -0.04 to -0.07; 5 on level 1 alone lost
+// Level 3: a block of level 0 is one pixel there. From level 4: interpolation up on train on average
+// (+0.10 dB: pan s2 +0.63, builtin +0.19) but down on 8 of its 13 rows with extrapolation (bunker LR
+// -0.07, hdr-fg extrap -0.08), as on validation (8 of 12; spin -0.42, pan +0.66). 20 sweeps instead
+// of 10: hdr-fg +0.21 dB, builtin +0.06, the others level or -0.04 to -0.07; 5 on level 1 alone lost
 // hdr-fg 0.15.
-inline constexpr uint32_t kPolishCoarseTop = 4;
+inline constexpr uint32_t kPolishCoarseTop = 3;
 inline constexpr uint32_t kPolishCoarseIterations = 10;
 // The top coarse level of a pyramid (0: none, the pyramid has one level).
 uint32_t polish_coarse_top(const std::vector<MotionLevel>& levels);
