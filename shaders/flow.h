@@ -34,6 +34,11 @@
 //    steps 1 and 2 only supply candidates, and a pixel's given vector is replaced where a
 //    candidate explains its colour far better on the same surface, away from depth edges, with
 //    its neighbours agreeing (the guards and why: docs/ACCURACY.md, change 4). No depth written.
+// 5. Coarse to fine (coarse_level > 0, colour-only sessions that refine; applied before step 3):
+//    the coarse levels' refined field (polish.h, polish_coarse), upsampled, replaces the choice of
+//    steps 1 and 2 where it differs by more than FLOW_AGREE and costs less over the pixel's 3x3
+//    neighbourhood (the previous frame read bilinearly for both): it mends regions of wrong block
+//    matches that no neighbouring block can (docs/MOTION.md, "Coarse to fine").
 //
 // Entry provides:
 //   float load_cur(uint pixel)   level-0 luma of the current frame
@@ -236,8 +241,8 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         return;
     }
     vec2 v = occluded && nearest_g_cost <= FLOW_OCC_RATIO * own_cost + FLOW_OCC_MARGIN ? nearest_g : best;
-    // The coarse-to-fine refined field (polish.h, polish_coarse), upsampled: taken where it differs
-    // and explains the pixel's colour better (sub-pixel costs of both).
+    // 5. The coarse-to-fine refined field (polish.h, polish_coarse), upsampled: taken where it
+    //    differs and explains the pixel's colour better (sub-pixel costs of both).
     if (p.coarse_level > 0u) {
         vec2 cv = flow_coarse(pos, p);
         if (length(cv - v) > FLOW_AGREE && flow_cost_window(q, cv, p) < flow_cost_window(q, v, p)) v = cv;

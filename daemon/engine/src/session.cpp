@@ -305,6 +305,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         const PassTiming coarse_time = coarse ? timing_of(PassId::polish, (*t)[ti++]) : PassTiming{};
         if (!flow_skipped) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
         if (coarse) {
+            // One entry for both parts: its ms is their sum, its begin and end the level-0 sweeps'.
             PassTiming sweeps = timing_of(PassId::polish, (*t)[ti++]);
             sweeps.ms += coarse_time.ms;
             s.estimator.timings.push_back(sweeps);
