@@ -222,11 +222,10 @@ struct FlowParams {
     float correct_margin; // ... minus this margin (luma units)
     float correct_depth;  // and the given vector's previous position has the pixel's depth (relative)
     // The coarse-to-fine refined field (polish.h, polish_coarse): a further candidate of each pixel,
-    // read bilinearly from level coarse_level (0: none) at coarse_offset in the coarse buffer.
+    // read bilinearly from level coarse_level (0: none), the first level of the coarse buffer.
     uint coarse_level;
     uint coarse_width;
     uint coarse_height;
-    uint coarse_offset;
 };
 
 // polish.h: one red-black half-sweep of the variational refinement of estimated vectors.
@@ -282,7 +281,7 @@ static_assert(sizeof(IngestParams) == 52 && sizeof(GenParams) == 48 && sizeof(Sr
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
-static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 60 && sizeof(FlowParams) == 80 &&
+static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 60 && sizeof(FlowParams) == 76 &&
                   sizeof(PolishParams) == 72,
               "motion push constants");
 } // namespace fgsr::gpu

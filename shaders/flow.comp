@@ -18,7 +18,7 @@ vec4 load_field(uint i) { return texelFetch(field, int(i)); }
 vec2 load_given(uint i) { return mv[i]; }
 float load_depth(uint i) { return depth[i]; }
 float load_prev_depth(uint i) { return prev_depth[i]; }
-vec2 load_coarse(uint i) { return texelFetch(coarse, int(i)).xy; }
+vec2 load_field_vector(uint i) { return texelFetch(coarse, int(i)).xy; }
 void store_flow(uint i, vec2 m, float d, bool write_depth) {
     mv[i] = m;
     if (write_depth) depth[i] = d;

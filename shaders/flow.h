@@ -46,7 +46,8 @@
 //   vec4  load_field(uint index) the block field
 //   vec2  load_given(uint pixel) the client's vector of the current frame (read with correct only)
 //   float load_depth(uint pixel), load_prev_depth(uint pixel)  depths of both frames (correct only)
-//   vec2  load_coarse(uint index) the coarse-to-fine refined field (read where coarse_level > 0)
+//   vec2  load_field_vector(uint index) the coarse-to-fine refined field (field_read.h; read
+//                                where coarse_level > 0)
 //   void  store_flow(uint pixel, vec2 mv, float depth, bool write_depth)
 
 #define FLOW_SMOOTH_BIAS 0.9f // cost factor of the bilinear candidate
@@ -124,28 +125,23 @@ FGSR_INLINE float flow_cost_subpixel(ivec2 q, vec2 v, FlowParams p) {
     return s * 0.2f;
 }
 
-// The coarse field at a position in frame pixels (bilinear between the level's pixel centres).
+#include "field_read.h"
+
+// The coarse field (level coarse_level, at the start of its buffer) at a position in frame pixels.
 FGSR_INLINE vec2 flow_coarse(vec2 pos, FlowParams p) {
     float scale = float(1u << p.coarse_level);
-    vec2 b = pos * (1.0f / scale) - vec2(0.5f);
-    vec2 fb = floor(b);
-    vec2 f = b - fb;
-    ivec2 c = ivec2(fb);
-    ivec2 hi = ivec2(int(p.coarse_width) - 1, int(p.coarse_height) - 1);
-    vec2 corner[4];
-    for (int k = 0; k < 4; ++k) {
-        ivec2 q = clamp(c + ivec2(k & 1, k >> 1), ivec2(0), hi);
-        corner[k] = load_coarse(p.coarse_offset + uint(q.y) * p.coarse_width + uint(q.x));
-    }
-    return scale * mix(mix(corner[0], corner[1], f.x), mix(corner[2], corner[3], f.x), f.y);
+    return scale * field_bilinear(pos * (1.0f / scale) - vec2(0.5f), 0u, p.coarse_width, p.coarse_height);
 }
 
-// The cost of a sub-pixel vector over the pixel's 3x3 neighbourhood.
-FGSR_INLINE float flow_cost_window(ivec2 q, vec2 v, FlowParams p) {
-    float s = 0.0f;
+// The costs of two sub-pixel vectors over the pixel's 3x3 neighbourhood (the current frame read
+// once for both).
+FGSR_INLINE vec2 flow_cost_window_pair(ivec2 q, vec2 a, vec2 b, FlowParams p) {
+    vec2 s = vec2(0.0f);
     for (int k = 0; k < 9; ++k) {
         ivec2 o = ivec2(k % 3 - 1, k / 3 - 1);
-        s += abs(flow_luma(q + o, false, p) - luma_prev_bilinear(vec2(q + o) + v, p.width, p.height));
+        float cur = flow_luma(q + o, false, p);
+        s.x += abs(cur - luma_prev_bilinear(vec2(q + o) + a, p.width, p.height));
+        s.y += abs(cur - luma_prev_bilinear(vec2(q + o) + b, p.width, p.height));
     }
     return s * (1.0f / 9.0f);
 }
@@ -245,7 +241,8 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     //    differs and explains the pixel's colour better (sub-pixel costs of both).
     if (p.coarse_level > 0u) {
         vec2 cv = flow_coarse(pos, p);
-        if (length(cv - v) > FLOW_AGREE && flow_cost_window(q, cv, p) < flow_cost_window(q, v, p)) v = cv;
+        vec2 costs = flow_cost_window_pair(q, cv, v, p);
+        if (length(cv - v) > FLOW_AGREE && costs.x < costs.y) v = cv;
     }
     float m = occluded ? 0.0f : max(length(v - g) - 1.0f, 0.0f);
     store_flow(i, v, 1.0f - FLOW_PROXY_RANGE * m / (m + p.depth_scale), p.write_depth != 0u);

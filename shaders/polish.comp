@@ -13,6 +13,7 @@ layout(binding = POLISH_FIELD) uniform samplerBuffer field;         // RGBA32F t
 float load_cur(uint i) { return texelFetch(cur, int(pc.p.luma_offset + i)).x; }
 float load_prev(uint i) { return texelFetch(prev, int(pc.p.luma_offset + i)).x; }
 vec2 load_mv(uint i) { return texelFetch(mv_texels, int(i)).xy; }
+vec2 load_field_vector(uint i) { return load_mv(i); }
 void store_mv(uint i, vec2 v) { mv[i] = v; }
 vec4 load_field(uint i) { return texelFetch(field, int(i)); }
 

@@ -35,6 +35,8 @@
 //                                this pass) or the coarse levels' fields (p.mv_offset)
 //   void  store_mv(uint index, vec2 v)
 //   vec4  load_field(uint index) the block field (polish_seed_pixel from the blocks only)
+//   vec2  load_field_vector(uint index)  the same as load_mv (field_read.h: the seed's reads of the
+//                                level above)
 
 #define POLISH_STEP 1.0f // pixels: the largest change of a vector in one update
 
@@ -79,24 +81,21 @@ FGSR_INLINE void polish_pixel(uvec2 h, PolishParams p) {
     store_mv(i, v + clamp(p.omega * step, vec2(-POLISH_STEP), vec2(POLISH_STEP)));
 }
 
+#include "field_read.h"
+
 // The initial field of a coarse level (in pixels of the level): the next coarser level's field
 // doubled, or at the top level the finest matched blocks' vectors, both read bilinearly between
 // their centres (edges clamped).
-FGSR_INLINE vec2 polish_seed_bilinear(vec2 b, bool from_blocks, PolishParams p) {
+FGSR_INLINE vec2 polish_block_bilinear(vec2 b, PolishParams p) {
     vec2 fb = floor(b);
     vec2 f = b - fb;
     ivec2 c = ivec2(fb);
-    ivec2 hi = from_blocks ? ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1)
-                           : ivec2(int(p.src_width) - 1, int(p.src_height) - 1);
+    ivec2 hi = ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1);
     vec2 corner[4];
     for (int k = 0; k < 4; ++k) {
         ivec2 q = clamp(c + ivec2(k & 1, k >> 1), ivec2(0), hi);
-        if (from_blocks) {
-            vec4 v = load_field(p.block_offset + uint(q.y) * p.blocks_x + uint(q.x));
-            corner[k] = vec2(v.x, v.y);
-        } else {
-            corner[k] = load_mv(p.src_offset + uint(q.y) * p.src_width + uint(q.x));
-        }
+        vec4 v = load_field(p.block_offset + uint(q.y) * p.blocks_x + uint(q.x));
+        corner[k] = vec2(v.x, v.y);
     }
     return mix(mix(corner[0], corner[1], f.x), mix(corner[2], corner[3], f.x), f.y);
 }
@@ -106,11 +105,11 @@ FGSR_INLINE void polish_seed_pixel(uvec2 u, PolishParams p) {
     vec2 centre = vec2(u) + vec2(0.5f);
     vec2 v;
     if (p.src_width > 0u) {
-        v = 2.0f * polish_seed_bilinear(centre * 0.5f - vec2(0.5f), false, p);
+        v = 2.0f * field_bilinear(centre * 0.5f - vec2(0.5f), p.src_offset, p.src_width, p.src_height);
     } else {
         // Block vectors are in pixels of level block_shift; blocks cover MOTION_BLOCK of its pixels.
         vec2 b = centre * (float(1u << p.level) / float(MOTION_BLOCK << p.block_shift)) - vec2(0.5f);
-        v = polish_seed_bilinear(b, true, p) * (float(1u << p.block_shift) / float(1u << p.level));
+        v = polish_block_bilinear(b, p) * (float(1u << p.block_shift) / float(1u << p.level));
     }
     store_mv(p.mv_offset + u.y * p.width + u.x, v);
 }

@@ -119,7 +119,6 @@ gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::ve
         f.coarse_level = 1;
         f.coarse_width = levels[1].width;
         f.coarse_height = levels[1].height;
-        f.coarse_offset = 0;
     }
     return f;
 }

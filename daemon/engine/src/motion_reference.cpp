@@ -42,7 +42,7 @@ struct FlowCpu {
     vec2 load_given(uint i) const { return out->mv[i]; }
     float load_depth(uint i) const { return out->depth[i]; }
     float load_prev_depth(uint i) const { return prev_frame->depth[i]; }
-    vec2 load_coarse(uint i) const { return (*coarse)[i]; }
+    vec2 load_field_vector(uint i) const { return (*coarse)[i]; }
     void store_flow(uint i, vec2 m, float d, bool write_depth) {
         out->mv[i] = m;
         if (write_depth) out->depth[i] = d;
@@ -59,6 +59,7 @@ struct PolishCpu {
     float load_cur(uint i) const { return (*cur_luma)[luma_offset + i]; }
     float load_prev(uint i) const { return (*prev_luma)[luma_offset + i]; }
     vec2 load_mv(uint i) const { return (*mv)[i]; }
+    vec2 load_field_vector(uint i) const { return (*mv)[i]; }
     void store_mv(uint i, vec2 v) { (*mv)[i] = v; }
     vec4 load_field(uint i) const { return (*blocks)[i]; }
 #include "polish.h"
