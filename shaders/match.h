@@ -5,7 +5,8 @@
 //
 // The design follows hierarchical block matching as in FidelityFX optical flow (8x8 blocks on a
 // luminance pyramid, each level seeded from the coarser one):
-//   1. candidates: the zero vector; the previous submit's vector of the block (motion is coherent
+//   1. candidates: the zero vector (below the coarsest level at a cost bias, zero_bias);
+//      the previous submit's vector of the block (motion is coherent
 //      in time); below the coarsest level, twice the vectors of the parent block and of its three
 //      neighbours on this block's side (so a block at a motion boundary can take the motion of
 //      either side). Each level of the current -> previous field is then matched a second time
@@ -96,7 +97,7 @@ struct MatchSearch {
 FGSR_INLINE MatchSearch match_try(float blk[64], ivec2 origin, ivec2 d, vec2 pred, MatchSearch s, MatchParams p) {
     if (d == s.best) return s;
     float r = match_cost(blk, origin, d, p);
-    float cost = r + p.lambda * length(vec2(d) - pred);
+    float cost = r + p.lambda * length(vec2(d) - pred) + (d == ivec2(0) ? p.zero_bias : 0.0f);
     if (cost < s.cost) {
         s.cost = cost;
         s.raw = r;
@@ -127,7 +128,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
         store_field(at, vec4(0.0f, 0.0f, s.raw, (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f));
         return;
     }
-    s.cost = s.raw + p.lambda * length(pred);
+    s.cost = s.raw + p.lambda * length(pred) + p.zero_bias;
     if (p.same_offset != MOTION_NONE) {
         // Propagation: this block's own first-pass vector and its four neighbours', so that a
         // good match spreads along a structure (a pole, a floor) that single blocks miss.
@@ -143,7 +144,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
         ivec2 parent = ivec2(b) / 2;
         ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
         pred = match_coarse(parent, p);
-        s.cost = s.raw + p.lambda * length(vec2(s.best) - pred);
+        s.cost = s.raw + p.lambda * length(vec2(s.best) - pred) + (s.best == ivec2(0) ? p.zero_bias : 0.0f);
         for (int k = 0; k < 4; ++k) {
             ivec2 c = parent + ivec2((k & 1) != 0 ? side.x : 0, (k & 2) != 0 ? side.y : 0);
             s = match_try(blk, origin, ivec2(floor(match_coarse(c, p) + 0.5f)), pred, s, p);

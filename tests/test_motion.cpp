@@ -316,6 +316,73 @@ TEST(Motion, CoarseToFineRefinementMendsAPatchOfWrongBlocks) {
     EXPECT_LT(error[1], 0.25);
 }
 
+// The zero displacement's bias below the coarsest level (match.h, MatchParams::zero_bias), CPU
+// reference, the finest level's two passes: a band of vertical stripes of period 6 px inside
+// non-periodic texture, everything moving by exactly one period, and the coarser level's blocks
+// giving that motion (as the coarse levels find it from the texture around the band, where the
+// stripes are filtered out). Inside the band zero matches exactly as well as the motion does, and
+// level 0 has no regulariser to tell them apart: without the bias the first candidate, zero, keeps
+// the tie. (The previous frame is 2 % brighter, so that no block is "unchanged", which takes zero
+// without a search.)
+TEST(Motion, PeriodicTextureKeepsTheCoarseMotionOverAZeroAlias) {
+    const uint32_t w = 192, h = 128;
+    const glm::vec2 truth(6.f, 0.f); // current -> previous: prev(p + truth) = cur(p)
+    const float stripes[6] = {0.15f, 0.55f, 0.85f, 0.35f, 0.7f, 0.25f};
+    const auto scene = [&](glm::vec2 p) { // one period exactly: the same table entry at p and p + 6
+        if (p.x >= 64.f && p.x < 128.f && p.y >= 40.f && p.y < 88.f)
+            return glm::vec4(glm::vec3(stripes[int(std::floor(p.x)) % 6]), 1.f);
+        return texture(p, 7);
+    };
+    ref::InternalFrame f0, f1;
+    for (ref::InternalFrame* f : {&f0, &f1}) {
+        f->width = w;
+        f->height = h;
+        f->color.resize(size_t(w) * h);
+        f->depth.assign(size_t(w) * h, 1.f);
+        f->mv.assign(size_t(w) * h, glm::vec2(0.f));
+    }
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const glm::vec2 c(float(x) + 0.5f, float(y) + 0.5f);
+            f1.color[size_t(y) * w + x] = scene(c);
+            f0.color[size_t(y) * w + x] = glm::vec4(glm::vec3(scene(c - truth)) * 1.02f, 1.f);
+        }
+    const std::vector<ref::MotionLevel> levels = ref::motion_levels(w, h);
+    ASSERT_EQ(ref::motion_first_level(levels), 0u);
+    const std::vector<float> p0 = ref::luma_pyramid(f0, levels), p1 = ref::luma_pyramid(f1, levels);
+    const size_t half = ref::motion_field_blocks(levels);
+    std::vector<glm::vec4> field(half * ref::kFieldRegions, glm::vec4(0.f));
+    const ref::MotionLevel& l1 = levels[1];
+    for (uint32_t b = 0; b < l1.blocks_x * l1.blocks_y; ++b) field[l1.field_offset + b] = glm::vec4(truth * 0.5f, 0.f, 1.f);
+    const gpu::MatchParams first = ref::match_params(levels, 0, false, false, false);
+    const gpu::MatchParams propagation = ref::match_params(levels, 0, false, true, false);
+    EXPECT_GT(first.zero_bias, 0.f);
+    EXPECT_GT(propagation.zero_bias, 0.f);
+    EXPECT_EQ(ref::match_params(levels, levels.size() - 1, false, false, false).zero_bias, 0.f); // coarsest
+    ref::match_level(p1, p0, field, first);
+    ref::match_level(p1, p0, field, propagation);
+    // The final blocks inside the band, one block in from its edges (blocks 9..14 x 6..9).
+    const ref::MotionLevel& l0 = levels[0];
+    size_t right = 0, zero = 0, n = 0;
+    for (uint32_t by = 6; by <= 9; ++by)
+        for (uint32_t bx = 9; bx <= 14; ++bx, ++n) {
+            const glm::vec2 v(field[l0.field_offset + size_t(by) * l0.blocks_x + bx]);
+            right += glm::length(v - truth) < 0.5f ? 1 : 0;
+            zero += glm::length(v) < 0.5f ? 1 : 0;
+        }
+    std::printf("[ periodic ] blocks inside the stripes: %zu of %zu at the motion, %zu at zero\n", right, n, zero);
+    EXPECT_EQ(right, n);
+    // Outside the band (non-periodic texture) the motion is found either way.
+    size_t outside = 0, outside_right = 0;
+    for (uint32_t by = 1; by + 1 < l0.blocks_y; ++by)
+        for (uint32_t bx = 1; bx + 2 < l0.blocks_x; ++bx) {
+            if (bx >= 7 && bx <= 16 && by >= 4 && by <= 11) continue;
+            ++outside;
+            outside_right += glm::length(glm::vec2(field[l0.field_offset + size_t(by) * l0.blocks_x + bx]) - truth) < 0.5f;
+        }
+    EXPECT_GE(double(outside_right), 0.95 * double(outside));
+}
+
 // Sessions refine the estimate of unjittered frames only, with and without SR (session.cpp: on
 // jittered ones the colour it would fit is their aliasing).
 TEST(Motion, PolishRunsOnUnjitteredFramesOnly) {

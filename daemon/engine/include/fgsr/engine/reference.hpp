@@ -122,6 +122,14 @@ inline constexpr int kMotionRadiusFine = 1;     // around the best candidate, le
 inline constexpr float kMotionLambda = 0.002f;
 inline constexpr float kMotionLambdaFine = 0.0f;
 inline constexpr float kMotionLambdaCoarsest = 0.004f;
+// Below the coarsest level (both passes) the zero displacement costs this much more than its
+// match: it must explain the block clearly better than the candidates taken from the coarser
+// level, the neighbours and the previous submit. As the first candidate it would otherwise win
+// every tie, and a tie with zero is what a periodic texture (a checker floor, a brick wall,
+// stripes) gives when the motion is near a multiple of its period, and what low contrast gives
+// under any motion; the finest level, which has no regulariser, then drifts to zero against the
+// coarse motion. Chosen on the train captures (docs/MOTION.md, "The zero displacement's bias").
+inline constexpr float kMotionZeroBias = 0.005f;
 inline constexpr float kMotionFbTolerance = 2.0f; // forward-backward mismatch (pixels) of occlusion
 inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) at half the proxy's range
 inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for the same dominant motion
