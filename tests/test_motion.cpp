@@ -353,7 +353,8 @@ TEST(Motion, PeriodicTextureKeepsTheCoarseMotionOverAZeroAlias) {
     const size_t half = ref::motion_field_blocks(levels);
     std::vector<glm::vec4> field(half * ref::kFieldRegions, glm::vec4(0.f));
     const ref::MotionLevel& l1 = levels[1];
-    for (uint32_t b = 0; b < l1.blocks_x * l1.blocks_y; ++b) field[l1.field_offset + b] = glm::vec4(truth * 0.5f, 0.f, 1.f);
+    for (uint32_t b = 0; b < l1.blocks_x * l1.blocks_y; ++b)
+        field[l1.field_offset + b] = glm::vec4(truth * 0.5f, 0.f, 1.f);
     const gpu::MatchParams first = ref::match_params(levels, 0, false, false, false);
     const gpu::MatchParams propagation = ref::match_params(levels, 0, false, true, false);
     EXPECT_GT(first.zero_bias, 0.f);
@@ -370,7 +371,8 @@ TEST(Motion, PeriodicTextureKeepsTheCoarseMotionOverAZeroAlias) {
             right += glm::length(v - truth) < 0.5f ? 1 : 0;
             zero += glm::length(v) < 0.5f ? 1 : 0;
         }
-    std::printf("[ periodic ] blocks inside the stripes: %zu of %zu at the motion, %zu at zero\n", right, n, zero);
+    std::printf("[ periodic ] blocks inside the stripes: %zu of %zu at the motion, %zu at zero\n", right, n,
+                zero);
     EXPECT_EQ(right, n);
     // Outside the band (non-periodic texture) the motion is found either way.
     size_t outside = 0, outside_right = 0;
@@ -378,7 +380,8 @@ TEST(Motion, PeriodicTextureKeepsTheCoarseMotionOverAZeroAlias) {
         for (uint32_t bx = 1; bx + 2 < l0.blocks_x; ++bx) {
             if (bx >= 7 && bx <= 16 && by >= 4 && by <= 11) continue;
             ++outside;
-            outside_right += glm::length(glm::vec2(field[l0.field_offset + size_t(by) * l0.blocks_x + bx]) - truth) < 0.5f;
+            outside_right +=
+                glm::length(glm::vec2(field[l0.field_offset + size_t(by) * l0.blocks_x + bx]) - truth) < 0.5f;
         }
     EXPECT_GE(double(outside_right), 0.95 * double(outside));
 }
