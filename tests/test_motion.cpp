@@ -252,14 +252,11 @@ TEST(Motion, PolishPullsTornVectorsBackToTheColourAndTheirNeighbours) {
 // the level-0 sweeps (a step of at most 1 px, a data term linearised at the wrong place); on the
 // coarse levels it is a fraction of a pixel among right neighbours, and flow takes the refined field
 // there. The CPU reference's chain (the GPU's is checked against it above), with and without it.
-TEST(Motion, CoarseToFineRefinementMendsAPatchOfWrongBlocks) {
-    const uint32_t w = 192, h = 128;    // pyramid levels 0..3: the top coarse level is level 3
-    const glm::vec2 truth(2.6f, -1.3f); // current -> previous: prev(p + truth) = cur(p)
-    const auto pattern = [](glm::vec2 p) {
-        return 0.3f + 0.15f * std::sin(0.31f * p.x + 0.17f * p.y) +
-               0.1f * std::cos(0.23f * p.y - 0.29f * p.x) + 0.08f * std::sin(0.53f * p.x + 0.41f * p.y);
-    };
-    ref::InternalFrame f0, f1;
+// Two CPU-reference frames of w x h (no depth, no vectors): pixel (x, y) of the current frame
+// shows cur(x + 0.5, y + 0.5), of the previous frame prev(x + 0.5, y + 0.5).
+void reference_frames(uint32_t w, uint32_t h, const std::function<glm::vec4(glm::vec2)>& cur,
+                      const std::function<glm::vec4(glm::vec2)>& prev, ref::InternalFrame& f1,
+                      ref::InternalFrame& f0) {
     for (ref::InternalFrame* f : {&f0, &f1}) {
         f->width = w;
         f->height = h;
@@ -270,9 +267,22 @@ TEST(Motion, CoarseToFineRefinementMendsAPatchOfWrongBlocks) {
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
             const glm::vec2 c(float(x) + 0.5f, float(y) + 0.5f);
-            f1.color[size_t(y) * w + x] = glm::vec4(glm::vec3(pattern(c)), 1.f);
-            f0.color[size_t(y) * w + x] = glm::vec4(glm::vec3(pattern(c - truth)), 1.f);
+            f1.color[size_t(y) * w + x] = cur(c);
+            f0.color[size_t(y) * w + x] = prev(c);
         }
+}
+
+TEST(Motion, CoarseToFineRefinementMendsAPatchOfWrongBlocks) {
+    const uint32_t w = 192, h = 128;    // pyramid levels 0..3: the top coarse level is level 3
+    const glm::vec2 truth(2.6f, -1.3f); // current -> previous: prev(p + truth) = cur(p)
+    const auto pattern = [](glm::vec2 p) {
+        return 0.3f + 0.15f * std::sin(0.31f * p.x + 0.17f * p.y) +
+               0.1f * std::cos(0.23f * p.y - 0.29f * p.x) + 0.08f * std::sin(0.53f * p.x + 0.41f * p.y);
+    };
+    ref::InternalFrame f0, f1;
+    reference_frames(
+        w, h, [&](glm::vec2 c) { return glm::vec4(glm::vec3(pattern(c)), 1.f); },
+        [&](glm::vec2 c) { return glm::vec4(glm::vec3(pattern(c - truth)), 1.f); }, f1, f0);
     const std::vector<ref::MotionLevel> levels = ref::motion_levels(w, h);
     ASSERT_EQ(ref::polish_coarse_top(levels), 3u);
     const std::vector<float> p0 = ref::luma_pyramid(f0, levels), p1 = ref::luma_pyramid(f1, levels);
@@ -334,19 +344,8 @@ TEST(Motion, PeriodicTextureKeepsTheCoarseMotionOverAZeroAlias) {
         return texture(p, 7);
     };
     ref::InternalFrame f0, f1;
-    for (ref::InternalFrame* f : {&f0, &f1}) {
-        f->width = w;
-        f->height = h;
-        f->color.resize(size_t(w) * h);
-        f->depth.assign(size_t(w) * h, 1.f);
-        f->mv.assign(size_t(w) * h, glm::vec2(0.f));
-    }
-    for (uint32_t y = 0; y < h; ++y)
-        for (uint32_t x = 0; x < w; ++x) {
-            const glm::vec2 c(float(x) + 0.5f, float(y) + 0.5f);
-            f1.color[size_t(y) * w + x] = scene(c);
-            f0.color[size_t(y) * w + x] = glm::vec4(glm::vec3(scene(c - truth)) * 1.02f, 1.f);
-        }
+    reference_frames(
+        w, h, scene, [&](glm::vec2 c) { return glm::vec4(glm::vec3(scene(c - truth)) * 1.02f, 1.f); }, f1, f0);
     const std::vector<ref::MotionLevel> levels = ref::motion_levels(w, h);
     ASSERT_EQ(ref::motion_first_level(levels), 0u);
     const std::vector<float> p0 = ref::luma_pyramid(f0, levels), p1 = ref::luma_pyramid(f1, levels);
