@@ -345,7 +345,8 @@ TEST(Motion, PeriodicTextureKeepsTheCoarseMotionOverAZeroAlias) {
     };
     ref::InternalFrame f0, f1;
     reference_frames(
-        w, h, scene, [&](glm::vec2 c) { return glm::vec4(glm::vec3(scene(c - truth)) * 1.02f, 1.f); }, f1, f0);
+        w, h, scene, [&](glm::vec2 c) { return glm::vec4(glm::vec3(scene(c - truth)) * 1.02f, 1.f); }, f1,
+        f0);
     const std::vector<ref::MotionLevel> levels = ref::motion_levels(w, h);
     ASSERT_EQ(ref::motion_first_level(levels), 0u);
     const std::vector<float> p0 = ref::luma_pyramid(f0, levels), p1 = ref::luma_pyramid(f1, levels);
