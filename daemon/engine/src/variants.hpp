@@ -135,6 +135,8 @@ constexpr uint32_t pass_push(PassId p) {
 // number; every other binding is a storage buffer (shaders/bindings.h, <PASS>_TEXELS).
 constexpr uint32_t pass_texels(PassId p) {
     switch (p) {
+    case PassId::luma:
+        return LUMA_TEXELS;
     case PassId::match:
         return MATCH_TEXELS;
     case PassId::flow:
