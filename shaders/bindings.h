@@ -79,7 +79,7 @@
 // Motion estimation from colour (luma.h, match.h, flow.h).
 #define LUMA_COLOR 0   // the frame's colour (pack_color), level 0
 #define LUMA_PYRAMID 1 // the frame's pyramid (floats, every level), written ...
-#define LUMA_PYRAMID_TEXELS 2 // ... and the finer level read as R32F texels (a dispatch never reads what it writes)
+#define LUMA_PYRAMID_TEXELS 2 // ... and read as R32F texels (the finer level; never the one written)
 #define LUMA_COUNT 3
 #define LUMA_TEXELS (1u << LUMA_PYRAMID_TEXELS)
 

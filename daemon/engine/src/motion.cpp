@@ -240,9 +240,8 @@ Result<void> Session::Impl::init_motion() {
 
 Result<void> Session::Impl::record_luma(int slot) {
     const vk::Buffer& pyr = estimator.pyramid[size_t(slot)];
-    const auto b =
-        make_slots<PassId::luma>(at<LUMA_COLOR>(frames[size_t(slot)].color), at<LUMA_PYRAMID>(pyr),
-                                 at<LUMA_PYRAMID_TEXELS>(pyr));
+    const auto b = make_slots<PassId::luma>(at<LUMA_COLOR>(frames[size_t(slot)].color), at<LUMA_PYRAMID>(pyr),
+                                            at<LUMA_PYRAMID_TEXELS>(pyr));
     for (size_t k = 0; k < estimator.levels.size(); ++k) {
         const ref::MotionLevel& l = estimator.levels[k];
         const ref::MotionLevel& src = estimator.levels[k == 0 ? 0 : k - 1];
