@@ -92,12 +92,18 @@ struct MatchSearch {
     float raw;  // match cost
 };
 
+// The cost a search compares: the match cost r of displacement d, the regularising term toward
+// pred, and below the coarsest level the zero displacement's bias (MatchParams::zero_bias).
+FGSR_INLINE float match_total(float r, ivec2 d, vec2 pred, MatchParams p) {
+    return r + p.lambda * length(vec2(d) - pred) + (d == ivec2(0) ? p.zero_bias : 0.0f);
+}
+
 // Tries displacement d against the best so far: kept when its cost (match cost plus the
 // regularising term toward pred) is lower; the best itself is not evaluated again.
 FGSR_INLINE MatchSearch match_try(float blk[64], ivec2 origin, ivec2 d, vec2 pred, MatchSearch s, MatchParams p) {
     if (d == s.best) return s;
     float r = match_cost(blk, origin, d, p);
-    float cost = r + p.lambda * length(vec2(d) - pred) + (d == ivec2(0) ? p.zero_bias : 0.0f);
+    float cost = match_total(r, d, pred, p);
     if (cost < s.cost) {
         s.cost = cost;
         s.raw = r;
@@ -128,7 +134,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
         store_field(at, vec4(0.0f, 0.0f, s.raw, (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f));
         return;
     }
-    s.cost = s.raw + p.lambda * length(pred) + p.zero_bias;
+    s.cost = match_total(s.raw, s.best, pred, p);
     if (p.same_offset != MOTION_NONE) {
         // Propagation: this block's own first-pass vector and its four neighbours', so that a
         // good match spreads along a structure (a pole, a floor) that single blocks miss.
@@ -144,14 +150,15 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
         ivec2 parent = ivec2(b) / 2;
         ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
         pred = match_coarse(parent, p);
-        s.cost = s.raw + p.lambda * length(vec2(s.best) - pred) + (s.best == ivec2(0) ? p.zero_bias : 0.0f);
+        s.cost = match_total(s.raw, s.best, pred, p);
         for (int k = 0; k < 4; ++k) {
             ivec2 c = parent + ivec2((k & 1) != 0 ? side.x : 0, (k & 2) != 0 ? side.y : 0);
             s = match_try(blk, origin, ivec2(floor(match_coarse(c, p) + 0.5f)), pred, s, p);
         }
     }
     // A candidate that already matches to within MATCH_GOOD needs no search around it (most blocks
-    // of a smooth motion, after the first levels): only its sub-pixel fit.
+    // of a smooth motion, after the first levels): only its sub-pixel fit. Below the coarsest level
+    // a zero best always has its neighbourhood searched (its bias exceeds MATCH_GOOD).
     if (s.cost >= MATCH_GOOD) {
         ivec2 centre = s.best;
         for (int dy = -p.radius; dy <= p.radius; ++dy)
