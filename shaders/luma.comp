@@ -16,4 +16,22 @@ void store_level(uint i, float v) { pyramid[i] = v; }
 
 #include "luma.h"
 
+#if FGSR_LUMA_LEVEL0 == 2
+// Level 0, 4 pixels per invocation (frames whose width is a multiple of 4, the level at an offset
+// that is one): one 32-byte colour load and one 16-byte store where the per-pixel build makes four
+// of each, on CPU devices a loop over the lanes per access. The same luma as luma_pixel.
+layout(std430, binding = LUMA_COLOR) readonly buffer ColorQuad { u64vec4 color_quad[]; };
+layout(std430, binding = LUMA_PYRAMID) writeonly buffer PyramidQuad { vec4 pyramid_quad[]; };
+
+void main() {
+    uvec2 q = gl_GlobalInvocationID.xy; // q.x counts quads
+    if (4u * q.x >= pc.p.dst_width || q.y >= pc.p.dst_height) return;
+    uint quad = q.y * (pc.p.dst_width >> 2) + q.x;
+    u64vec4 c = color_quad[quad];
+    vec4 v;
+    for (int l = 0; l < 4; ++l) v[l] = motion_luma(unpack_color(unpack32(c[l])));
+    pyramid_quad[(pc.p.dst_offset >> 2) + quad] = v;
+}
+#else
 void main() { luma_pixel(gl_GlobalInvocationID.xy, pc.p); }
+#endif

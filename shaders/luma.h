@@ -14,10 +14,21 @@ FGSR_INLINE float motion_luma(vec4 c) {
     return sqrt(clamp(0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z, 0.0f, 1.0f));
 }
 
+// Level 0 and the levels above it are separate builds on the GPU (luma_level0 defines
+// FGSR_LUMA_LEVEL0): CPU devices run both sides of a branch with the inactive lanes masked off,
+// and level 0 then paid the 16 reads of the low-pass as well. The CPU reference reads p.level.
+#if defined(FGSR_LUMA_LEVEL0)
+#define LUMA_LEVEL0(p) true
+#elif defined(__cplusplus)
+#define LUMA_LEVEL0(p) ((p).level == 0u)
+#else
+#define LUMA_LEVEL0(p) false
+#endif
+
 FGSR_INLINE void luma_pixel(uvec2 q, LumaParams p) {
     if (q.x >= p.dst_width || q.y >= p.dst_height) return;
     float v;
-    if (p.level == 0u) {
+    if (LUMA_LEVEL0(p)) {
         v = motion_luma(load_color(q.y * p.src_width + q.x));
     } else {
         // Separable [1 3 3 1] / 8 over source pixels 2q - 1 .. 2q + 2 (edges clamped): a low-pass

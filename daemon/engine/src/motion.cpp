@@ -247,7 +247,12 @@ Result<void> Session::Impl::record_luma(int slot) {
         const ref::MotionLevel& src = estimator.levels[k == 0 ? 0 : k - 1];
         gpu::LumaParams p{src.width, src.height, l.width, l.height, src.offset, l.offset, uint32_t(k), 0u};
         if (k > 0) rec.barrier();
-        FGSR_TRY(rec.dispatch_pixels(Variant::luma, b, &p, l.width, l.height));
+        if (k > 0)
+            FGSR_TRY(rec.dispatch_pixels(Variant::luma, b, &p, l.width, l.height));
+        else if (l.width % 4 == 0 && l.offset % 4 == 0) // 4 pixels per invocation (luma.comp)
+            FGSR_TRY(rec.dispatch_pixels(Variant::luma_level0_quad, b, &p, l.width / 4, l.height));
+        else
+            FGSR_TRY(rec.dispatch_pixels(Variant::luma_level0, b, &p, l.width, l.height));
     }
     return {};
 }
