@@ -60,6 +60,16 @@
 #define FLOW_EDGE_REACH 2      // correction: pixels to the depth samples of the edge test
 #define FLOW_EDGE_DEPTH 0.04f  // correction: relative depth step over that reach that is an edge
 #define FLOW_AGREE_NEIGHBOURS 3 // correction: of the 4 neighbours at that reach, those that must agree
+// Step 5 exists only in the flow_coarse build (FGSR_FLOW_COARSE; the CPU reference reads
+// p.coarse_level), for the same reason: compiled into the plain build, whose sessions never run it
+// (frames above kPolishMaxPixels), its 3x3 costs made that pass about 1.3x slower at 720p.
+#if defined(FGSR_FLOW_COARSE)
+#define FLOW_COARSE_STEP(p) true
+#elif defined(__cplusplus)
+#define FLOW_COARSE_STEP(p) ((p).coarse_level > 0u)
+#else
+#define FLOW_COARSE_STEP(p) false
+#endif
 // Step 4 exists only in the flow_correct build (FGSR_FLOW_CORRECT; the CPU reference reads
 // p.correct): on CPU devices a branch costs every lane whether taken or not, and compiled into the
 // colour-only build it made that pass about 3x slower.
@@ -239,7 +249,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     vec2 v = occluded && nearest_g_cost <= FLOW_OCC_RATIO * own_cost + FLOW_OCC_MARGIN ? nearest_g : best;
     // 5. The coarse-to-fine refined field (polish.h, polish_coarse), upsampled: taken where it
     //    differs and explains the pixel's colour better (sub-pixel costs of both).
-    if (p.coarse_level > 0u) {
+    if (FLOW_COARSE_STEP(p)) {
         vec2 cv = flow_coarse(pos, p);
         vec2 costs = flow_cost_window_pair(q, cv, v, p);
         if (length(cv - v) > FLOW_AGREE && costs.x < costs.y) v = cv;

@@ -306,8 +306,9 @@ Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global, boo
         at<FLOW_PREV_DEPTH>(frames[size_t(prev)].depth), at<FLOW_COARSE>(estimator.coarse));
     const gpu::FlowParams p =
         ref::flow_params(estimator.levels, global, !format.has_depth, correction(), coarse);
-    return rec.dispatch_pixels(p.correct != 0u ? Variant::flow_correct : Variant::flow, b, &p, format.width,
-                               format.height);
+    // Steps 4 and 5 are builds of their own (shaders/flow.h); no session runs both.
+    const Variant v = p.correct != 0u ? Variant::flow_correct : p.coarse_level > 0u ? Variant::flow_coarse : Variant::flow;
+    return rec.dispatch_pixels(v, b, &p, format.width, format.height);
 }
 
 Result<void> Session::Impl::record_polish(int cur, int prev) {
