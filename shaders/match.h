@@ -30,6 +30,24 @@
 //   vec4  load_field(uint index) the block field (coarser level)
 //   void  store_field(uint index, vec4 value)
 
+// Which candidates and stores a pass has. The GPU builds of the passes (FGSR_MATCH_KIND: 0 the
+// coarsest level's first pass, 1 a first pass below it, 2 a propagation pass; FGSR_MATCH_STORE:
+// its MATCH_STORE_* bits; shaders/variants.def) fix them at compile time: CPU devices run both
+// sides of a branch with the inactive lanes masked off, so a pass would otherwise pay for the
+// candidates and the fits of the others (the propagation's 5 candidates, the parent's 4, the
+// sub-pixel fit's 4 costs and the full SAD: 32 to 64 reads each). The host picks the build from
+// the parameters (daemon/engine/src/motion.cpp, match_variant); the build without
+// FGSR_MATCH_KIND, and the CPU reference, read them from the parameters.
+#if defined(FGSR_MATCH_KIND)
+#define MATCH_PROPAGATES(p) (FGSR_MATCH_KIND == 2)
+#define MATCH_BELOW_COARSEST(p) (FGSR_MATCH_KIND == 1)
+#define MATCH_STORES(p, bits) ((FGSR_MATCH_STORE & (bits)) != 0u)
+#else
+#define MATCH_PROPAGATES(p) ((p).same_offset != MOTION_NONE)
+#define MATCH_BELOW_COARSEST(p) ((p).coarse_blocks_x > 0u)
+#define MATCH_STORES(p, bits) (((p).store & (bits)) != 0u)
+#endif
+
 #define MATCH_GOOD 0.003f // mean absolute luma difference of a match that needs no search
 #define MATCH_STILL 1.0e-5f // ... of a block that has not changed at all: zero motion, nothing else tried
 
@@ -126,16 +144,16 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     // Each candidate's cost is evaluated once: `raw` keeps the best one's match cost, so that a new
     // prediction only changes the regularising term.
     vec2 pred = vec2(0.0f);
-    if (p.same_offset != MOTION_NONE) pred = match_same(ivec2(b), p.same_offset, p);
+    if (MATCH_PROPAGATES(p)) pred = match_same(ivec2(b), p.same_offset, p);
     MatchSearch s;
     s.best = ivec2(0);
     s.raw = match_cost(blk, origin, s.best, p);
     if (s.raw <= MATCH_STILL) { // an unchanged block (a still part of the scene): zero, nothing tried
-        store_field(at, vec4(0.0f, 0.0f, s.raw, (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f));
+        store_field(at, vec4(0.0f, 0.0f, s.raw, MATCH_STORES(p, MATCH_STORE_CONTRAST) ? match_contrast(blk) : 0.0f));
         return;
     }
     s.cost = match_total(s.raw, s.best, pred, p);
-    if (p.same_offset != MOTION_NONE) {
+    if (MATCH_PROPAGATES(p)) {
         // Propagation: this block's own first-pass vector and its four neighbours', so that a
         // good match spreads along a structure (a pole, a floor) that single blocks miss.
         for (int k = 0; k < 5; ++k) {
@@ -146,7 +164,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     // The previous submit's vector of this block: motion is coherent in time.
     if (p.temporal_offset != MOTION_NONE)
         s = match_try(blk, origin, ivec2(floor(match_same(ivec2(b), p.temporal_offset, p) + 0.5f)), pred, s, p);
-    if (p.coarse_blocks_x > 0u) {
+    if (MATCH_BELOW_COARSEST(p)) {
         ivec2 parent = ivec2(b) / 2;
         ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
         pred = match_coarse(parent, p);
@@ -165,9 +183,9 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
             for (int dx = -p.radius; dx <= p.radius; ++dx)
                 if (dx != 0 || dy != 0) s = match_try(blk, origin, centre + ivec2(dx, dy), pred, s, p);
     }
-    float contrast = (p.store & MATCH_STORE_CONTRAST) != 0u ? match_contrast(blk) : 0.0f;
-    float z = (p.store & MATCH_STORE_SAD) != 0u ? match_sad(blk, origin, s.best, p) : s.raw;
-    if ((p.store & MATCH_STORE_SUBPIXEL) == 0u) {
+    float contrast = MATCH_STORES(p, MATCH_STORE_CONTRAST) ? match_contrast(blk) : 0.0f;
+    float z = MATCH_STORES(p, MATCH_STORE_SAD) ? match_sad(blk, origin, s.best, p) : s.raw;
+    if (!MATCH_STORES(p, MATCH_STORE_SUBPIXEL)) {
         store_field(at, vec4(vec2(s.best), z, contrast));
         return;
     }

@@ -257,6 +257,25 @@ Result<void> Session::Impl::record_luma(int slot) {
     return {};
 }
 
+namespace {
+// The build of match for a pass's parameters (shaders/match.h, FGSR_MATCH_KIND): one per kind of
+// pass and stores, so that none runs another's candidates with its lanes masked off; the generic
+// build for any other combination.
+Variant match_variant(const gpu::MatchParams& m) {
+    const uint32_t kind = m.same_offset != MOTION_NONE ? 2u : m.coarse_blocks_x > 0u ? 1u : 0u;
+    switch (kind << 4 | m.store) {
+    case 0x00: return Variant::match_k0_s0;
+    case 0x02: return Variant::match_k0_s2;
+    case 0x10: return Variant::match_k1_s0;
+    case 0x11: return Variant::match_k1_s1;
+    case 0x12: return Variant::match_k1_s2;
+    case 0x22: return Variant::match_k2_s2;
+    case 0x27: return Variant::match_k2_s7;
+    default: return Variant::match;
+    }
+}
+} // namespace
+
 Result<void> Session::Impl::record_match(int cur, int prev) {
     const vk::Buffer& a = estimator.pyramid[size_t(cur)];
     const vk::Buffer& b = estimator.pyramid[size_t(prev)];
@@ -277,11 +296,11 @@ Result<void> Session::Impl::record_match(int cur, int prev) {
         const ref::MotionLevel& l = estimator.levels[k];
         const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false, false, temporal);
         const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true, false, temporal);
-        FGSR_TRY(rec.dispatch_pixels(Variant::match, back, &pb, l.blocks_x, l.blocks_y));
-        FGSR_TRY(rec.dispatch_pixels(Variant::match, fwd, &pf, l.blocks_x, l.blocks_y));
+        FGSR_TRY(rec.dispatch_pixels(match_variant(pb), back, &pb, l.blocks_x, l.blocks_y));
+        FGSR_TRY(rec.dispatch_pixels(match_variant(pf), fwd, &pf, l.blocks_x, l.blocks_y));
         rec.barrier();
         const gpu::MatchParams pp = ref::match_params(estimator.levels, k, false, true, temporal);
-        FGSR_TRY(rec.dispatch_pixels(Variant::match, back, &pp, l.blocks_x, l.blocks_y));
+        FGSR_TRY(rec.dispatch_pixels(match_variant(pp), back, &pp, l.blocks_x, l.blocks_y));
         rec.barrier();
     }
     const gpu::MatchParams fb = ref::fill_params(estimator.levels, false),
