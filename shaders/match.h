@@ -149,7 +149,8 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     s.best = ivec2(0);
     s.raw = match_cost(blk, origin, s.best, p);
     if (s.raw <= MATCH_STILL) { // an unchanged block (a still part of the scene): zero, nothing tried
-        store_field(at, vec4(0.0f, 0.0f, s.raw, MATCH_STORES(p, MATCH_STORE_CONTRAST) ? match_contrast(blk) : 0.0f));
+        store_field(
+            at, vec4(0.0f, 0.0f, s.raw, MATCH_STORES(p, MATCH_STORE_CONTRAST) ? match_contrast(blk) : 0.0f));
         return;
     }
     s.cost = match_total(s.raw, s.best, pred, p);

@@ -264,14 +264,22 @@ namespace {
 Variant match_variant(const gpu::MatchParams& m) {
     const uint32_t kind = m.same_offset != MOTION_NONE ? 2u : m.coarse_blocks_x > 0u ? 1u : 0u;
     switch (kind << 4 | m.store) {
-    case 0x00: return Variant::match_k0_s0;
-    case 0x02: return Variant::match_k0_s2;
-    case 0x10: return Variant::match_k1_s0;
-    case 0x11: return Variant::match_k1_s1;
-    case 0x12: return Variant::match_k1_s2;
-    case 0x22: return Variant::match_k2_s2;
-    case 0x27: return Variant::match_k2_s7;
-    default: return Variant::match;
+    case 0x00:
+        return Variant::match_k0_s0;
+    case 0x02:
+        return Variant::match_k0_s2;
+    case 0x10:
+        return Variant::match_k1_s0;
+    case 0x11:
+        return Variant::match_k1_s1;
+    case 0x12:
+        return Variant::match_k1_s2;
+    case 0x22:
+        return Variant::match_k2_s2;
+    case 0x27:
+        return Variant::match_k2_s7;
+    default:
+        return Variant::match;
     }
 }
 } // namespace
@@ -326,7 +334,9 @@ Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global, boo
     const gpu::FlowParams p =
         ref::flow_params(estimator.levels, global, !format.has_depth, correction(), coarse);
     // Steps 4 and 5 are builds of their own (shaders/flow.h); no session runs both.
-    const Variant v = p.correct != 0u ? Variant::flow_correct : p.coarse_level > 0u ? Variant::flow_coarse : Variant::flow;
+    const Variant v = p.correct != 0u       ? Variant::flow_correct
+                      : p.coarse_level > 0u ? Variant::flow_coarse
+                                            : Variant::flow;
     return rec.dispatch_pixels(v, b, &p, format.width, format.height);
 }
 
