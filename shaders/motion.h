@@ -24,6 +24,15 @@
 // or a frame-0 position off screen): Eqs. 14 and 15. It is split in two so that splat reads and
 // searches the vectors once for all alphas of a pair: source_velocities (alpha-independent), then
 // motion_at per alpha.
+// Whether the frame-0 vector is looked up (uniform acceleration with frame-0 vectors). The splat
+// builds for the other calls (FGSR_SPLAT_LINEAR: uniform velocity, or no frame-0 vectors, as in
+// every colour-only session) leave the lookup out: CPU devices run both sides of a branch with the
+// inactive lanes masked off, so its 6 reads would cost every source pixel anyway.
+#if defined(FGSR_SPLAT_LINEAR)
+#define MOTION_LOOKS_UP_M0(g) false
+#else
+#define MOTION_LOOKS_UP_M0(g) ((g).quadratic != 0u && (g).frame0_has_mv != 0u)
+#endif
 #define MOTION_ACCEL_PX 2.0f // chosen on the train captures (docs/ACCURACY.md, "Changes", 3)
 #define MOTION_ACCEL_RATIO 1.0f
 // The motion of the point: vec4(m1, m0), m0 = m1 for uniform velocity. d1: load_depth1(p1) (splat
@@ -33,7 +42,7 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
     vec2 m1 = -load_mv1(p1);
     vec2 p0 = c1 - m1;
     vec2 m0 = m1;
-    if (g.quadratic != 0u && g.frame0_has_mv != 0u) {
+    if (MOTION_LOOKS_UP_M0(g)) {
         ivec2 q = ivec2(floor(p0));
         float tolerance = 4.0f * g.t_depth;
         // The pixel whose vector is taken is chosen first and its vector read once: on CPU devices

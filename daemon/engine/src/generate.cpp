@@ -92,10 +92,11 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             const gpu::SplatParams sp = splat_params(g, alphas.subspan(k, count));
             const auto sb = make_slots<PassId::splat>(generated_frames(kAllSlices));
             static_assert(FGSR_SPLAT_ALPHAS == 4);
-            const Variant v = count == 1   ? Variant::splat
-                              : count == 2 ? Variant::splat_x2
-                              : count == 3 ? Variant::splat_x3
-                                           : Variant::splat_x4;
+            const bool linear = !(g.quadratic != 0u && g.frame0_has_mv != 0u); // no frame-0 lookup (motion.h)
+            const Variant v = count == 1   ? (linear ? Variant::splat_linear : Variant::splat)
+                              : count == 2 ? (linear ? Variant::splat_x2_linear : Variant::splat_x2)
+                              : count == 3 ? (linear ? Variant::splat_x3_linear : Variant::splat_x3)
+                                           : (linear ? Variant::splat_x4_linear : Variant::splat_x4);
             FGSR_TRY(rec.dispatch_pixels(v, sb, &sp, format.width, format.height));
             rec.barrier();
             rec.timestamp(q++);
