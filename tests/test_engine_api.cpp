@@ -175,13 +175,15 @@ TEST(EngineApi, NonFiniteInputsNeverReachTheOutput) {
 }
 
 // Also across splat's multi-alpha chunks (FGSR_SPLAT_ALPHAS frames per splat dispatch without
-// tiles: 6 alphas are a chunk of 4 and one of 2), fused and separate passes, tiled or not.
+// tiles: 6 alphas are a chunk of 4 and one of 2), fused and separate passes, tiled or not, with
+// uniform acceleration and with uniform velocity (splat's builds without the frame-0 lookup).
 TEST(EngineApi, SeveralAlphasInOneCallEqualSingleCalls) {
-    for (int variant = 0; variant < 3; ++variant) {
+    for (int variant = 0; variant < 6; ++variant) {
         SCOPED_TRACE(variant);
         Params p;
-        p.skip_tiles = variant == 0;
-        p.separate_passes = variant == 2;
+        p.skip_tiles = variant % 3 == 0;
+        p.separate_passes = variant % 3 == 2;
+        p.motion = variant < 3 ? MotionModel::quadratic : MotionModel::linear;
         auto s = session(internal_format(W, H), p);
         ASSERT_TRUE(s->submit(random_frame(W, H, 5, 6.f).view()));
         ASSERT_TRUE(s->submit(random_frame(W, H, 6, 6.f).view()));
