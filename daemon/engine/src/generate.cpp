@@ -41,6 +41,22 @@ gpu::SplatParams Session::Impl::splat_params(const gpu::GenParams& g, std::span<
     return sp;
 }
 
+Variant Session::Impl::splat_variant(const gpu::GenParams& g, size_t count, bool tiled) {
+    static_assert(FGSR_SPLAT_ALPHAS == 4);
+    const bool lookup = g.quadratic != 0u && g.frame0_has_mv != 0u;
+    if (tiled) return lookup ? Variant::splat_tiled : Variant::splat_tiled_linear;
+    switch (count) {
+    case 1:
+        return lookup ? Variant::splat : Variant::splat_linear;
+    case 2:
+        return lookup ? Variant::splat_x2 : Variant::splat_x2_linear;
+    case 3:
+        return lookup ? Variant::splat_x3 : Variant::splat_x3_linear;
+    default:
+        return lookup ? Variant::splat_x4 : Variant::splat_x4_linear;
+    }
+}
+
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     if (submitted < 2)
         return make_error(Errc::empty_input, std::string(extrapolate ? "extrapolation" : "interpolation") +
@@ -91,13 +107,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             rec.barrier();
             const gpu::SplatParams sp = splat_params(g, alphas.subspan(k, count));
             const auto sb = make_slots<PassId::splat>(generated_frames(kAllSlices));
-            static_assert(FGSR_SPLAT_ALPHAS == 4);
-            const bool linear = !(g.quadratic != 0u && g.frame0_has_mv != 0u); // no frame-0 lookup (motion.h)
-            const Variant v = count == 1   ? (linear ? Variant::splat_linear : Variant::splat)
-                              : count == 2 ? (linear ? Variant::splat_x2_linear : Variant::splat_x2)
-                              : count == 3 ? (linear ? Variant::splat_x3_linear : Variant::splat_x3)
-                                           : (linear ? Variant::splat_x4_linear : Variant::splat_x4);
-            FGSR_TRY(rec.dispatch_pixels(v, sb, &sp, format.width, format.height));
+            FGSR_TRY(
+                rec.dispatch_pixels(splat_variant(g, count, false), sb, &sp, format.width, format.height));
             rec.barrier();
             rec.timestamp(q++);
             splat_timing = {PassId::splat};

@@ -168,6 +168,9 @@ struct Session::Impl {
     Result<void> ensure_splat_slices(uint32_t count);
     // splat's push block for alphas[first, first + count) (tiled: count 1).
     gpu::SplatParams splat_params(const gpu::GenParams& g, std::span<const float> alphas) const;
+    // splat's build for `count` frames of one dispatch (tiled: count 1), without the frame-0 vector
+    // lookup where the call cannot use it (shaders/motion.h, MOTION_LOOKS_UP_M0).
+    static Variant splat_variant(const gpu::GenParams& g, size_t count, bool tiled);
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
     Result<void> ensure_outputs(size_t count);
 

@@ -177,8 +177,7 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
     rec.barrier();
     rec.timestamp(q++);
     const gpu::SplatParams sp = splat_params(g, std::span<const float>(&g.alpha, 1)); // single-alpha
-    const bool linear = !(g.quadratic != 0u && g.frame0_has_mv != 0u); // no frame-0 lookup (motion.h)
-    FGSR_TRY(rec.dispatch_indirect(linear ? Variant::splat_tiled_linear : Variant::splat_tiled,
+    FGSR_TRY(rec.dispatch_indirect(splat_variant(g, 1, true),
                                    make_slots<PassId::splat, Layout::TILED>(
                                        generated_frames(), tile_list<PassId::splat>(ts.work, ts, true)),
                                    &sp, ts.work));
