@@ -20,9 +20,13 @@ using uint64_t = std::uint64_t;
 } // namespace fgsr::gpu
 #define FGSR_INLINE inline
 #define FGSR_UNROLL
+#define FGSR_DONT_UNROLL
 #else
 #extension GL_EXT_control_flow_attributes : require
 #define FGSR_UNROLL [[unroll]]
+// A loop kept a loop: its body (for example a 32-read block cost) is compiled once. llvmpipe
+// compiles each pipeline at its first dispatch; unrolled copies of such bodies cost seconds there.
+#define FGSR_DONT_UNROLL [[dont_unroll]]
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #define FGSR_INLINE

@@ -51,14 +51,20 @@
 #define MATCH_GOOD 0.003f // mean absolute luma difference of a match that needs no search
 #define MATCH_STILL 1.0e-5f // ... of a block that has not changed at all: zero motion, nothing else tried
 
+// Pixel (x, y) of the source block at origin, read at the nearest edge pixel outside the level.
+FGSR_INLINE float match_src(ivec2 origin, int x, int y, MatchParams p) {
+    ivec2 q = min(origin + ivec2(x, y), ivec2(int(p.width) - 1, int(p.height) - 1));
+    return load_src(p.src_offset + uint(q.y) * p.width + uint(q.x));
+}
+
 // The block's contrast (mean absolute deviation): what a cut's mismatch is measured against, and
 // what tells the fill stage which blocks have texture.
-FGSR_INLINE float match_contrast(float blk[64]) {
+FGSR_INLINE float match_contrast(ivec2 origin, MatchParams p) {
     float mean = 0.0f;
-    FGSR_UNROLL for (int k = 0; k < 64; ++k) mean += blk[k];
+    FGSR_UNROLL for (int k = 0; k < 64; ++k) mean += match_src(origin, k & 7, k >> 3, p);
     mean *= 1.0f / 64.0f;
     float contrast = 0.0f;
-    FGSR_UNROLL for (int k = 0; k < 64; ++k) contrast += abs(blk[k] - mean);
+    FGSR_UNROLL for (int k = 0; k < 64; ++k) contrast += abs(match_src(origin, k & 7, k >> 3, p) - mean);
     return contrast * (1.0f / 64.0f);
 }
 
@@ -67,21 +73,22 @@ FGSR_INLINE float match_dst(ivec2 q, MatchParams p) {
     return load_dst(p.dst_offset + uint(q.y) * p.width + uint(q.x));
 }
 
-// Mean absolute difference over the block's checkerboard half (32 pixels): the cost candidates and
-// the search compare (half the reads; a displacement that fits one half of an 8x8 block fits the
-// other).
-FGSR_INLINE float match_cost(float blk[64], ivec2 origin, ivec2 d, MatchParams p) {
+// Mean absolute difference over the block's checkerboard half (32 pixels, held in blk: row y's
+// pixels x = (y & 1) + 2i at blk[4y + i]): the cost candidates and the search compare (half the
+// reads; a displacement that fits one half of an 8x8 block fits the other). Only this half is
+// kept in registers: 64 live values made llvmpipe's register allocation take seconds per build.
+FGSR_INLINE float match_cost(float blk[32], ivec2 origin, ivec2 d, MatchParams p) {
     float s = 0.0f;
     FGSR_UNROLL for (int y = 0; y < 8; ++y)
-        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) s += abs(blk[y * 8 + x] - match_dst(origin + ivec2(x, y) + d, p));
+        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) s += abs(blk[y * 4 + (x >> 1)] - match_dst(origin + ivec2(x, y) + d, p));
     return s * (1.0f / 32.0f);
 }
 
-// Mean absolute difference of the block (its luma in blk) against the destination at origin + d.
-FGSR_INLINE float match_sad(float blk[64], ivec2 origin, ivec2 d, MatchParams p) {
+// Mean absolute difference of the whole block against the destination at origin + d.
+FGSR_INLINE float match_sad(ivec2 origin, ivec2 d, MatchParams p) {
     float s = 0.0f;
     FGSR_UNROLL for (int y = 0; y < 8; ++y)
-        FGSR_UNROLL for (int x = 0; x < 8; ++x) s += abs(blk[y * 8 + x] - match_dst(origin + ivec2(x, y) + d, p));
+        FGSR_UNROLL for (int x = 0; x < 8; ++x) s += abs(match_src(origin, x, y, p) - match_dst(origin + ivec2(x, y) + d, p));
     return s * (1.0f / 64.0f);
 }
 
@@ -118,7 +125,7 @@ FGSR_INLINE float match_total(float r, ivec2 d, vec2 pred, MatchParams p) {
 
 // Tries displacement d against the best so far: kept when its cost (match cost plus the
 // regularising term toward pred) is lower; the best itself is not evaluated again.
-FGSR_INLINE MatchSearch match_try(float blk[64], ivec2 origin, ivec2 d, vec2 pred, MatchSearch s, MatchParams p) {
+FGSR_INLINE MatchSearch match_try(float blk[32], ivec2 origin, ivec2 d, vec2 pred, MatchSearch s, MatchParams p) {
     if (d == s.best) return s;
     float r = match_cost(blk, origin, d, p);
     float cost = match_total(r, d, pred, p);
@@ -133,13 +140,9 @@ FGSR_INLINE MatchSearch match_try(float blk[64], ivec2 origin, ivec2 d, vec2 pre
 FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
     ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
-    ivec2 last = ivec2(int(p.width) - 1, int(p.height) - 1);
-    float blk[64];
+    float blk[32];
     FGSR_UNROLL for (int y = 0; y < 8; ++y)
-        FGSR_UNROLL for (int x = 0; x < 8; ++x) {
-            ivec2 q = min(origin + ivec2(x, y), last);
-            blk[y * 8 + x] = load_src(p.src_offset + uint(q.y) * p.width + uint(q.x));
-        }
+        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) blk[y * 4 + (x >> 1)] = match_src(origin, x, y, p);
     uint at = p.field_offset + b.y * p.blocks_x + b.x;
     // Each candidate's cost is evaluated once: `raw` keeps the best one's match cost, so that a new
     // prediction only changes the regularising term.
@@ -150,50 +153,81 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     s.raw = match_cost(blk, origin, s.best, p);
     if (s.raw <= MATCH_STILL) { // an unchanged block (a still part of the scene): zero, nothing tried
         store_field(
-            at, vec4(0.0f, 0.0f, s.raw, MATCH_STORES(p, MATCH_STORE_CONTRAST) ? match_contrast(blk) : 0.0f));
+            at, vec4(0.0f, 0.0f, s.raw, MATCH_STORES(p, MATCH_STORE_CONTRAST) ? match_contrast(origin, p) : 0.0f));
         return;
     }
     s.cost = match_total(s.raw, s.best, pred, p);
-    if (MATCH_PROPAGATES(p)) {
-        // Propagation: this block's own first-pass vector and its four neighbours', so that a
-        // good match spreads along a structure (a pole, a floor) that single blocks miss.
-        for (int k = 0; k < 5; ++k) {
-            ivec2 c = ivec2(b) + (k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1)))));
-            s = match_try(blk, origin, ivec2(floor(match_same(c, p.same_offset, p) + 0.5f)), pred, s, p);
+    // The candidates, in this order (one loop, so that the block cost is compiled once, not once
+    // per candidate: llvmpipe compiles a pipeline at its first dispatch, and sixteen inlined
+    // 32-read costs took it seconds per build):
+    //   propagation: this block's own first-pass vector and its four neighbours', so that a good
+    //     match spreads along a structure (a pole, a floor) that single blocks miss;
+    //   the previous submit's vector of this block (motion is coherent in time);
+    //   below the coarsest level, twice the vectors of the parent block and of its three
+    //     neighbours on this block's side; from the first of them on, the prediction is the
+    //     parent's vector.
+    int n_same = MATCH_PROPAGATES(p) ? 5 : 0;
+    int n_temporal = p.temporal_offset != MOTION_NONE ? 1 : 0;
+    int n_coarse = MATCH_BELOW_COARSEST(p) ? 4 : 0;
+    ivec2 parent = ivec2(b) / 2;
+    ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
+    vec2 pred_coarse = n_coarse != 0 ? match_coarse(parent, p) : vec2(0.0f);
+    FGSR_DONT_UNROLL for (int k = 0; k < n_same + n_temporal + n_coarse; ++k) {
+        ivec2 c = ivec2(b);
+        uint offset = p.same_offset;
+        uvec2 dims = uvec2(p.blocks_x, p.blocks_y);
+        float scale = 1.0f;
+        if (k < n_same) {
+            c += k == 0 ? ivec2(0) : (k == 1 ? ivec2(-1, 0) : (k == 2 ? ivec2(1, 0) : (k == 3 ? ivec2(0, -1) : ivec2(0, 1))));
+        } else if (k < n_same + n_temporal) {
+            offset = p.temporal_offset;
+        } else {
+            int j = k - n_same - n_temporal;
+            if (j == 0) {
+                pred = pred_coarse;
+                s.cost = match_total(s.raw, s.best, pred, p);
+            }
+            c = parent + ivec2((j & 1) != 0 ? side.x : 0, (j & 2) != 0 ? side.y : 0);
+            offset = p.coarse_offset;
+            dims = uvec2(p.coarse_blocks_x, p.coarse_blocks_y);
+            scale = 2.0f;
+        }
+        c = clamp(c, ivec2(0), ivec2(dims) - 1);
+        vec4 f = load_field(offset + uint(c.y) * dims.x + uint(c.x));
+        s = match_try(blk, origin, ivec2(floor(scale * vec2(f.x, f.y) + 0.5f)), pred, s, p);
+    }
+    // Then, in one more loop: a candidate that already matches to within MATCH_GOOD needs no
+    // search around it (most blocks of a smooth motion, after the first levels), else the full
+    // integer search of +-radius around it (below the coarsest level a zero best always has its
+    // neighbourhood searched: its bias exceeds MATCH_GOOD); then the sub-pixel fit's four costs
+    // around the best.
+    int w = 2 * p.radius + 1;
+    int n_search = s.cost >= MATCH_GOOD ? w * w - 1 : 0;
+    int n_fit = MATCH_STORES(p, MATCH_STORE_SUBPIXEL) ? 4 : 0;
+    ivec2 centre = s.best;
+    vec4 fit = vec4(0.0f); // costs at best - (1, 0), + (1, 0), - (0, 1), + (0, 1)
+    FGSR_DONT_UNROLL for (int k = 0; k < n_search + n_fit; ++k) {
+        if (k < n_search) {
+            int i = k < (w * w - 1) / 2 ? k : k + 1; // row-major over the square, its centre skipped
+            s = match_try(blk, origin, centre + ivec2(i % w - p.radius, i / w - p.radius), pred, s, p);
+        } else {
+            int j = k - n_search;
+            ivec2 d = s.best + (j == 0 ? ivec2(-1, 0) : (j == 1 ? ivec2(1, 0) : (j == 2 ? ivec2(0, -1) : ivec2(0, 1))));
+            float r = match_cost(blk, origin, d, p);
+            if (j == 0) fit.x = r;
+            else if (j == 1) fit.y = r;
+            else if (j == 2) fit.z = r;
+            else fit.w = r;
         }
     }
-    // The previous submit's vector of this block: motion is coherent in time.
-    if (p.temporal_offset != MOTION_NONE)
-        s = match_try(blk, origin, ivec2(floor(match_same(ivec2(b), p.temporal_offset, p) + 0.5f)), pred, s, p);
-    if (MATCH_BELOW_COARSEST(p)) {
-        ivec2 parent = ivec2(b) / 2;
-        ivec2 side = ivec2((b.x & 1u) != 0u ? 1 : -1, (b.y & 1u) != 0u ? 1 : -1);
-        pred = match_coarse(parent, p);
-        s.cost = match_total(s.raw, s.best, pred, p);
-        for (int k = 0; k < 4; ++k) {
-            ivec2 c = parent + ivec2((k & 1) != 0 ? side.x : 0, (k & 2) != 0 ? side.y : 0);
-            s = match_try(blk, origin, ivec2(floor(match_coarse(c, p) + 0.5f)), pred, s, p);
-        }
-    }
-    // A candidate that already matches to within MATCH_GOOD needs no search around it (most blocks
-    // of a smooth motion, after the first levels): only its sub-pixel fit. Below the coarsest level
-    // a zero best always has its neighbourhood searched (its bias exceeds MATCH_GOOD).
-    if (s.cost >= MATCH_GOOD) {
-        ivec2 centre = s.best;
-        for (int dy = -p.radius; dy <= p.radius; ++dy)
-            for (int dx = -p.radius; dx <= p.radius; ++dx)
-                if (dx != 0 || dy != 0) s = match_try(blk, origin, centre + ivec2(dx, dy), pred, s, p);
-    }
-    float contrast = MATCH_STORES(p, MATCH_STORE_CONTRAST) ? match_contrast(blk) : 0.0f;
-    float z = MATCH_STORES(p, MATCH_STORE_SAD) ? match_sad(blk, origin, s.best, p) : s.raw;
+    float contrast = MATCH_STORES(p, MATCH_STORE_CONTRAST) ? match_contrast(origin, p) : 0.0f;
+    float z = MATCH_STORES(p, MATCH_STORE_SAD) ? match_sad(origin, s.best, p) : s.raw;
     if (!MATCH_STORES(p, MATCH_STORE_SUBPIXEL)) {
         store_field(at, vec4(vec2(s.best), z, contrast));
         return;
     }
-    float sx = match_subpixel(match_cost(blk, origin, s.best - ivec2(1, 0), p), s.raw,
-                              match_cost(blk, origin, s.best + ivec2(1, 0), p));
-    float sy = match_subpixel(match_cost(blk, origin, s.best - ivec2(0, 1), p), s.raw,
-                              match_cost(blk, origin, s.best + ivec2(0, 1), p));
+    float sx = match_subpixel(fit.x, s.raw, fit.y);
+    float sy = match_subpixel(fit.z, s.raw, fit.w);
     vec2 v = vec2(s.best) + vec2(sx, sy);
     store_field(at, vec4(v, z, contrast));
 }
