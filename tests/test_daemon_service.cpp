@@ -877,6 +877,22 @@ TEST(DaemonProcess, SigtermShutsDownCleanlyAndRemovesTheSocket) {
     EXPECT_NE(d->stderr_text().find("shutting down"), std::string::npos);
 }
 
+// --warm-up: the engine's warm-up runs (and is logged) before the socket accepts; then the
+// daemon serves as usual.
+TEST(DaemonProcess, WarmUpRunsBeforeListening) {
+    auto d = FgsrdProcess::start({"--warm-up", "--log-level", "info"});
+    ASSERT_TRUE(d) << FgsrdProcess::last_error();
+    auto c = open_session(d->socket_path());
+    ASSERT_TRUE(c);
+    EXPECT_EQ(roundtrip(*c->s, 0.f).size(), 1u);
+    const std::string err = d->stderr_text();
+    const size_t warmed = err.find("warmed up in"), listening = err.find("listening on");
+    ASSERT_NE(warmed, std::string::npos) << err;
+    ASSERT_NE(listening, std::string::npos) << err;
+    EXPECT_LT(warmed, listening) << err;
+    EXPECT_EQ(err.find("warm-up failed"), std::string::npos) << err;
+}
+
 TEST(DaemonProcess, ClientsBeyondMaxClientsGetBusy) {
     auto d = FgsrdProcess::start({"--max-clients", "1"});
     ASSERT_TRUE(d) << FgsrdProcess::last_error();

@@ -17,6 +17,33 @@ std::unique_ptr<Session> session(const FrameFormat& f = internal_format(W, H), c
     return s ? std::move(*s) : nullptr;
 }
 
+// Engine::warm_up runs every session it describes to the end: two colour-only kinds and one with
+// vectors; the full ones over a still and a panning background, three pairs each, every pair
+// interpolating and extrapolating 1, 2 and 3 frames (2 x 3 x 6 x 2 = 72 frames); the half-float
+// colour-only kind one pair, one frame each way (2). Sessions made afterwards work as before.
+TEST(EngineApi, WarmUpGeneratesEveryFrameOfItsSessions) {
+    auto warmed = engine().warm_up();
+    ASSERT_TRUE(warmed) << warmed.error().message;
+    EXPECT_EQ(*warmed, 72u + 2u + 72u);
+    auto s = session();
+    ASSERT_TRUE(s);
+    const std::vector<float> grey(size_t(W) * H * 4, 0.5f);
+    const std::vector<float> depth(size_t(W) * H, 1.0f);
+    const std::vector<float> mv(size_t(W) * H * 2, 0.0f);
+    FrameView v;
+    v.color = std::as_bytes(std::span(grey));
+    v.depth = std::as_bytes(std::span(depth));
+    v.mv = std::as_bytes(std::span(mv));
+    ASSERT_TRUE(s->submit(v));
+    ASSERT_TRUE(s->submit(v));
+    const float half = 0.5f;
+    auto out = s->interpolate(std::span(&half, 1));
+    ASSERT_TRUE(out) << out.error().message;
+    ASSERT_EQ(out->size(), 1u);
+    for (size_t i = 0; i < (*out)[0].color.rgba.size(); i += 4) // two grey frames: grey between
+        ASSERT_NEAR((*out)[0].color.rgba[i], 0.5f, 1e-3f) << i / 4;
+}
+
 TEST(EngineApi, CreateSessionRejectsBadFormats) {
     FrameFormat f = internal_format(0, 10);
     auto r = engine().create_session(f);

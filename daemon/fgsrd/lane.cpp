@@ -43,6 +43,16 @@ fgsr::Result<std::unique_ptr<Lane>> Lane::start(const Config& config,
             self->device_name_ = owned->device_name();
             self->host_import_alignment_ = owned->host_import_alignment();
             self->calibrated_time_ = owned->calibrated_time();
+            if (self->config_.warm_up) {
+                const uint64_t t0 = fgsr::monotonic_ns();
+                auto warmed = owned->warm_up();
+                const double ms = double(fgsr::monotonic_ns() - t0) / 1e6;
+                if (warmed)
+                    log::info("lane {}: warmed up in {:.0f} ms ({} frames)", self->config_.name, ms, *warmed);
+                else
+                    log::warn("lane {}: warm-up failed after {:.0f} ms: {}", self->config_.name, ms,
+                              warmed.error().message);
+            }
         } else {
             self->engine_error_ = engine.error().message;
         }

@@ -37,6 +37,7 @@ class Lane {
         std::string name;   // for logs: "interactive", "bulk"
         std::string device; // fgsr::DeviceOptions::device
         int nice = 0;       // added to the thread's nice value before the engine starts
+        bool warm_up = false; // run fgsr::Engine::warm_up after creating the engine, before jobs
     };
 
     // Starts the thread and creates the engine on it (driver threads it starts inherit the

@@ -78,6 +78,10 @@ int main(int argc, char** argv) {
     app.add_flag("--allow-any-user", opt.allow_any_user,
                  "Serve clients of any uid (default: only this user, checked with SO_PEERCRED)");
     app.add_flag("--no-zero-copy", no_zero_copy, "Always copy inputs through a staging buffer");
+    app.add_flag("--warm-up", opt.warm_up,
+                 "Before listening, run small sessions through the engine so that the driver compiles "
+                 "its pipelines then, not during the first clients' frames (lavapipe: seconds on a "
+                 "cold shader cache, a fraction of one on a warm one)");
     app.add_option("--http", opt.http_address,
                    "Serve the telemetry dashboard, /metrics and /trace.json on HOST:PORT (read-only; port 0 "
                    "picks one; the URL is printed on stdout). Off by default");

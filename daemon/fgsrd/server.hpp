@@ -47,6 +47,10 @@ struct Options {
     // "Spinning").
     uint32_t spin_us = 0;
     bool allow_any_user = false; // else only peers with the daemon's uid (SO_PEERCRED)
+    // Before listening, run the engine's warm-up (fgsr::Engine::warm_up): drivers that compile a
+    // pipeline at its first dispatch (llvmpipe: seconds per pipeline on a cold shader cache) do
+    // it then, not during the first sessions' frames.
+    bool warm_up = false;
     bool zero_copy = true;       // import input pools into the device where it can
     // The telemetry dashboard (http_server.hpp): off unless http_address is set ("HOST:PORT",
     // loopback only unless http_allow_remote). The chosen URL is printed on stdout.

@@ -118,8 +118,10 @@ class LayerE2E : public ::testing::Test {
         if (!HasFailure()) std::filesystem::remove_all(dir_, ec);
     }
 
+    // With --warm-up, as the systemd unit starts it: on a cold shader cache, llvmpipe compiling
+    // the colour-only pipelines at the first frames would drop the first seconds' generated frames.
     void start_daemon(const std::vector<std::string>& extra = {}) {
-        std::vector<std::string> args = {"--log-level", "info"};
+        std::vector<std::string> args = {"--log-level", "info", "--warm-up"};
         args.insert(args.end(), extra.begin(), extra.end());
         daemon_ = FgsrdProcess::start(args);
         ASSERT_TRUE(daemon_) << FgsrdProcess::last_error();
