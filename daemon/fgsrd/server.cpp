@@ -439,7 +439,8 @@ int Server::run() {
         log::error("eventfd: {}", std::strerror(errno));
         return 1;
     }
-    auto interactive = Lane::start(Lane::Config{"interactive", opt_.device, 0, opt_.warm_up}, deliver(), true);
+    auto interactive =
+        Lane::start(Lane::Config{"interactive", opt_.device, 0, opt_.warm_up}, deliver(), true);
     if (!interactive) {
         log::error("cannot start the engine: {}", interactive.error().message);
         return 1;
