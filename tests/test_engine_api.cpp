@@ -20,11 +20,13 @@ std::unique_ptr<Session> session(const FrameFormat& f = internal_format(W, H), c
 // Engine::warm_up runs every session it describes to the end: two colour-only kinds and one with
 // vectors; the full ones over a still and a panning background, three pairs each, every pair
 // interpolating and extrapolating 1, 2 and 3 frames (2 x 3 x 6 x 2 = 72 frames); the half-float
-// colour-only kind one pair, one frame each way (2). Sessions made afterwards work as before.
+// colour-only kind one pair, one frame each way (2); super resolution x2 over both backgrounds,
+// the super-resolved frame of each of 4 submits and one frame each way at 3 pairs (2 x 10 = 20).
+// Sessions made afterwards work as before.
 TEST(EngineApi, WarmUpGeneratesEveryFrameOfItsSessions) {
     auto warmed = engine().warm_up();
     ASSERT_TRUE(warmed) << warmed.error().message;
-    EXPECT_EQ(*warmed, 72u + 2u + 72u);
+    EXPECT_EQ(*warmed, 20u + 72u + 2u + 72u);
     auto s = session();
     ASSERT_TRUE(s);
     const std::vector<float> grey(size_t(W) * H * 4, 0.5f);

@@ -93,7 +93,8 @@ Result<uint32_t> Engine::warm_up() {
         bool passes;  // every pass (else only the first pair, for the ingest build of the format)
     };
     // The layer's sessions (colour only; 8-bit and HDR swapchains), then the client library's.
-    // Builds differ by format only in ingest.
+    // Builds differ by format only in ingest. Every count at every pair: 2 backgrounds x 3 pairs
+    // x (1 + 2 + 3) x 2 directions = 72 frames a full kind, 2 for the other.
     constexpr std::array<Kind, 3> kinds{{{ColorFormat::rgba8_srgb, false, true},
                                          {ColorFormat::rgba16f_linear, false, false},
                                          {ColorFormat::rgba16f_linear, true, true}}};
@@ -103,6 +104,39 @@ Result<uint32_t> Engine::warm_up() {
         std::span<const float>(alphas.data(), 2),     // 2 (any two alphas take the same builds)
         std::span<const float>(alphas.data(), 3)};    // 3
     uint32_t generated = 0;
+    // Super resolution x2 (half float with vectors and depth, the client library's): the
+    // super-resolved frame of every submit, one frame interpolated and extrapolated (ISR, ESR) at
+    // every pair, over the still and the panning background: 2 x (4 + 3 x 2) = 20 frames.
+    for (const bool pan : {false, true}) {
+        FrameFormat f;
+        f.width = kWidth / 2;
+        f.height = kHeight / 2;
+        f.color_format = ColorFormat::rgba16f_linear;
+        f.mv_format = MvFormat::rg16f;
+        Params params;
+        params.scale = 2.0f;
+        auto session = create_session(f, params);
+        if (!session) return session.error();
+        for (uint32_t k = 0; k < 4; ++k) {
+            const Frame frame = render(f, k, pan);
+            FrameView view;
+            view.color = frame.color;
+            view.depth = frame.depth;
+            view.mv = frame.mv;
+            view.jitter_x = k % 2 == 0 ? -0.25f : 0.25f;
+            view.jitter_y = k / 2 == 0 ? -0.25f : 0.25f;
+            if (auto r = (*session)->submit(view); !r) return r.error();
+            auto sr = (*session)->super_resolved();
+            if (!sr) return sr.error();
+            ++generated;
+            if (k == 0) continue;
+            auto in = (*session)->interpolate(per_pair[0]);
+            if (!in) return in.error();
+            auto ex = (*session)->extrapolate(per_pair[0]);
+            if (!ex) return ex.error();
+            generated += uint32_t(in->size() + ex->size());
+        }
+    }
     for (const Kind& kind : kinds) {
         FrameFormat f;
         f.width = kWidth;

@@ -192,7 +192,8 @@ class Engine {
 
     // Runs small sessions through the passes the usual sessions take (colour-only in 8-bit sRGB
     // and half float, half float with vectors and depth; 1, 2 and 3 frames a pair interpolated and
-    // extrapolated; a mover over a still background, so that tiles both skip and do not), so that
+    // extrapolated; super resolution x2 with ISR and ESR; a mover over a still and over a panning
+    // background, so that tiles both skip and do not), so that
     // a driver that compiles a pipeline at its first dispatch (llvmpipe) does it here, not during
     // a client's first frames. Returns the frames generated. Takes about as long as the first
     // frames would have; with the driver's shader cache warm, a fraction of a second.
