@@ -25,6 +25,9 @@ float texel(uint32_t x, uint32_t y, uint32_t seed) {
 
 struct Frame {
     std::vector<std::byte> color, depth, mv;
+    FrameView view(float jitter_x = 0.f, float jitter_y = 0.f) const {
+        return FrameView{color, depth, mv, jitter_x, jitter_y};
+    }
 };
 
 // Frame k: the mover (its own texture, travelling with it) at x = 16 + k * kStep over the
@@ -119,12 +122,7 @@ Result<uint32_t> Engine::warm_up() {
         if (!session) return session.error();
         for (uint32_t k = 0; k < 4; ++k) {
             const Frame frame = render(f, k, pan);
-            FrameView view;
-            view.color = frame.color;
-            view.depth = frame.depth;
-            view.mv = frame.mv;
-            view.jitter_x = k % 2 == 0 ? -0.25f : 0.25f;
-            view.jitter_y = k / 2 == 0 ? -0.25f : 0.25f;
+            const FrameView view = frame.view(k % 2 == 0 ? -0.25f : 0.25f, k / 2 == 0 ? -0.25f : 0.25f);
             if (auto r = (*session)->submit(view); !r) return r.error();
             auto sr = (*session)->super_resolved();
             if (!sr) return sr.error();
@@ -153,11 +151,7 @@ Result<uint32_t> Engine::warm_up() {
             const uint32_t frames = kind.passes ? 4 : 2;
             for (uint32_t k = 0; k < frames; ++k) {
                 const Frame frame = render(f, k, pan);
-                FrameView view;
-                view.color = frame.color;
-                view.depth = frame.depth;
-                view.mv = frame.mv;
-                if (auto r = (*session)->submit(view); !r) return r.error();
+                if (auto r = (*session)->submit(frame.view()); !r) return r.error();
                 if (k == 0) continue;
                 // Every count at every pair: the builds differ with the count and with the frames
                 // behind (the first pair has no frame before it).
