@@ -9,11 +9,7 @@ layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
-#ifdef FGSR_TILED
-layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; }; // tiles.h reads it
-#else
-layout(std430, binding = GEN_MOTION) readonly buffer Motion { u64vec2 motion[]; }; // vec4 (load64.h)
-#endif
+layout(std430, binding = GEN_MOTION) readonly buffer Motion { u64vec2 motion[]; }; // (m1, m0) per source (vec4)
 layout(std430, binding = GENERATE_COLOR0) readonly buffer Color0 { uint64_t color0[]; }; // pack_color (uvec2, load64.h)
 layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { uint64_t color1[]; }; // pack_color (uvec2)
 layout(std430, binding = GENERATE_OUTPUT) writeonly buffer Output { u64vec2 outp[]; }; // vec4
@@ -23,6 +19,8 @@ vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+vec4 load_source_motion(uint i) { return as_vec4(motion[i]); }
+#include "motion.h"
 #ifdef FGSR_TILED
 // Over the tiles classify and splat listed (moving or dirty); classify wrote the others.
 layout(std430, binding = GENERATE_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
@@ -31,7 +29,7 @@ layout(std430, binding = GENERATE_COUNT + TILED_FLAGS) readonly buffer Flags { u
 #include "tiles.h"
 #else
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
-vec4 load_motion(uint src) { return as_vec4(motion[src]); }
+vec4 load_motion(uint src) { return source_field_vectors(src, pc.g); }
 #endif
 vec4 load_color0(ivec2 q) { return unpack_color(as_uvec2(color0[q.y * int(pc.g.width) + q.x])); }
 vec4 load_color1(ivec2 q) { return unpack_color(as_uvec2(color1[q.y * int(pc.g.width) + q.x])); }

@@ -12,7 +12,7 @@ layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
-layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; };
+layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; }; // (m1, m0) per source
 layout(std430, binding = GENSR_COLOR0) readonly buffer Color0 { uvec2 color0[]; }; // pack_color
 layout(std430, binding = GENSR_COLOR1) readonly buffer Color1 { uvec2 color1[]; };
 layout(std430, binding = GENSR_SRC) readonly buffer Src { vec4 src[]; };
@@ -20,8 +20,11 @@ layout(std430, binding = GENSR_LUT) readonly buffer Lut { vec4 lut[]; };
 layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { vec4 outp[]; };
 
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
+vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+vec4 load_source_motion(uint i) { return motion[i]; }
+#include "motion.h"
 #ifdef FGSR_TILED
 layout(std430, binding = GENSR_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
 layout(std430, binding = GENSR_COUNT + TILED_FLAGS) readonly buffer Flags { uint tile_flags[]; };
@@ -40,7 +43,7 @@ uint64_t load_key(ivec2 q) {
 vec4 load_motion(uint i) { return vec4(0.0f); }
 #elif !defined(FGSR_TILED)
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
-vec4 load_motion(uint i) { return motion[i]; }
+vec4 load_motion(uint i) { return source_field_vectors(i, pc.g); }
 #endif
 vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
 vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }

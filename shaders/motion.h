@@ -17,6 +17,7 @@
 //   float load_depth1(ivec2 pixel)
 //   vec2  load_mv0(ivec2 pixel)     frame 0 vectors (only called when frame0_has_mv != 0)
 //   float load_depth0(ivec2 pixel)
+//   vec4  load_source_motion(uint source)  splat's motion (m1, m0) of a frame-1 pixel (splat.h)
 
 // source_motion returns vec4(p_target.xy, p0.xy) for the surface point at pixel `p1` of frame 1:
 // its position at the generated time (alpha for interpolation, 1 + alpha for extrapolation) and in
@@ -94,4 +95,20 @@ FGSR_INLINE vec4 motion_at(vec2 c1, vec4 m, float a, GenParams g) {
 
 FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
     return motion_at(vec2(p1) + vec2(0.5f), source_velocities(p1, g), g.alpha, g);
+}
+
+// The field vectors (v0, v1) of the frame-1 pixel `source` (y * width + x) at the generated time
+// g.alpha: the displacements from its position then to its position in frame 0 and in frame 1.
+// splat stores a source's motion (m1, m0) once for all the alphas of a call
+// (store_source_motion); refine, disocc, generate and generate_sr recompute a splatted pixel's
+// vectors here with the same motion_at from the same values, so they are the position splat used.
+// (Stored per alpha, the field vectors were two stores per source and alpha on lavapipe: about a
+// fifth of a one-frame splat and most of what each further frame of a pair added to it.)
+FGSR_INLINE vec4 source_field_vectors(uint source, GenParams g) {
+    uint y = udiv(source, g.width);
+    ivec2 p1 = ivec2(int(source - y * g.width), int(y));
+    vec2 c1 = vec2(p1) + vec2(0.5f);
+    vec4 pos = motion_at(c1, load_source_motion(source), g.alpha, g);
+    vec2 pt = vec2(pos.x, pos.y);
+    return vec4(vec2(pos.z, pos.w) - pt, c1 - pt);
 }

@@ -19,13 +19,14 @@ layout(std430, binding = GEN_MV0) readonly buffer Mv0 { uint64_t mv0[]; };      
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = GEN_KEYS) buffer Keys { uint64_t keys[]; };
-layout(std430, binding = GEN_MOTION) writeonly buffer Motion { u64vec2 motion[]; }; // vec4
+layout(std430, binding = GEN_MOTION) buffer Motion { u64vec2 motion[]; }; // (m1, m0) per source (vec4)
 #include "load64.h"
 
 vec2 load_mv1(ivec2 q) { return as_vec2(mv1[q.y * int(pc.g.width) + q.x]); }
 vec2 load_mv0(ivec2 q) { return as_vec2(mv0[q.y * int(pc.g.width) + q.x]); }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+vec4 load_source_motion(uint i) { return as_vec4(motion[i]); } // motion.h's source_field_vectors (not called here)
 #ifdef FGSR_TILED
 // Splat over the moving tiles only (classify.h); marks the static tiles it lands in dirty.
 layout(std430, binding = SPLAT_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
@@ -61,7 +62,7 @@ void splat_min(uint slice, uint i, uint64_t key) {
     mark_dirty(i); // tiled splats are single-alpha (slice 0)
 #endif
 }
-void store_motion(uint slice, uint i, vec4 m) { motion[slice * pc.stride + i] = as_u64vec2(m); }
+void store_source_motion(uint i, vec4 m) { motion[i] = as_u64vec2(m); }
 
 #include "field.h"
 #include "motion.h"

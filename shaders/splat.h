@@ -2,20 +2,21 @@
 // at the generated time. Conflicts resolve toward the nearest depth with one 64-bit atomicMin on
 // (depth bits << 32 | source index): positive float bits order like the floats, and the source
 // index breaks ties deterministically. Positions off screen are dropped, never wrapped. Every
-// source also stores its field vectors (v0, v1): the displacement from its position at the
-// generated time to its position in frame 0 and in frame 1, so that later passes read one vec4 per
-// splatted pixel instead of recomputing the motion.
+// source also stores its motion (m1, m0) as motion.h chose it (m0: the vector under its frame-0
+// position, or m1 where the model falls back to uniform velocity), from which the later passes
+// recompute a splatted pixel's field vectors (motion.h, source_field_vectors) without the
+// frame-0 search.
 //
 // One dispatch splats up to FGSR_SPLAT_ALPHAS generated frames of the same pair (the alphas of one
-// call): the alpha-independent part (the source's vectors, motion.h's frame-0 search, its depth)
-// is read and computed once per source pixel, then each alpha gets its own key and field vectors
-// (slice k of the keys and of the field vectors).
+// call): the alpha-independent part (the source's vectors, motion.h's frame-0 search, its depth,
+// its motion) is read, computed and stored once per source pixel, then each alpha gets its own key
+// (slice k of the keys).
 //
 // Entry provides (besides motion.h's loads):
 //   uint  splat_count()        alphas of this dispatch
 //   float splat_alpha(uint k)  alpha k (the generated time as GenParams::alpha means it)
 //   void  splat_min(uint slice, uint target_index, uint64_t key)
-//   void  store_motion(uint slice, uint source_index, vec4 field_vectors)
+//   void  store_source_motion(uint source_index, vec4 motion)  (m1, m0)
 
 FGSR_INLINE void splat_pixel(ivec2 p1, GenParams g) {
     if (!inside(p1, g)) return;
@@ -24,10 +25,10 @@ FGSR_INLINE void splat_pixel(ivec2 p1, GenParams g) {
     vec2 c1 = vec2(p1) + vec2(0.5f);
     uint src = uint(p1.y) * g.width + uint(p1.x);
     uint64_t key = (uint64_t(floatBitsToUint(d1)) << 32) | uint64_t(src);
+    store_source_motion(src, m);
     for (uint k = 0u; k < splat_count(); ++k) {
         vec4 pos = motion_at(c1, m, splat_alpha(k), g);
         vec2 pt = vec2(pos.x, pos.y);
-        store_motion(k, src, vec4(vec2(pos.z, pos.w) - pt, c1 - pt));
         if (!(abs(pt.x) < 1.0e7f && abs(pt.y) < 1.0e7f)) continue;
         ivec2 t = ivec2(floor(pt));
         if (!inside(t, g)) continue;

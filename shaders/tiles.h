@@ -5,15 +5,6 @@
 // Entry declares, in the FGSR_TILED variants: uint tile_list[] (the list it iterates, binding
 // <PASS>_COUNT + TILED_LIST). classify uses only tile_index and TILE_APPEND.
 
-// a / b for quotients below 2^23, b >= 1. Integer division by a non-constant is not vectorised on
-// CPU devices (lavapipe scalarises it: the tiled passes were measured 2-3x slower with it), float
-// division is; the float quotient is within 1 of the true one, and one integer step corrects it.
-uint udiv(uint a, uint b) {
-    uint q = uint(float(a) / float(b));
-    if (q * b > a) return q - 1u;
-    return a - q * b >= b ? q + 1u : q;
-}
-
 // log2 of a tile side (8, 16 or 32): tile coordinates are shifts, not divisions.
 uint tile_shift(uint side) { return side == 8u ? 3u : (side == 16u ? 4u : 5u); }
 
@@ -83,7 +74,7 @@ uint tile_index(ivec2 p, uint width, uint side) {
 // Keys and field vectors as a full splat leaves them, where classify wrote neither for static
 // tiles: a static source splats onto itself (own key, zero vectors), so a pixel of a static tile
 // holds the nearer of its own key and what the moving tiles splatted there (keys[], filled empty
-// by the host). Entry declares keys[], motion[], tile_flags[] and tile_list[].
+// by the host). Entry declares keys[], tile_flags[] and tile_list[], and includes motion.h.
 uint64_t load_key(ivec2 q) {
     uint64_t k = keys[q.y * int(pc.g.width) + q.x];
     if ((tile_flags[tile_index(q, pc.g.width, tile_list[4])] & TILE_STATIC) == 0u) return k;
@@ -94,6 +85,7 @@ uint64_t load_key(ivec2 q) {
 vec4 load_motion(uint i) {
     uint y = udiv(i, pc.g.width);
     ivec2 q = ivec2(int(i - y * pc.g.width), int(y));
-    return (tile_flags[tile_index(q, pc.g.width, tile_list[4])] & TILE_STATIC) != 0u ? vec4(0.0f) : motion[i];
+    return (tile_flags[tile_index(q, pc.g.width, tile_list[4])] & TILE_STATIC) != 0u ? vec4(0.0f)
+                                                                                  : source_field_vectors(i, pc.g);
 }
 #endif

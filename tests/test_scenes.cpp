@@ -152,7 +152,8 @@ TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
             const glm::ivec2 px(16, 8);
             const size_t i = size_t(px.y) * w + size_t(px.x);
             const glm::vec2 c1 = glm::vec2(px) + 0.5f, p0 = c1 - c.m1;
-            const glm::vec2 pt = c1 - glm::vec2(sp.motion[i].z, sp.motion[i].w);
+            const glm::vec4 v = ref::source_field_vectors(f0, f1, sp, uint32_t(i), g);
+            const glm::vec2 pt = c1 - glm::vec2(v.z, v.w);
             const glm::vec2 accel = 0.5f * a * a * (c.m1 - c.m0);
             const glm::vec2 parabola =
                 extrap ? c1 + 0.5f * a * (3.f * c.m1 - c.m0) + accel : p0 + 0.5f * a * (c.m1 + c.m0) + accel;
@@ -162,6 +163,11 @@ TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
                 << "m1 (" << c.m1.x << ", " << c.m1.y << "), m0 (" << c.m0.x << ", " << c.m0.y << "), "
                 << (extrap ? "extrapolation" : "interpolation") << ": at (" << pt.x << ", " << pt.y << ")";
             EXPECT_GT(glm::length(parabola - uniform), 0.1f); // the cases tell the two apart
+            // The vectors the later passes recompute from splat's m0 are the position splat used:
+            // under this uniform motion the pixel holding pt holds exactly this source's key.
+            const glm::ivec2 t(glm::floor(pt));
+            ASSERT_TRUE(t.x >= 0 && t.y >= 0 && t.x < int(w) && t.y < int(h));
+            EXPECT_EQ(sp.keys[size_t(t.y) * w + size_t(t.x)] & 0xffffffffu, uint64_t(i));
         }
 }
 

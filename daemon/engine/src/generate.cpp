@@ -20,13 +20,15 @@ Result<void> Session::Impl::ensure_outputs(size_t count) {
 }
 
 Result<void> Session::Impl::ensure_splat_slices(uint32_t count) {
-    if (splat_slices >= count) return {};
-    const VkDeviceSize elems = VkDeviceSize(splat_stride) * count;
-    for (auto [b, bytes] : {std::pair{&keys, elems * 8}, std::pair{&motion, elems * 16}}) {
-        auto r = vk::Buffer::create(*ctx, bytes, false);
+    if (!motion.handle()) {
+        auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * 16, false); // (m1, m0) per source
         if (!r) return r.error();
-        *b = std::move(*r);
+        motion = std::move(*r);
     }
+    if (splat_slices >= count) return {};
+    auto r = vk::Buffer::create(*ctx, VkDeviceSize(splat_stride) * count * 8, false);
+    if (!r) return r.error();
+    keys = std::move(*r);
     splat_slices = count;
     return {};
 }
@@ -253,7 +255,7 @@ Result<Session::Intermediates> Session::read_intermediates() const {
     auto keys = s.rec.download<uint64_t>(s.keys, s.n, at);
     if (!keys) return keys.error();
     out.keys = std::move(*keys);
-    auto motion = s.rec.download<float>(s.motion, s.n * 4, at * 4);
+    auto motion = s.rec.download<float>(s.motion, s.n * 4);
     if (!motion) return motion.error();
     out.motion = std::move(*motion);
     if (s.tiles.last_tiled && s.last_output < s.tiles.sets.size()) {

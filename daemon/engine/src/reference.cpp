@@ -61,7 +61,8 @@ struct SplatCpu : FramesCpu {
     uint splat_count() const { return 1u; }
     float splat_alpha(uint) const { return alpha; }
     void splat_min(uint, uint i, uint64_t key) { out->keys[i] = std::min(out->keys[i], key); }
-    void store_motion(uint, uint i, vec4 m) { out->motion[i] = m; }
+    void store_source_motion(uint i, vec4 m) { out->motion[i] = m; }
+    vec4 load_source_motion(uint i) const { return out->motion[i]; }
 #include "field.h"
 #include "motion.h"
 #include "splat.h"
@@ -69,9 +70,12 @@ struct SplatCpu : FramesCpu {
 
 struct KeysCpu : FramesCpu {
     const ref::Splat* splat;
+    GenParams gen; // the generated frame's (load_motion)
     uint64_t load_key(ivec2 q) const { return splat->keys[at(q)]; }
-    vec4 load_motion(uint src) const { return splat->motion[src]; }
+    vec4 load_source_motion(uint src) const { return splat->motion[src]; }
 #include "field.h"
+#include "motion.h"
+    vec4 load_motion(uint src) { return source_field_vectors(src, gen); }
 #include "refine.h"
 #include "disocc.h"
 };
@@ -192,7 +196,7 @@ std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame&
                                    const std::vector<glm::vec4>& src, const GenParams& g, const SrParams& s,
                                    std::span<const float> lut) {
     std::vector<glm::vec4> out(size_t(s.hr_width) * s.hr_height);
-    gpu::GenerateSrCpu cpu{{{&f0, &f1}, &sp}, &src, lut, s.hr_width};
+    gpu::GenerateSrCpu cpu{{{&f0, &f1}, &sp, g}, &src, lut, s.hr_width};
     for (uint32_t y = 0; y < s.hr_height; ++y)
         for (uint32_t x = 0; x < s.hr_width; ++x)
             out[size_t(y) * s.hr_width + x] = cpu.generate_sr_pixel(glm::ivec2(int(x), int(y)), g, s);
@@ -239,10 +243,16 @@ Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g
     return out;
 }
 
+glm::vec4 source_field_vectors(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
+                               uint32_t source, const GenParams& g) {
+    gpu::KeysCpu cpu{{&f0, &f1}, &splat, g};
+    return cpu.load_motion(source);
+}
+
 Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, const GenParams& g) {
     const size_t n = size_t(g.width) * g.height;
     Field field{std::vector<glm::vec4>(n), std::vector<float>(n), std::vector<uint32_t>(n)};
-    gpu::KeysCpu cpu{{&f0, &f1}, &splat};
+    gpu::KeysCpu cpu{{&f0, &f1}, &splat, g};
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
         auto f = cpu.refine_field(q, g);
         const size_t i = cpu.at(q);
@@ -255,7 +265,7 @@ Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& spla
 
 void disocc(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, Field& field,
             const GenParams& g) {
-    gpu::KeysCpu cpu{{&f0, &f1}, &splat};
+    gpu::KeysCpu cpu{{&f0, &f1}, &splat, g};
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
         const size_t i = cpu.at(q);
         if (field.state[i] != kFieldHole) return;
@@ -299,7 +309,7 @@ std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const Gen
 std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
                                       const GenParams& g) {
     std::vector<glm::vec4> out(size_t(g.width) * g.height);
-    gpu::GenerateCpu cpu{{{&f0, &f1}, &splat}, &out};
+    gpu::GenerateCpu cpu{{{&f0, &f1}, &splat, g}, &out};
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) { cpu.generate_pixel(q, g); });
     return out;
 }

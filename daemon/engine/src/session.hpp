@@ -76,9 +76,10 @@ struct Session::Impl {
         NoiseEstimate estimate; // of the last submit
     } denoiser;
 
-    // Intermediates of one generated frame (generate.cpp), reused by each alpha in turn; keys and
-    // motion hold splat_slices slices of splat_stride elements (one per alpha of a splat dispatch,
-    // FGSR_SPLAT_ALPHAS at most; one until a call asks for more frames).
+    // Intermediates of one generated frame (generate.cpp), reused by each alpha in turn; keys
+    // hold splat_slices slices of splat_stride elements (one per alpha of a splat dispatch,
+    // FGSR_SPLAT_ALPHAS at most; one until a call asks for more frames). motion: the motion (m1, m0)
+    // splat chose per frame-1 pixel (vec4; shaders/splat.h), one for all alphas.
     vk::Buffer keys, motion, field, field_depth, field_state, warped_color0, warped_depth0, warped_color1,
         warped_depth1;
     uint32_t splat_stride = 0, splat_slices = 0;
@@ -86,7 +87,7 @@ struct Session::Impl {
     // generate.comp FGSR_GENERATE_SPLIT) finishes in its second pass: a tile list's header, then
     // one entry per pixel (created on first use).
     vk::Buffer gap_list;
-    uint32_t last_slice = 0;         // slice of the keys and motion of the last generated frame
+    uint32_t last_slice = 0;         // slice of the keys of the last generated frame
     std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
     bool last_extrapolate = false;
     bool last_separate = false;
@@ -152,7 +153,7 @@ struct Session::Impl {
     // generate.cpp
     // The bindings (GEN_*) of frame 1, frame 0 and the splat keys and motion that splat, refine,
     // disocc, generate, generate_sr and classify (generate mode) share.
-    // `slice`: the keys and motion of that slice only; kAllSlices: the whole buffers (splat).
+    // `slice`: the keys of that slice only; kAllSlices: the whole buffer (splat).
     static constexpr uint32_t kAllSlices = ~0u;
     using GenFrames = At<GEN_MV1, GEN_MV0, GEN_DEPTH1, GEN_DEPTH0, GEN_KEYS, GEN_MOTION>;
     GenFrames generated_frames(uint32_t slice = 0) const {
@@ -160,11 +161,10 @@ struct Session::Impl {
         const GpuFrame& f0 = frames[size_t(1 - newest)];
         if (slice == kAllSlices) return GenFrames{{f1.mv, f0.mv, f1.depth, f0.depth, keys, motion}};
         const VkDeviceSize at = VkDeviceSize(slice) * splat_stride;
-        return GenFrames{{f1.mv, f0.mv, f1.depth, f0.depth,
-                          BufRef(keys.handle(), at * 8, VkDeviceSize(n) * 8),
-                          BufRef(motion.handle(), at * 16, VkDeviceSize(n) * 16)}};
+        return GenFrames{
+            {f1.mv, f0.mv, f1.depth, f0.depth, BufRef(keys.handle(), at * 8, VkDeviceSize(n) * 8), motion}};
     }
-    // Grows keys and motion to `count` slices (contents lost).
+    // Grows keys to `count` slices (contents lost); creates motion.
     Result<void> ensure_splat_slices(uint32_t count);
     // splat's push block for alphas[first, first + count) (tiled: count 1).
     gpu::SplatParams splat_params(const gpu::GenParams& g, std::span<const float> alphas) const;

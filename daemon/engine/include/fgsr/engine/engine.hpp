@@ -266,7 +266,7 @@ class Session {
         // With Params::skip_tiles, static tiles hold only what moving tiles splatted there (their
         // own keys and zero vectors are implied, shaders/tiles.h).
         std::vector<uint64_t> keys;
-        std::vector<float> motion; // 4 per frame-1 pixel: v0.xy, v1.xy (see ref::Splat)
+        std::vector<float> motion; // 4 per frame-1 pixel: m1.xy, m0.xy, its motion (see ref::Splat)
         std::vector<float> field;  // 4 per pixel: v0.xy, v1.xy
         std::vector<float> field_depth;
         std::vector<uint32_t> field_state;

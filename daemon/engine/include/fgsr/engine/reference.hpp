@@ -42,8 +42,9 @@ struct InternalFrame {
 enum FieldState : uint32_t { kFieldSplatted = 0, kFieldGapFilled = 1, kFieldHole = 2, kFieldHoleFilled = 3 };
 
 // Output of splat: per target pixel the 64-bit key (depth bits << 32 | source index, all ones
-// when empty), per frame-1 pixel its field vectors (v0, v1): displacements from its position at the
-// generated time to its positions in frame 0 and frame 1.
+// when empty), per frame-1 pixel its motion (m1, m0) as splat's motion model chose it
+// (shaders/motion.h source_velocities; m0 = m1 for uniform velocity), the same for every alpha of
+// the pair.
 struct Splat {
     std::vector<uint64_t> keys;
     std::vector<glm::vec4> motion;
@@ -88,6 +89,11 @@ std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame&
 
 // Passes of frame generation; f0 is the older frame, f1 the newer one.
 Splat splat(const InternalFrame& f0, const InternalFrame& f1, const GenParams& g);
+// The field vectors (v0, v1) of frame-1 pixel `source` at g.alpha (shaders/motion.h,
+// source_field_vectors): displacements from its position at the generated time to its positions in
+// frame 0 and frame 1, as the passes after splat recompute them from `splat`'s motion.
+glm::vec4 source_field_vectors(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
+                               uint32_t source, const GenParams& g);
 Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, const GenParams& g);
 void disocc(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, Field& field,
             const GenParams& g);
