@@ -104,11 +104,14 @@ FGSR_INLINE vec4 source_motion(ivec2 p1, GenParams g) {
 // vectors here with the same motion_at from the same values, so they are the position splat used.
 // (Stored per alpha, the field vectors were two stores per source and alpha on lavapipe: about a
 // fifth of a one-frame splat and most of what each further frame of a pair added to it.)
-FGSR_INLINE vec4 source_field_vectors(uint source, GenParams g) {
-    uint y = udiv(source, g.width);
-    ivec2 p1 = ivec2(int(source - y * g.width), int(y));
+// p1: the source's pixel (tiles.h has it already).
+FGSR_INLINE vec4 field_vectors_at(ivec2 p1, uint source, GenParams g) {
     vec2 c1 = vec2(p1) + vec2(0.5f);
     vec4 pos = motion_at(c1, load_source_motion(source), g.alpha, g);
     vec2 pt = vec2(pos.x, pos.y);
     return vec4(vec2(pos.z, pos.w) - pt, c1 - pt);
+}
+FGSR_INLINE vec4 source_field_vectors(uint source, GenParams g) {
+    uint y = udiv(source, g.width);
+    return field_vectors_at(ivec2(int(source - y * g.width), int(y)), source, g);
 }

@@ -86,6 +86,6 @@ vec4 load_motion(uint i) {
     uint y = udiv(i, pc.g.width);
     ivec2 q = ivec2(int(i - y * pc.g.width), int(y));
     return (tile_flags[tile_index(q, pc.g.width, tile_list[4])] & TILE_STATIC) != 0u ? vec4(0.0f)
-                                                                                  : source_field_vectors(i, pc.g);
+                                                                                  : field_vectors_at(q, i, pc.g);
 }
 #endif
