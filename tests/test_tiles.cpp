@@ -430,6 +430,88 @@ TEST(Tiles, OrbitSrOnOff) {
     shared_capture_on_off("blender/orbit-sr", false, true);
 }
 
+// The adaptive fallback (daemon/engine/src/session.hpp, kUnclassifiedRun): on content that keeps
+// moving, a call classifies after 7, 15, 31 and then every 63 unclassified calls; those calls
+// after a miss only probe (classify, then every pass over every tile: nothing skipped). Content
+// that turns still is found by the next probe and classified from the call after it on, at every
+// call; motion after that starts again at 7. Which calls classified is read from the passes each
+// call reports; the expected calls follow from the rule, not from a run. Every frame equals the
+// one of a session without skipping (the tolerance of this file).
+TEST(Tiles, ClassifiesMovingContentLessAndLessOften) {
+    const uint32_t w = 64, h = 48;
+    auto s = engine().create_session(internal_format(w, h), Params{});
+    ASSERT_TRUE(s) << s.error().message;
+    Params no_skip;
+    no_skip.skip_tiles = false;
+    auto off = engine().create_session(internal_format(w, h), no_skip);
+    ASSERT_TRUE(off) << off.error().message;
+    const RawFrame still = scene_frame(w, h, 0, 0.f, false); // zero vectors: every tile static
+    const RawFrame first = random_frame(w, h, 1000, 4.f);
+    ASSERT_TRUE((*s)->submit(first.view()));
+    ASSERT_TRUE((*off)->submit(first.view()));
+    const float alpha = 0.5f;
+    // Call i submits a new input, then interpolates: moving content (random vectors in every tile)
+    // for calls [0, 130), still for [130, 190) (the first still pair is call 131), moving again
+    // from 190.
+    std::vector<int> classified;
+    for (int i = 0; i < 210; ++i) {
+        const bool moving = i < 130 || i >= 190;
+        const RawFrame f = moving ? random_frame(w, h, uint32_t(i), 4.f) : RawFrame{};
+        ASSERT_TRUE((*s)->submit(moving ? f.view() : still.view())) << "call " << i;
+        ASSERT_TRUE((*off)->submit(moving ? f.view() : still.view())) << "call " << i;
+        auto g = (*s)->interpolate(std::span(&alpha, 1));
+        ASSERT_TRUE(g) << g.error().message;
+        auto plain = (*off)->interpolate(std::span(&alpha, 1));
+        ASSERT_TRUE(plain) << plain.error().message;
+        EXPECT_LE(compare((*g)[0].color, (*plain)[0].color).max_abs, kRelTolerance) << "call " << i;
+        const std::vector<PassTiming>& passes = (*g)[0].passes;
+        bool c = false;
+        for (const PassTiming& p : passes) c = c || p.name == "classify";
+        if (c) classified.push_back(i);
+        if (i == 8 || i == 24 || i == 56 || i == 120 || i == 184) { // probes: nothing skipped
+            ASSERT_EQ(passes.size(), 3u) << "call " << i;
+            EXPECT_EQ(passes[0].name, "classify");
+            EXPECT_EQ(passes[0].tiles_total, 12u); // 4 x 3 tiles of 16 px
+            EXPECT_EQ(passes[1].tiles_skipped, 0u);
+            EXPECT_EQ(passes[2].tiles_skipped, 0u);
+        }
+        if (i == 186) { // a still pair after the probe found it: every tile skipped
+            ASSERT_EQ(passes.size(), 3u);
+            EXPECT_EQ(passes[2].tiles_skipped, 12u);
+        }
+    }
+    // Moving: 0, then after 7, 15, 31, 63 unclassified calls the probes 8, 24, 56, 120; the next
+    // probe, 184, finds the pair still: every call from there classifies; call 190 (moving)
+    // misses, then 7 calls without and a probe.
+    std::vector<int> want = {0, 8, 24, 56, 120};
+    for (int i = 184; i <= 190; ++i) want.push_back(i);
+    want.push_back(198);
+    EXPECT_EQ(classified, want);
+    expect_no_validation_errors();
+}
+
+// The same rule for super resolution, per submit: the first submit has no history (nothing to
+// classify), the second classifies and misses on moving content, then 7, 15, 31 submits without.
+TEST(Tiles, SuperResolutionClassifiesMovingContentLessAndLessOften) {
+    const uint32_t w = 48, h = 40;
+    Params p;
+    p.scale = 2.f;
+    auto s = engine().create_session(internal_format(w, h), p);
+    ASSERT_TRUE(s) << s.error().message;
+    std::vector<int> classified;
+    for (int i = 0; i < 70; ++i) {
+        const RawFrame f = random_frame(w, h, uint32_t(i), 4.f);
+        ASSERT_TRUE((*s)->submit(f.view())) << "submit " << i;
+        auto sr = (*s)->super_resolved();
+        ASSERT_TRUE(sr) << sr.error().message;
+        bool c = false;
+        for (const PassTiming& t : sr->passes) c = c || t.name == "classify";
+        if (c) classified.push_back(i);
+    }
+    EXPECT_EQ(classified, (std::vector<int>{1, 9, 25, 57}));
+    expect_no_validation_errors();
+}
+
 TEST(Tiles, RejectsBadTileSize) {
     Params p;
     p.tile_size = 12;

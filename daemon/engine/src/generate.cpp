@@ -77,8 +77,9 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
                                   (extrapolate ? "(0, 1] for extrapolation" : "(0, 1) for interpolation"));
     }
     FGSR_TRY(ensure_outputs(alphas.size()));
-    const bool tiled = classify_generate();
-    if (tiled) FGSR_TRY(ensure_tile_sets(alphas.size()));
+    const GenTiles tiling = classify_generate();
+    const bool tiled = tiling == GenTiles::tiled;
+    if (tiling != GenTiles::none) FGSR_TRY(ensure_tile_sets(tiled ? alphas.size() : 1));
     // Without tiles, one splat dispatch serves up to FGSR_SPLAT_ALPHAS frames (splat.h): frame k
     // reads slice k % FGSR_SPLAT_ALPHAS, and its chunk's first frame times the splat.
     const uint32_t chunk = tiled ? 1u : uint32_t(std::min<size_t>(alphas.size(), FGSR_SPLAT_ALPHAS));
@@ -103,6 +104,10 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         }
         const uint32_t slice = uint32_t(k) % chunk;
         std::vector<PassId> splat_timing;
+        if (k == 0 && tiling == GenTiles::probe) {
+            FGSR_TRY(record_probe(g, q));
+            splat_timing.push_back(PassId::classify);
+        }
         if (slice == 0) {
             const size_t count = std::min<size_t>(chunk, alphas.size() - k);
             vkCmdFillBuffer(rec.cmd(), keys.handle(), 0, VkDeviceSize(splat_stride) * count * 8, 0xffffffffu);
@@ -113,7 +118,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
                 rec.dispatch_pixels(splat_variant(g, count, false), sb, &sp, format.width, format.height));
             rec.barrier();
             rec.timestamp(q++);
-            splat_timing = {PassId::splat};
+            splat_timing.push_back(PassId::splat);
         }
         last_slice = slice;
         auto with_splat = [&](std::initializer_list<PassId> after) {
@@ -213,6 +218,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     FGSR_TRY(rec.finish(true));
 
     std::vector<GeneratedFrame> result(alphas.size());
+    bool worth_skipping = true; // every classified frame of the call skipped enough tiles
     for (size_t k = 0; k < alphas.size(); ++k) {
         GeneratedFrame& gf = result[k];
         gf.time = extrapolate ? 1.f + alphas[k] : alphas[k];
@@ -223,7 +229,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             gf.gpu_ms += pt.ms;
             gf.passes.push_back(std::move(pt));
         }
-        if (tiled) count_generate_tiles(k, gf);
+        if (tiled) worth_skipping = count_generate_tiles(k, gf) && worth_skipping;
+        if (k == 0 && tiling == GenTiles::probe) worth_skipping = probe_worth_skipping(gf);
         const size_t out_n = size_t(out_w) * out_h;
         gf.color.width = out_w;
         gf.color.height = out_h;
@@ -232,6 +239,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         const float* src = static_cast<const float*>(outputs[k].mapped());
         gf.color.rgba.assign(src, src + out_n * 4);
     }
+    if (tiling != GenTiles::none) tiles.gen_backoff.classified(worth_skipping);
     last_extrapolate = extrapolate;
     last_separate = params.separate_passes && !sr();
     tiles.last_tiled = tiled;

@@ -13,6 +13,7 @@
 #include "variants.hpp"
 #include "vk.hpp"
 
+#include <algorithm>
 #include <array>
 #include <span>
 #include <vector>
@@ -25,10 +26,43 @@ constexpr uint32_t kSetsPerFrame = 10;   // descriptor sets of one generated fra
 
 // Classification pays only where tiles can be skipped (on lavapipe a frame with every tile moving
 // costs about 2x with it, docs/TILES.md): after a classification that found less than
-// kMinSkipShare of the tiles skippable, the next kUnclassifiedRun calls (generate) or submits (sr)
-// run every tile without classifying, then classify again. Same frames either way.
+// kMinSkipShare of the tiles skippable, the next calls (generate) or submits (sr) run every tile
+// without classifying, then classify again. The first such run is kUnclassifiedRun long; each
+// further miss in a row doubles it (7, 15, 31, then kUnclassifiedRunMax: about a second of calls
+// at 60 a second), so a scene that keeps moving pays a classified call once in 64 instead of once
+// in 8. A classification that finds the tiles worth skipping starts again at kUnclassifiedRun.
+// Same frames either way.
 constexpr double kMinSkipShare = 0.25;
 constexpr uint32_t kUnclassifiedRun = 7;
+constexpr uint32_t kUnclassifiedRunMax = 63;
+
+// When to classify, per kind of pass (the rule above).
+class ClassifyBackoff {
+  public:
+    // Whether this call classifies; counts the call against the run left otherwise.
+    bool due() {
+        if (left_ == 0) return true;
+        --left_;
+        return false;
+    }
+    // After a classified call: whether it found enough of the tiles skippable.
+    void classified(bool worth_it) {
+        missed_ = !worth_it;
+        if (worth_it) {
+            run_ = kUnclassifiedRun;
+            return;
+        }
+        left_ = run_;
+        run_ = std::min(2 * run_ + 1, kUnclassifiedRunMax);
+    }
+    // The last classification found too little to skip.
+    bool missed() const { return missed_; }
+
+  private:
+    bool missed_ = false;
+    uint32_t left_ = 0;               // calls left to run unclassified
+    uint32_t run_ = kUnclassifiedRun; // the run after the next miss
+};
 
 // A timing record of a pass, named.
 inline PassTiming timing_of(PassId pass, PassTiming t = {}) {
@@ -120,8 +154,7 @@ struct Session::Impl {
         uint32_t last_side = 0;     // tile side of the last classification
         uint32_t sr_total = 0, sr_skipped = 0;
         PassTiming classify_sr_timing = timing_of(PassId::classify);
-        // Calls (generate) or submits (sr) left to run unclassified (kUnclassifiedRun).
-        uint32_t gen_unclassified_left = 0, sr_unclassified_left = 0;
+        ClassifyBackoff gen_backoff, sr_backoff; // when generate calls / sr submits classify
     } tiles;
 
     ~Impl();
@@ -207,16 +240,24 @@ struct Session::Impl {
         return {0, 1, 1, 0, side, span, 0, 0};
     }
     static uint32_t list_count(const vk::Buffer& list);
-    Result<void> classify(gpu::ClassifyParams c, const Slots<PassId::classify>& s);
+    // empty_keys: also empty the keys for the tiled splat (generate mode, not in a probe).
+    Result<void> classify(gpu::ClassifyParams c, const Slots<PassId::classify>& s, bool empty_keys = true);
     Result<void> record_sr_tiled(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,
                                  const vk::Buffer& history, const vk::Buffer& out, uint32_t query);
     Result<void> record_tiled(size_t k, const gpu::GenParams& g, bool extrapolate, uint32_t& q);
-    // Skip bookkeeping: whether this call (generate) or submit (sr) classifies.
-    bool classify_generate();
+    // Skip bookkeeping: whether this call (generate) or submit (sr) classifies. A generate call
+    // due after a miss only probes: it classifies frame 0's tiles for the decision and runs every
+    // pass over every tile (on lavapipe a classified fully moving frame costs ~2.7x a plain one,
+    // the probe ~1.2x, docs/TILES.md); the next call skips tiles if the probe found enough.
+    enum class GenTiles { none, tiled, probe };
+    GenTiles classify_generate();
+    Result<void> record_probe(const gpu::GenParams& g, uint32_t& q);
+    bool probe_worth_skipping(GeneratedFrame& gf);
     bool classify_sr(bool has_history);
     // After the fence: the tiles counts of a tiled generated frame k (passes classify, splat,
-    // generate(_sr)) and of a tiled sr pass.
-    void count_generate_tiles(size_t k, GeneratedFrame& gf);
+    // generate(_sr); returns whether kMinSkipShare of the tiles were skipped) and of a tiled sr
+    // pass (which also tells sr_backoff).
+    bool count_generate_tiles(size_t k, GeneratedFrame& gf);
     void count_sr_tiles();
 };
 

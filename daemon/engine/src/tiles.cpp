@@ -85,9 +85,10 @@ uint32_t Session::Impl::list_count(const vk::Buffer& list) {
 // The classify dispatches (both stages, shaders/classify.comp) after the lists' reset: per row
 // segment (1 pixel on GPUs, FGSR_CLASSIFY_SPAN_CPU on CPU devices), then per tile. Generate mode
 // also empties the keys for the tiled splat.
-Result<void> Session::Impl::classify(gpu::ClassifyParams c, const Slots<PassId::classify>& s) {
+Result<void> Session::Impl::classify(gpu::ClassifyParams c, const Slots<PassId::classify>& s,
+                                     bool empty_keys) {
     vkCmdFillBuffer(rec.cmd(), s[CLASSIFY_FLAGS].buffer, 0, VK_WHOLE_SIZE, 0u);
-    if (c.mode == CLASSIFY_GENERATE)
+    if (c.mode == CLASSIFY_GENERATE && empty_keys)
         vkCmdFillBuffer(rec.cmd(), s[GEN_KEYS].buffer, s[GEN_KEYS].offset, s[GEN_KEYS].range, 0xffffffffu);
     rec.barrier();
     c.stage = 0;
@@ -209,36 +210,72 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
     return {};
 }
 
-bool Session::Impl::classify_generate() {
-    const bool tiled =
-        params.skip_tiles && !(params.separate_passes && !sr()) && tiles.gen_unclassified_left == 0;
-    if (tiles.gen_unclassified_left > 0) --tiles.gen_unclassified_left;
-    return tiled;
+Session::Impl::GenTiles Session::Impl::classify_generate() {
+    const bool due = tiles.gen_backoff.due();
+    if (!params.skip_tiles || (params.separate_passes && !sr()) || !due) return GenTiles::none;
+    return tiles.gen_backoff.missed() ? GenTiles::probe : GenTiles::tiled;
+}
+
+// A probe (classify_generate): classify of the call's first frame into tile set 0 (which the
+// caller made), lists only (no copy-through output, keys untouched), before the plain passes.
+// Writes timestamp q.
+Result<void> Session::Impl::record_probe(const gpu::GenParams& g, uint32_t& q) {
+    const TileSet& ts = tiles.sets[0];
+    const uint32_t side = tile_side();
+    const float scale = sr() ? float(out_w) / float(format.width) : 1.f;
+    const uint32_t span = output_span(side, scale);
+    reset_lists(ts, side, span);
+    rec.barrier();
+    gpu::ClassifyParams c{};
+    c.g = g;
+    c.tile = side;
+    c.mode = CLASSIFY_GENERATE;
+    c.write_output = 0;
+    c.work_invocations = side * side;
+    c.output_invocations = span * span;
+    const GpuFrame& f1 = frames[size_t(newest)];
+    const GpuFrame& f0 = frames[size_t(1 - newest)];
+    FGSR_TRY(classify(c,
+                      make_slots<PassId::classify>(generated_frames(), at<CLASSIFY_COLOR0>(f0.color),
+                                                   at<CLASSIFY_COLOR1>(f1.color),
+                                                   at<CLASSIFY_OUTPUT>(unused(outputs[0])), tile_lists(ts)),
+                      false));
+    rec.barrier();
+    rec.timestamp(q++);
+    return {};
+}
+
+// After a probe's fence: its classify timing's tile count, and whether the tiles classify would
+// have let generate skip (those outside its generate list; the tiles a splat would dirty are not
+// known without one) reach kMinSkipShare.
+bool Session::Impl::probe_worth_skipping(GeneratedFrame& gf) {
+    const uint32_t total = tiles_total();
+    gf.passes[0].tiles_total = total;
+    const uint32_t skippable = total - std::min(total, list_count(tiles.sets[0].generate));
+    return double(skippable) >= kMinSkipShare * double(total);
 }
 
 bool Session::Impl::classify_sr(bool has_history) {
-    const bool tiled = params.skip_tiles && has_history && tiles.sr_unclassified_left == 0;
-    if (tiles.sr_unclassified_left > 0) --tiles.sr_unclassified_left;
-    return tiled;
+    const bool due = tiles.sr_backoff.due();
+    return params.skip_tiles && has_history && due;
 }
 
-// classify, splat, generate(_sr): tiles outside the lists were skipped.
-void Session::Impl::count_generate_tiles(size_t k, GeneratedFrame& gf) {
+// classify, splat, generate(_sr): tiles outside the lists were skipped. Returns whether at least
+// kMinSkipShare of the tiles were.
+bool Session::Impl::count_generate_tiles(size_t k, GeneratedFrame& gf) {
     const TileSet& ts = tiles.sets[k];
     const uint32_t total = tiles_total();
     gf.passes[0].tiles_total = gf.passes[1].tiles_total = gf.passes[2].tiles_total = total;
     gf.passes[1].tiles_skipped = total - std::min(total, list_count(ts.work));
     gf.passes[2].tiles_skipped = total - std::min(total, list_count(ts.generate));
-    if (double(gf.passes[2].tiles_skipped) < kMinSkipShare * double(total))
-        tiles.gen_unclassified_left = kUnclassifiedRun;
+    return double(gf.passes[2].tiles_skipped) >= kMinSkipShare * double(total);
 }
 
 void Session::Impl::count_sr_tiles() {
     tiles.last_side = tile_side();
     tiles.sr_total = tiles_total();
     tiles.sr_skipped = std::min(tiles.sr_total, list_count(tiles.sets[0].statics));
-    if (double(tiles.sr_skipped) < kMinSkipShare * double(tiles.sr_total))
-        tiles.sr_unclassified_left = kUnclassifiedRun;
+    tiles.sr_backoff.classified(double(tiles.sr_skipped) >= kMinSkipShare * double(tiles.sr_total));
 }
 
 std::vector<uint32_t> Session::last_sr_tile_flags() const {

@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -472,6 +473,33 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
         progress(o, fmt::format(
                         "moving, fresh pairs, wall time of submit + interpolate (host included): {:.2f} ms",
                         median(mv_wall)));
+        // A run of consecutive moving calls on a fresh session: the calls that classify (the
+        // adaptive rule, daemon/engine/src/session.hpp) counted in the mean.
+        {
+            auto run = primed_session(engine, *cap, balanced);
+            if (!run) return run.error();
+            std::vector<double> all, classified, plain;
+            const int run_calls = std::max(8 * reps, 64);
+            for (int i = 0; i < run_calls; ++i) {
+                FGSR_TRY((*run)->submit(cap->inputs[1 + size_t(i) % 2].view()));
+                std::map<std::string, double> passes;
+                auto ms = timed_call(**run, half, &passes);
+                if (!ms) return ms.error();
+                all.push_back(*ms);
+                (passes.count("classify") ? classified : plain).push_back(*ms);
+                if ((i + 1) % 16 == 0) progress(o, fmt::format("moving run: {} of {} calls", i + 1, run_calls));
+            }
+            BenchReport::MovingRun& m = rep.moving_run;
+            m.calls = run_calls;
+            m.classified = int(classified.size());
+            for (double v : all) m.mean_ms += v / double(run_calls);
+            m.max_ms = *std::max_element(all.begin(), all.end());
+            m.classified_ms = classified.empty() ? 0 : median(classified);
+            m.plain_ms = plain.empty() ? 0 : median(plain);
+            progress(o, fmt::format("moving run of {} calls: {} classified (median {:.2f} ms), the others median "
+                                    "{:.2f} ms; mean {:.2f} ms, max {:.2f} ms",
+                                    run_calls, m.classified, m.classified_ms, m.plain_ms, m.mean_ms, m.max_ms));
+        }
         if (o.colour) FGSR_TRY(time_colour_only(o, engine, *cap, balanced, rep));
         rep.still_ms = median(st);
         rep.moving_ms = median(mv);

@@ -245,6 +245,21 @@ std::string bench_markdown(const BenchReport& r) {
             r.headline.name, num(r.still_ms, 2), num(r.moving_ms, 2), num(r.still_ms / r.moving_ms, 2),
             num(r.still_frame_ms, 2), num(r.moving_frame_ms, 2),
             num(r.still_frame_ms / r.moving_frame_ms, 2));
+    if (r.moving_run.calls > 0) {
+        const BenchReport::MovingRun& m = r.moving_run;
+        // What the same run would average if one call in 8 classified (the rule before the
+        // back-off), from its own two medians.
+        const double one_in_8 = m.classified > 0 ? m.plain_ms + (m.classified_ms - m.plain_ms) / 8.0 : 0.0;
+        s += fmt::format(
+            "\n## Moving, {} consecutive calls ({}, balanced interpolation, one session)\n\nEach call on a "
+            "fresh pair. A call that classifies its tiles (adaptive: after 7, 15, 31, then every 63 calls "
+            "that found too little to skip, docs/TILES.md) costs more on a fully moving frame.\n\n| calls "
+            "that classified | their median | the others' median | mean of all | max | mean with one call "
+            "in 8 classifying (from the two medians) |\n|---:|---:|---:|---:|---:|---:|\n| {} of {} | {} ms | "
+            "{} ms | {} ms | {} ms | {} |\n",
+            m.calls, r.headline.name, m.classified, m.calls, num(m.classified_ms, 2), num(m.plain_ms, 2),
+            num(m.mean_ms, 2), num(m.max_ms, 2), m.classified > 0 ? num(one_in_8, 2) + " ms" : "-");
+    }
     if (r.colour.measured) {
         std::string split;
         for (const auto& [name, ms] : r.colour.motion_pass_ms)

@@ -228,6 +228,14 @@ struct BenchReport {
     // frame = the new input's ingest + the call (GPU ms, medians).
     double still_ms = 0, moving_ms = 0;
     double still_frame_ms = 0, moving_frame_ms = 0;
+    // Consecutive moving calls on one fresh session (balanced interpolation, headline resolution,
+    // each on a fresh pair): what the adaptive tile classification costs over a run, where a call
+    // that classifies a fully moving frame costs more than one that does not (docs/TILES.md).
+    struct MovingRun {
+        int calls = 0, classified = 0;
+        double mean_ms = 0, max_ms = 0;
+        double classified_ms = 0, plain_ms = 0; // medians of the calls that did and did not classify
+    } moving_run;
     // Colour only (BenchOptions::colour), balanced interpolation of the moving synthetic scene at
     // the headline resolution, each sample on a fresh pair: the new input's motion passes (at
     // submit; 0 until the engine times them), its ingest and the interpolate call (GPU ms,
