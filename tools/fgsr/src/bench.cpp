@@ -487,7 +487,8 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
                 if (!ms) return ms.error();
                 all.push_back(*ms);
                 (passes.count("classify") ? classified : plain).push_back(*ms);
-                if ((i + 1) % 16 == 0) progress(o, fmt::format("moving run: {} of {} calls", i + 1, run_calls));
+                if ((i + 1) % 16 == 0)
+                    progress(o, fmt::format("moving run: {} of {} calls", i + 1, run_calls));
             }
             BenchReport::MovingRun& m = rep.moving_run;
             m.calls = run_calls;
@@ -496,9 +497,10 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             m.max_ms = *std::max_element(all.begin(), all.end());
             m.classified_ms = classified.empty() ? 0 : median(classified);
             m.plain_ms = plain.empty() ? 0 : median(plain);
-            progress(o, fmt::format("moving run of {} calls: {} classified (median {:.2f} ms), the others median "
-                                    "{:.2f} ms; mean {:.2f} ms, max {:.2f} ms",
-                                    run_calls, m.classified, m.classified_ms, m.plain_ms, m.mean_ms, m.max_ms));
+            progress(
+                o, fmt::format("moving run of {} calls: {} classified (median {:.2f} ms), the others median "
+                               "{:.2f} ms; mean {:.2f} ms, max {:.2f} ms",
+                               run_calls, m.classified, m.classified_ms, m.plain_ms, m.mean_ms, m.max_ms));
         }
         if (o.colour) FGSR_TRY(time_colour_only(o, engine, *cap, balanced, rep));
         rep.still_ms = median(st);

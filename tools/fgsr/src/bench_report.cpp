@@ -255,7 +255,8 @@ std::string bench_markdown(const BenchReport& r) {
             "fresh pair. A call that classifies its tiles (adaptive: after 7, 15, 31, then every 63 calls "
             "that found too little to skip, docs/TILES.md) costs more on a fully moving frame.\n\n| calls "
             "that classified | their median | the others' median | mean of all | max | mean with one call "
-            "in 8 classifying (from the two medians) |\n|---:|---:|---:|---:|---:|---:|\n| {} of {} | {} ms | "
+            "in 8 classifying (from the two medians) |\n|---:|---:|---:|---:|---:|---:|\n| {} of {} | {} ms "
+            "| "
             "{} ms | {} ms | {} ms | {} |\n",
             m.calls, r.headline.name, m.classified, m.calls, num(m.classified_ms, 2), num(m.plain_ms, 2),
             num(m.mean_ms, 2), num(m.max_ms, 2), m.classified > 0 ? num(one_in_8, 2) + " ms" : "-");
