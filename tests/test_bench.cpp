@@ -307,6 +307,20 @@ TEST(Bench, StillOnlyRunsJustStillAgainstMoving) {
         EXPECT_GT(frame[size_t(k)], call[size_t(k)]) << (k ? "moving" : "still");
     }
     EXPECT_NE(md.find("## Colour only (180p"), std::string::npos) << md; // motion estimation timed too
+    // The moving run (64 calls for --quick): the synthetic scene moves everywhere, so the calls
+    // that classify are the first and the probes after 7, 15 and 31 plain calls: 0, 8, 24, 56.
+    const size_t run = md.find("## Moving, 64 consecutive calls (180p");
+    ASSERT_NE(run, std::string::npos) << md;
+    const size_t run_row = md.find("\n| 4 of 64 | ", run);
+    ASSERT_NE(run_row, std::string::npos) << md.substr(run);
+    std::stringstream rs(md.substr(run_row + 12));
+    double probe_ms = 0, plain_ms = 0, mean_ms = 0;
+    std::string u1, b1, u2, b2, u3;
+    rs >> probe_ms >> u1 >> b1 >> plain_ms >> u2 >> b2 >> mean_ms >> u3;
+    ASSERT_TRUE(rs && u1 == "ms" && u2 == "ms" && u3 == "ms") << md.substr(run_row, 120);
+    EXPECT_GT(probe_ms, 0.0);
+    EXPECT_GT(plain_ms, 0.0);
+    EXPECT_GT(mean_ms, 0.0);
     // All three are printed with 2 decimals: the ratio is off by its own rounding (0.005) plus what
     // the rounding of the two times (0.005 each) does to their quotient.
     const auto tolerance = [](double a, double b) { return 0.005 + 0.005 * (1.0 + a / b) / b + 1e-9; };
