@@ -244,6 +244,7 @@ struct Session::Impl {
     Result<void> classify(gpu::ClassifyParams c, const Slots<PassId::classify>& s, bool empty_keys = true);
     Result<void> record_sr_tiled(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,
                                  const vk::Buffer& history, const vk::Buffer& out, uint32_t query);
+    Result<void> classify_frame(const TileSet& ts, const gpu::GenParams& g, const vk::Buffer* out);
     Result<void> record_tiled(size_t k, const gpu::GenParams& g, bool extrapolate, uint32_t& q);
     // Skip bookkeeping: whether this call (generate) or submit (sr) classifies. A generate call
     // due after a miss only probes: it classifies frame 0's tiles for the decision and runs every

@@ -159,22 +159,7 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
     const vk::Buffer& out = outputs[k];
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
-    const uint32_t side = tile_side();
-    const float scale = sr() ? float(out_w) / float(format.width) : 1.f;
-    const uint32_t span = output_span(side, scale);
-    reset_lists(ts, side, span);
-    rec.barrier();
-    gpu::ClassifyParams c{};
-    c.g = g;
-    c.tile = side;
-    c.mode = CLASSIFY_GENERATE;
-    c.write_output = sr() ? 0u : 1u;
-    c.work_invocations = side * side;
-    c.output_invocations = span * span;
-    // The output is written only without super resolution (write_output).
-    FGSR_TRY(classify(c, make_slots<PassId::classify>(generated_frames(), at<CLASSIFY_COLOR0>(f0.color),
-                                                      at<CLASSIFY_COLOR1>(f1.color), at<CLASSIFY_OUTPUT>(out),
-                                                      tile_lists(ts))));
+    FGSR_TRY(classify_frame(ts, g, &out));
     rec.barrier();
     rec.timestamp(q++);
     const gpu::SplatParams sp = splat_params(g, std::span<const float>(&g.alpha, 1)); // single-alpha
@@ -216,11 +201,12 @@ Session::Impl::GenTiles Session::Impl::classify_generate() {
     return tiles.gen_backoff.missed() ? GenTiles::probe : GenTiles::tiled;
 }
 
-// A probe (classify_generate): classify of the call's first frame into tile set 0 (which the
-// caller made), lists only (no copy-through output, keys untouched), before the plain passes.
-// Writes timestamp q.
-Result<void> Session::Impl::record_probe(const gpu::GenParams& g, uint32_t& q) {
-    const TileSet& ts = tiles.sets[0];
+// The generate-mode classify of a generated frame into tile set `ts`, after the lists' reset. With
+// `out`, the tiled recording's: the copy-through of the static pixels into it (without super
+// resolution) and the keys emptied for the tiled splat. Without, a probe's: the lists only.
+Result<void> Session::Impl::classify_frame(const TileSet& ts, const gpu::GenParams& g, const vk::Buffer* out) {
+    const GpuFrame& f1 = frames[size_t(newest)];
+    const GpuFrame& f0 = frames[size_t(1 - newest)];
     const uint32_t side = tile_side();
     const float scale = sr() ? float(out_w) / float(format.width) : 1.f;
     const uint32_t span = output_span(side, scale);
@@ -230,16 +216,21 @@ Result<void> Session::Impl::record_probe(const gpu::GenParams& g, uint32_t& q) {
     c.g = g;
     c.tile = side;
     c.mode = CLASSIFY_GENERATE;
-    c.write_output = 0;
+    c.write_output = out && !sr() ? 1u : 0u;
     c.work_invocations = side * side;
     c.output_invocations = span * span;
-    const GpuFrame& f1 = frames[size_t(newest)];
-    const GpuFrame& f0 = frames[size_t(1 - newest)];
-    FGSR_TRY(classify(c,
-                      make_slots<PassId::classify>(generated_frames(), at<CLASSIFY_COLOR0>(f0.color),
-                                                   at<CLASSIFY_COLOR1>(f1.color),
-                                                   at<CLASSIFY_OUTPUT>(unused(outputs[0])), tile_lists(ts)),
-                      false));
+    const BufRef output = out ? BufRef(*out) : unused(outputs[0]);
+    return classify(c,
+                    make_slots<PassId::classify>(generated_frames(), at<CLASSIFY_COLOR0>(f0.color),
+                                                 at<CLASSIFY_COLOR1>(f1.color), at<CLASSIFY_OUTPUT>(output),
+                                                 tile_lists(ts)),
+                    out != nullptr);
+}
+
+// A probe (classify_generate): classify_frame of the call's first frame into tile set 0 (which the
+// caller made), before the plain passes. Writes timestamp q.
+Result<void> Session::Impl::record_probe(const gpu::GenParams& g, uint32_t& q) {
+    FGSR_TRY(classify_frame(tiles.sets[0], g, nullptr));
     rec.barrier();
     rec.timestamp(q++);
     return {};
