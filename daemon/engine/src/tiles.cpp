@@ -204,7 +204,8 @@ Session::Impl::GenTiles Session::Impl::classify_generate() {
 // The generate-mode classify of a generated frame into tile set `ts`, after the lists' reset. With
 // `out`, the tiled recording's: the copy-through of the static pixels into it (without super
 // resolution) and the keys emptied for the tiled splat. Without, a probe's: the lists only.
-Result<void> Session::Impl::classify_frame(const TileSet& ts, const gpu::GenParams& g, const vk::Buffer* out) {
+Result<void> Session::Impl::classify_frame(const TileSet& ts, const gpu::GenParams& g,
+                                           const vk::Buffer* out) {
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
     const uint32_t side = tile_side();
