@@ -490,6 +490,44 @@ TEST(Tiles, ClassifiesMovingContentLessAndLessOften) {
     expect_no_validation_errors();
 }
 
+// Where classifying pays on CPU devices (kMinSkipShareCpu, 0.7 of the tiles skippable; on GPUs
+// kMinSkipShare, 0.25): a scene whose left half pans (half of the tiles skippable) backs off after
+// its first call on a CPU device and keeps classifying on a GPU; one whose left eighth pans keeps
+// classifying on both.
+TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
+    const uint32_t w = 128, h = 64; // 8 x 4 tiles of 16 px
+    const auto frame = [&](int k, uint32_t moving_columns) {
+        RawFrame f = scene_frame(w, h, 0, 0.f, false);
+        auto* c = reinterpret_cast<glm::vec4*>(f.color.data());
+        auto* m = reinterpret_cast<glm::vec2*>(f.mv.data());
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < moving_columns; ++x) { // a stripe pattern panning 2 px a frame
+                c[size_t(y) * w + x] = glm::vec4(float((x + 2 * uint32_t(k)) / 3 % 2), 0.5f, 0.5f, 1.f);
+                m[size_t(y) * w + x] = glm::vec2(2.f, 0.f);
+            }
+        return f;
+    };
+    for (uint32_t moving : {w / 2, w / 8}) {
+        auto s = engine().create_session(internal_format(w, h), Params{});
+        ASSERT_TRUE(s) << s.error().message;
+        std::vector<bool> classified;
+        for (int k = 0; k < 4; ++k) {
+            const RawFrame f = frame(k, moving);
+            ASSERT_TRUE((*s)->submit(f.view()));
+            if (k == 0) continue;
+            const float alpha = 0.5f;
+            auto g = (*s)->interpolate(std::span(&alpha, 1));
+            ASSERT_TRUE(g) << g.error().message;
+            bool c = false;
+            for (const PassTiming& p : (*g)[0].passes) c = c || p.name == "classify";
+            classified.push_back(c);
+        }
+        const bool keeps = moving == w / 8 || !engine().is_cpu_device();
+        EXPECT_EQ(classified, (std::vector<bool>{true, keeps, keeps})) << moving << " moving columns";
+    }
+    expect_no_validation_errors();
+}
+
 // The same rule for super resolution, per submit: the first submit has no history (nothing to
 // classify), the second classifies and misses on moving content, then 7, 15, 31 submits without.
 TEST(Tiles, SuperResolutionClassifiesMovingContentLessAndLessOften) {

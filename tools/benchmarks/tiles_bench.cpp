@@ -2,7 +2,9 @@
 // super-resolved) frame of a still scene (identical frames, zero vectors), a partially moving one
 // (a small square over a static background) and a fully moving one (the whole image pans) of the
 // same size, for interpolation and super resolution, each with skipping on and off, and with
-// skipping on for tile sides 8, 16 and 32.
+// skipping on for tile sides 8, 16 and 32; and interpolation of scenes whose left quarter, half or
+// three quarters pan (the rest still), off and at the default tile side: where skipping stops
+// paying (daemon/engine/src/session.hpp, kMinSkipShareCpu).
 //
 // Usage: fgsr_tiles_bench [width height [repeats [filter]]]   (default 1280 720 7; SR inputs are
 // half size; filter: run only the configurations whose label contains it, e.g. "interp", "t16")
@@ -28,9 +30,27 @@ namespace {
 
 using namespace fgsr;
 
-enum class Scene { still, partial, moving };
+enum class Scene { still, partial, moving, band25, band50, band75 };
 const char* name(Scene s) {
-    return s == Scene::still ? "still" : s == Scene::partial ? "partial" : "moving";
+    switch (s) {
+    case Scene::still:
+        return "still";
+    case Scene::partial:
+        return "partial";
+    case Scene::moving:
+        return "moving";
+    case Scene::band25:
+        return "band25";
+    case Scene::band50:
+        return "band50";
+    case Scene::band75:
+        return "band75";
+    }
+    return "?";
+}
+// Share of the width that pans in a band scene.
+float band(Scene s) {
+    return s == Scene::band25 ? 0.25f : s == Scene::band50 ? 0.5f : s == Scene::band75 ? 0.75f : 0.f;
 }
 
 struct Planes {
@@ -44,7 +64,8 @@ struct Planes {
 };
 
 // Frame k of a scene: a procedural texture with depth steps; `moving` pans all of it by 3 px per
-// frame; `partial` moves a 64x64 square (at most 4 % of a 720p frame) over the static texture.
+// frame; `partial` moves a 64x64 square (at most 4 % of a 720p frame) over the static texture;
+// the band scenes pan the columns left of band(scene) x width and keep the others still.
 Planes make_frame(Scene scene, uint32_t w, uint32_t h, int k) {
     Planes p;
     const size_t n = size_t(w) * h;
@@ -52,16 +73,18 @@ Planes make_frame(Scene scene, uint32_t w, uint32_t h, int k) {
     p.depth.resize(n);
     p.mv.assign(n, glm::vec2(0.f));
     const float pan = scene == Scene::moving ? 3.f * float(k) : 0.f;
+    const float band_end = band(scene) * float(w);
     const float sq_x = 40.f + 5.f * float(k), sq_y = 40.f, side = 64.f;
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
             const size_t i = size_t(y) * w + x;
-            const float u = float(x) + 0.5f + pan, v = float(y) + 0.5f;
+            const bool in_band = float(x) + 0.5f < band_end;
+            const float u = float(x) + 0.5f + pan + (in_band ? 3.f * float(k) : 0.f), v = float(y) + 0.5f;
             p.color[i] =
                 glm::vec4(0.5f + 0.4f * std::sin(0.11f * u), 0.5f + 0.4f * std::cos(0.07f * v + 0.03f * u),
                           (int(u / 16.f) + int(v / 16.f)) % 2 ? 0.8f : 0.2f, 1.f);
             p.depth[i] = 10.f + 10.f * float((int(u / 97.f) + int(v / 61.f)) % 3);
-            if (scene == Scene::moving) p.mv[i] = glm::vec2(3.f, 0.f); // the point was 3 px right
+            if (scene == Scene::moving || in_band) p.mv[i] = glm::vec2(3.f, 0.f); // the point was 3 px right
             if (scene == Scene::partial && float(x) + 0.5f >= sq_x && float(x) + 0.5f < sq_x + side &&
                 v >= sq_y && v < sq_y + side) {
                 p.color[i] = glm::vec4(0.9f, 0.2f, 0.1f, 1.f);
@@ -108,13 +131,18 @@ int main(int argc, char** argv) {
                 configs.push_back(
                     {fmt::format("{} {} t{}", sr ? "sr" : "interp", name(s), tile), s, sr, true, tile});
         }
+    for (Scene s : {Scene::band25, Scene::band50, Scene::band75}) {
+        configs.push_back({fmt::format("interp {} off", name(s)), s, false, false, 0});
+        configs.push_back({fmt::format("interp {} t16", name(s)), s, false, true, 16});
+    }
     std::erase_if(configs, [&](const Config& c) { return c.label.find(filter) == std::string::npos; });
     // Frames per scene: 4 inputs; SR inputs are half size (output w x h).
     std::map<std::pair<Scene, bool>, std::vector<Planes>> frames;
     for (bool sr : {false, true})
-        for (Scene s : {Scene::still, Scene::partial, Scene::moving})
-            for (int k = 0; k < 4; ++k)
-                frames[{s, sr}].push_back(make_frame(s, sr ? w / 2 : w, sr ? h / 2 : h, k));
+        for (Scene s : {Scene::still, Scene::partial, Scene::moving, Scene::band25, Scene::band50, Scene::band75})
+            if (!sr || band(s) == 0.f)
+                for (int k = 0; k < 4; ++k)
+                    frames[{s, sr}].push_back(make_frame(s, sr ? w / 2 : w, sr ? h / 2 : h, k));
 
     std::map<std::string, std::vector<double>> ms;        // per config, per round
     std::map<std::string, std::vector<double>> ms_ingest; // the same with the newest input's ingest
@@ -211,7 +239,7 @@ int main(int argc, char** argv) {
                        ratio(ms_ingest, pa, mv));
         }
     for (const char* mode : {"interp", "sr"})
-        for (const char* scene : {"still", "partial", "moving"})
+        for (const char* scene : {"still", "partial", "moving", "band25", "band50", "band75"})
             for (const char* cfg : {"t8", "t16", "t32"}) {
                 const std::string on = fmt::format("{} {} {}", mode, scene, cfg);
                 const std::string off = fmt::format("{} {} off", mode, scene);

@@ -26,13 +26,18 @@ constexpr uint32_t kSetsPerFrame = 10;   // descriptor sets of one generated fra
 
 // Classification pays only where tiles can be skipped (on lavapipe a frame with every tile moving
 // costs about 2x with it, docs/TILES.md): after a classification that found less than
-// kMinSkipShare of the tiles skippable, the next calls (generate) or submits (sr) run every tile
+// kMinSkipShare of the tiles skippable (generated frames on CPU devices: kMinSkipShareCpu), the next calls (generate) or submits (sr) run every tile
 // without classifying, then classify again. The first such run is kUnclassifiedRun long; each
 // further miss in a row doubles it (7, 15, 31, then kUnclassifiedRunMax: about a second of calls
 // at 60 a second), so a scene that keeps moving pays a classified call once in 64 instead of once
 // in 8. A classification that finds the tiles worth skipping starts again at kUnclassifiedRun.
 // Same frames either way.
 constexpr double kMinSkipShare = 0.25;
+// Generated frames on CPU devices, where a moving tile costs about 2.4x as much tiled as plain
+// (the CPU split form of generate has no tiled counterpart): skipping pays from about 70 % of the
+// tiles skippable on lavapipe at 720p (`fgsr_tiles_bench`, band scenes: on / off 0.86-0.92 with
+// 74 % skippable, 1.43-1.50 with 49 %; docs/TILES.md).
+constexpr double kMinSkipShareCpu = 0.7;
 constexpr uint32_t kUnclassifiedRun = 7;
 constexpr uint32_t kUnclassifiedRunMax = 63;
 
@@ -256,9 +261,11 @@ struct Session::Impl {
     bool probe_worth_skipping(GeneratedFrame& gf);
     bool classify_sr(bool has_history);
     // After the fence: the tiles counts of a tiled generated frame k (passes classify, splat,
-    // generate(_sr); returns whether kMinSkipShare of the tiles were skipped) and of a tiled sr
+    // generate(_sr); returns whether min_generate_skip_share() of the tiles were skipped) and of a tiled sr
     // pass (which also tells sr_backoff).
     bool count_generate_tiles(size_t k, GeneratedFrame& gf);
+    // The share of skippable tiles from which a generated frame is worth classifying.
+    double min_generate_skip_share() const;
     void count_sr_tiles();
 };
 

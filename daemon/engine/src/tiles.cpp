@@ -239,12 +239,12 @@ Result<void> Session::Impl::record_probe(const gpu::GenParams& g, uint32_t& q) {
 
 // After a probe's fence: its classify timing's tile count, and whether the tiles classify would
 // have let generate skip (those outside its generate list; the tiles a splat would dirty are not
-// known without one) reach kMinSkipShare.
+// known without one) reach min_generate_skip_share().
 bool Session::Impl::probe_worth_skipping(GeneratedFrame& gf) {
     const uint32_t total = tiles_total();
     gf.passes[0].tiles_total = total;
     const uint32_t skippable = total - std::min(total, list_count(tiles.sets[0].generate));
-    return double(skippable) >= kMinSkipShare * double(total);
+    return double(skippable) >= min_generate_skip_share() * double(total);
 }
 
 bool Session::Impl::classify_sr(bool has_history) {
@@ -253,14 +253,18 @@ bool Session::Impl::classify_sr(bool has_history) {
 }
 
 // classify, splat, generate(_sr): tiles outside the lists were skipped. Returns whether at least
-// kMinSkipShare of the tiles were.
+// min_generate_skip_share() of the tiles were.
 bool Session::Impl::count_generate_tiles(size_t k, GeneratedFrame& gf) {
     const TileSet& ts = tiles.sets[k];
     const uint32_t total = tiles_total();
     gf.passes[0].tiles_total = gf.passes[1].tiles_total = gf.passes[2].tiles_total = total;
     gf.passes[1].tiles_skipped = total - std::min(total, list_count(ts.work));
     gf.passes[2].tiles_skipped = total - std::min(total, list_count(ts.generate));
-    return double(gf.passes[2].tiles_skipped) >= kMinSkipShare * double(total);
+    return double(gf.passes[2].tiles_skipped) >= min_generate_skip_share() * double(total);
+}
+
+double Session::Impl::min_generate_skip_share() const {
+    return rec.group() == 32 ? kMinSkipShareCpu : kMinSkipShare; // group 32: CPU builds
 }
 
 void Session::Impl::count_sr_tiles() {
