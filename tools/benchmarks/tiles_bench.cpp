@@ -139,7 +139,8 @@ int main(int argc, char** argv) {
     // Frames per scene: 4 inputs; SR inputs are half size (output w x h).
     std::map<std::pair<Scene, bool>, std::vector<Planes>> frames;
     for (bool sr : {false, true})
-        for (Scene s : {Scene::still, Scene::partial, Scene::moving, Scene::band25, Scene::band50, Scene::band75})
+        for (Scene s :
+             {Scene::still, Scene::partial, Scene::moving, Scene::band25, Scene::band50, Scene::band75})
             if (!sr || band(s) == 0.f)
                 for (int k = 0; k < 4; ++k)
                     frames[{s, sr}].push_back(make_frame(s, sr ? w / 2 : w, sr ? h / 2 : h, k));

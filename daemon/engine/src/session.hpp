@@ -26,12 +26,12 @@ constexpr uint32_t kSetsPerFrame = 10;   // descriptor sets of one generated fra
 
 // Classification pays only where tiles can be skipped (on lavapipe a frame with every tile moving
 // costs about 2x with it, docs/TILES.md): after a classification that found less than
-// kMinSkipShare of the tiles skippable (generated frames on CPU devices: kMinSkipShareCpu), the next calls (generate) or submits (sr) run every tile
-// without classifying, then classify again. The first such run is kUnclassifiedRun long; each
-// further miss in a row doubles it (7, 15, 31, then kUnclassifiedRunMax: about a second of calls
-// at 60 a second), so a scene that keeps moving pays a classified call once in 64 instead of once
-// in 8. A classification that finds the tiles worth skipping starts again at kUnclassifiedRun.
-// Same frames either way.
+// kMinSkipShare of the tiles skippable (generated frames on CPU devices: kMinSkipShareCpu), the next calls
+// (generate) or submits (sr) run every tile without classifying, then classify again. The first such run is
+// kUnclassifiedRun long; each further miss in a row doubles it (7, 15, 31, then kUnclassifiedRunMax: about a
+// second of calls at 60 a second), so a scene that keeps moving pays a classified call once in 64 instead of
+// once in 8. A classification that finds the tiles worth skipping starts again at kUnclassifiedRun. Same
+// frames either way.
 constexpr double kMinSkipShare = 0.25;
 // Generated frames on CPU devices, where a moving tile costs about 2.4x as much tiled as plain
 // (the CPU split form of generate has no tiled counterpart): skipping pays from about 70 % of the
