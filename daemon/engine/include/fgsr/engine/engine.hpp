@@ -97,7 +97,7 @@ struct Params {
     // (copy-through, or the history read at the pixel itself). The frames equal those with
     // skipping off up to float rounding (tests/test_tiles.cpp states the tolerance). Not applied
     // with separate_passes. After a classification that finds less than a quarter of the tiles
-    // skippable, the next 7 calls (generate) or submits (sr) run without classifying; each further
+    // skippable (generated frames on CPU devices: 70 %), the next 7 calls (generate) or submits (sr) run without classifying; each further
     // such classification in a row doubles that run, up to 63. Generate calls then only probe:
     // they classify for the decision but run every tile (docs/TILES.md).
     bool skip_tiles = true;
