@@ -97,9 +97,10 @@ struct Params {
     // (copy-through, or the history read at the pixel itself). The frames equal those with
     // skipping off up to float rounding (tests/test_tiles.cpp states the tolerance). Not applied
     // with separate_passes. After a classification that finds less than a quarter of the tiles
-    // skippable (generated frames on CPU devices: 70 %), the next 7 calls (generate) or submits (sr) run without classifying; each further
-    // such classification in a row doubles that run, up to 63. Generate calls then only probe:
-    // they classify for the decision but run every tile (docs/TILES.md).
+    // skippable (generated frames on CPU devices: 70 %), the next 7 calls (generate) or submits
+    // (sr) run without classifying; each further such classification in a row doubles that run,
+    // up to 63. Generate calls then only probe: they classify for the decision but run every
+    // tile (docs/TILES.md).
     bool skip_tiles = true;
     // Tile side in pixels: 8, 16 or 32; 0 picks the measured default (docs/TILES.md).
     uint32_t tile_size = 0;
