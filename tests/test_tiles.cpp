@@ -528,6 +528,44 @@ TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
     expect_no_validation_errors();
 }
 
+// The probe in a call of two frames with super resolution (ISR): it classifies the first frame
+// only, the frames equal those of a session without skipping, and the calls that classify follow
+// the rule (the first call, then the probes after 7 and 15 plain calls).
+TEST(Tiles, ProbesInIsrCallsOfTwoFramesChangeNoFrame) {
+    const uint32_t w = 64, h = 48;
+    Params p;
+    p.scale = 2.f;
+    auto s = engine().create_session(internal_format(w, h), p);
+    ASSERT_TRUE(s) << s.error().message;
+    Params no_skip = p;
+    no_skip.skip_tiles = false;
+    auto off = engine().create_session(internal_format(w, h), no_skip);
+    ASSERT_TRUE(off) << off.error().message;
+    const float alphas[2] = {0.5f, 0.75f};
+    std::vector<int> classified;
+    for (int i = 0; i < 30; ++i) {
+        const RawFrame f = random_frame(w, h, uint32_t(i), 4.f);
+        ASSERT_TRUE((*s)->submit(f.view()));
+        ASSERT_TRUE((*off)->submit(f.view()));
+        if (i == 0) continue;
+        auto g = (*s)->interpolate(std::span(alphas, 2));
+        ASSERT_TRUE(g) << g.error().message;
+        auto e = (*off)->interpolate(std::span(alphas, 2));
+        ASSERT_TRUE(e) << e.error().message;
+        bool first = false, second = false;
+        for (size_t k = 0; k < 2; ++k) {
+            EXPECT_LE(compare((*g)[k].color, (*e)[k].color).max_abs, kRelTolerance) << "call " << i;
+            for (const PassTiming& t : (*g)[k].passes) (k ? second : first) |= t.name == "classify";
+        }
+        if (first) classified.push_back(i);
+        if (i > 1) {
+            EXPECT_FALSE(second) << "a probe classifies the first frame only, call " << i;
+        }
+    }
+    EXPECT_EQ(classified, (std::vector<int>{1, 9, 25}));
+    expect_no_validation_errors();
+}
+
 // The same rule for super resolution, per submit: the first submit has no history (nothing to
 // classify), the second classifies and misses on moving content, then 7, 15, 31 submits without.
 TEST(Tiles, SuperResolutionClassifiesMovingContentLessAndLessOften) {

@@ -24,8 +24,8 @@ constexpr uint32_t kMaxAlphas = 64;
 constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
 constexpr uint32_t kSetsPerFrame = 10;   // descriptor sets of one generated frame (at most 5), doubled
 
-// Classification pays only where tiles can be skipped (on lavapipe a frame with every tile moving
-// costs about 2x with it, docs/TILES.md): after a classification that found less than
+// Classification pays only where tiles can be skipped (on lavapipe a 720p frame with every tile
+// moving costs about 2.7x with it, docs/TILES.md): after a classification that found less than
 // kMinSkipShare of the tiles skippable (generated frames on CPU devices: kMinSkipShareCpu), the next calls
 // (generate) or submits (sr) run every tile without classifying, then classify again. The first such run is
 // kUnclassifiedRun long; each further miss in a row doubles it (7, 15, 31, then kUnclassifiedRunMax: about a
