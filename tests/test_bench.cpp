@@ -200,8 +200,14 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
     const std::filesystem::path out = std::filesystem::path(testing::TempDir()) / "fgsr_bench_quick";
     std::filesystem::remove_all(out);
     const fgsr::test::ProcessRun r = fgsr::test::run_process(
-        std::string(FGSR_BIN_DIR) + "/fgsr bench --quick --no-plots --out " + out.string());
+        std::string(FGSR_BIN_DIR) + "/fgsr bench --quick --no-plots --no-moving-run --out " + out.string());
     ASSERT_EQ(r.status, 0) << r.out;
+    {
+        std::ifstream in(out / "bench.md");
+        const std::string md((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        EXPECT_NE(md.find("## Still against moving"), std::string::npos) << md;
+        EXPECT_EQ(md.find("consecutive calls"), std::string::npos) << "--no-moving-run";
+    }
     const auto rows = read_csv(out / "bench.csv");
     // builtin: interp (3 presets + 6 switches that act on it), extrap (no blend switch), and each
     // on colour alone (balanced+colour).

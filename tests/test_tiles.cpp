@@ -430,6 +430,13 @@ TEST(Tiles, OrbitSrOnOff) {
     shared_capture_on_off("blender/orbit-sr", false, true);
 }
 
+// Whether a generated frame's or an sr submit's passes include a classify.
+bool classified(const std::vector<PassTiming>& passes) {
+    for (const PassTiming& p : passes)
+        if (p.name == "classify") return true;
+    return false;
+}
+
 // The adaptive fallback (daemon/engine/src/session.hpp, kUnclassifiedRun): on content that keeps
 // moving, a call classifies after 7, 15, 31 and then every 63 unclassified calls; those calls
 // after a miss only probe (classify, then every pass over every tile: nothing skipped). Content
@@ -453,7 +460,7 @@ TEST(Tiles, ClassifiesMovingContentLessAndLessOften) {
     // Call i submits a new input, then interpolates: moving content (random vectors in every tile)
     // for calls [0, 130), still for [130, 190) (the first still pair is call 131), moving again
     // from 190.
-    std::vector<int> classified;
+    std::vector<int> calls;
     for (int i = 0; i < 210; ++i) {
         const bool moving = i < 130 || i >= 190;
         const RawFrame f = moving ? random_frame(w, h, uint32_t(i), 4.f) : RawFrame{};
@@ -465,9 +472,7 @@ TEST(Tiles, ClassifiesMovingContentLessAndLessOften) {
         ASSERT_TRUE(plain) << plain.error().message;
         EXPECT_LE(compare((*g)[0].color, (*plain)[0].color).max_abs, kRelTolerance) << "call " << i;
         const std::vector<PassTiming>& passes = (*g)[0].passes;
-        bool c = false;
-        for (const PassTiming& p : passes) c = c || p.name == "classify";
-        if (c) classified.push_back(i);
+        if (classified(passes)) calls.push_back(i);
         if (i == 8 || i == 24 || i == 56 || i == 120 || i == 184) { // probes: nothing skipped
             ASSERT_EQ(passes.size(), 3u) << "call " << i;
             EXPECT_EQ(passes[0].name, "classify");
@@ -486,7 +491,7 @@ TEST(Tiles, ClassifiesMovingContentLessAndLessOften) {
     std::vector<int> want = {0, 8, 24, 56, 120};
     for (int i = 184; i <= 190; ++i) want.push_back(i);
     want.push_back(198);
-    EXPECT_EQ(classified, want);
+    EXPECT_EQ(calls, want);
     expect_no_validation_errors();
 }
 
@@ -510,7 +515,7 @@ TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
     for (uint32_t moving : {w / 2, w / 8}) {
         auto s = engine().create_session(internal_format(w, h), Params{});
         ASSERT_TRUE(s) << s.error().message;
-        std::vector<bool> classified;
+        std::vector<bool> calls;
         for (int k = 0; k < 4; ++k) {
             const RawFrame f = frame(k, moving);
             ASSERT_TRUE((*s)->submit(f.view()));
@@ -518,12 +523,10 @@ TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
             const float alpha = 0.5f;
             auto g = (*s)->interpolate(std::span(&alpha, 1));
             ASSERT_TRUE(g) << g.error().message;
-            bool c = false;
-            for (const PassTiming& p : (*g)[0].passes) c = c || p.name == "classify";
-            classified.push_back(c);
+            calls.push_back(classified((*g)[0].passes));
         }
         const bool keeps = moving == w / 8 || !engine().is_cpu_device();
-        EXPECT_EQ(classified, (std::vector<bool>{true, keeps, keeps})) << moving << " moving columns";
+        EXPECT_EQ(calls, (std::vector<bool>{true, keeps, keeps})) << moving << " moving columns";
     }
     expect_no_validation_errors();
 }
@@ -542,7 +545,7 @@ TEST(Tiles, ProbesInIsrCallsOfTwoFramesChangeNoFrame) {
     auto off = engine().create_session(internal_format(w, h), no_skip);
     ASSERT_TRUE(off) << off.error().message;
     const float alphas[2] = {0.5f, 0.75f};
-    std::vector<int> classified;
+    std::vector<int> calls;
     for (int i = 0; i < 30; ++i) {
         const RawFrame f = random_frame(w, h, uint32_t(i), 4.f);
         ASSERT_TRUE((*s)->submit(f.view()));
@@ -552,17 +555,14 @@ TEST(Tiles, ProbesInIsrCallsOfTwoFramesChangeNoFrame) {
         ASSERT_TRUE(g) << g.error().message;
         auto e = (*off)->interpolate(std::span(alphas, 2));
         ASSERT_TRUE(e) << e.error().message;
-        bool first = false, second = false;
-        for (size_t k = 0; k < 2; ++k) {
+        for (size_t k = 0; k < 2; ++k)
             EXPECT_LE(compare((*g)[k].color, (*e)[k].color).max_abs, kRelTolerance) << "call " << i;
-            for (const PassTiming& t : (*g)[k].passes) (k ? second : first) |= t.name == "classify";
-        }
-        if (first) classified.push_back(i);
+        if (classified((*g)[0].passes)) calls.push_back(i);
         if (i > 1) {
-            EXPECT_FALSE(second) << "a probe classifies the first frame only, call " << i;
+            EXPECT_FALSE(classified((*g)[1].passes)) << "a probe classifies the first frame only, call " << i;
         }
     }
-    EXPECT_EQ(classified, (std::vector<int>{1, 9, 25}));
+    EXPECT_EQ(calls, (std::vector<int>{1, 9, 25}));
     expect_no_validation_errors();
 }
 
@@ -574,17 +574,15 @@ TEST(Tiles, SuperResolutionClassifiesMovingContentLessAndLessOften) {
     p.scale = 2.f;
     auto s = engine().create_session(internal_format(w, h), p);
     ASSERT_TRUE(s) << s.error().message;
-    std::vector<int> classified;
+    std::vector<int> calls;
     for (int i = 0; i < 70; ++i) {
         const RawFrame f = random_frame(w, h, uint32_t(i), 4.f);
         ASSERT_TRUE((*s)->submit(f.view())) << "submit " << i;
         auto sr = (*s)->super_resolved();
         ASSERT_TRUE(sr) << sr.error().message;
-        bool c = false;
-        for (const PassTiming& t : sr->passes) c = c || t.name == "classify";
-        if (c) classified.push_back(i);
+        if (classified(sr->passes)) calls.push_back(i);
     }
-    EXPECT_EQ(classified, (std::vector<int>{1, 9, 25, 57}));
+    EXPECT_EQ(calls, (std::vector<int>{1, 9, 25, 57}));
     expect_no_validation_errors();
 }
 

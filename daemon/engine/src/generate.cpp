@@ -229,8 +229,14 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             gf.gpu_ms += pt.ms;
             gf.passes.push_back(std::move(pt));
         }
-        if (tiled) worth_skipping = count_generate_tiles(k, gf) && worth_skipping;
-        if (k == 0 && tiling == GenTiles::probe) worth_skipping = probe_worth_skipping(gf);
+        if (tiled) {
+            count_generate_tiles(k, gf);
+            worth_skipping = worth_skipping && generate_worth_skipping(gf.passes[2].tiles_skipped);
+        }
+        if (k == 0 && tiling == GenTiles::probe) {
+            gf.passes[0].tiles_total = tiles_total();
+            worth_skipping = generate_worth_skipping(probe_skippable());
+        }
         const size_t out_n = size_t(out_w) * out_h;
         gf.color.width = out_w;
         gf.color.height = out_h;

@@ -52,7 +52,6 @@ class ClassifyBackoff {
     }
     // After a classified call: whether it found enough of the tiles skippable.
     void classified(bool worth_it) {
-        missed_ = !worth_it;
         if (worth_it) {
             run_ = kUnclassifiedRun;
             return;
@@ -60,11 +59,10 @@ class ClassifyBackoff {
         left_ = run_;
         run_ = std::min(2 * run_ + 1, kUnclassifiedRunMax);
     }
-    // The last classification found too little to skip.
-    bool missed() const { return missed_; }
+    // The last classification found too little to skip (a hit resets the run, a miss lengthens it).
+    bool missed() const { return run_ != kUnclassifiedRun; }
 
   private:
-    bool missed_ = false;
     uint32_t left_ = 0;               // calls left to run unclassified
     uint32_t run_ = kUnclassifiedRun; // the run after the next miss
 };
@@ -258,13 +256,14 @@ struct Session::Impl {
     enum class GenTiles { none, tiled, probe };
     GenTiles classify_generate();
     Result<void> record_probe(const gpu::GenParams& g, uint32_t& q);
-    bool probe_worth_skipping(GeneratedFrame& gf);
+    uint32_t probe_skippable() const;
     bool classify_sr(bool has_history);
     // After the fence: the tiles counts of a tiled generated frame k (passes classify, splat,
-    // generate(_sr); returns whether min_generate_skip_share() of the tiles were skipped) and of a tiled sr
-    // pass (which also tells sr_backoff).
-    bool count_generate_tiles(size_t k, GeneratedFrame& gf);
-    // The share of skippable tiles from which a generated frame is worth classifying.
+    // generate(_sr)) and of a tiled sr pass (which also tells sr_backoff).
+    void count_generate_tiles(size_t k, GeneratedFrame& gf) const;
+    // Whether `skippable` tiles reach min_generate_skip_share() of the frame's: a generated frame
+    // worth classifying.
+    bool generate_worth_skipping(uint32_t skippable) const;
     double min_generate_skip_share() const;
     void count_sr_tiles();
 };

@@ -237,14 +237,11 @@ Result<void> Session::Impl::record_probe(const gpu::GenParams& g, uint32_t& q) {
     return {};
 }
 
-// After a probe's fence: its classify timing's tile count, and whether the tiles classify would
-// have let generate skip (those outside its generate list; the tiles a splat would dirty are not
-// known without one) reach min_generate_skip_share().
-bool Session::Impl::probe_worth_skipping(GeneratedFrame& gf) {
+// After a probe's fence: the tiles its classify would have let generate skip (those outside its
+// generate list; the tiles a splat would dirty are not known without one).
+uint32_t Session::Impl::probe_skippable() const {
     const uint32_t total = tiles_total();
-    gf.passes[0].tiles_total = total;
-    const uint32_t skippable = total - std::min(total, list_count(tiles.sets[0].generate));
-    return double(skippable) >= min_generate_skip_share() * double(total);
+    return total - std::min(total, list_count(tiles.sets[0].generate));
 }
 
 bool Session::Impl::classify_sr(bool has_history) {
@@ -252,15 +249,17 @@ bool Session::Impl::classify_sr(bool has_history) {
     return params.skip_tiles && has_history && due;
 }
 
-// classify, splat, generate(_sr): tiles outside the lists were skipped. Returns whether at least
-// min_generate_skip_share() of the tiles were.
-bool Session::Impl::count_generate_tiles(size_t k, GeneratedFrame& gf) {
+// classify, splat, generate(_sr): tiles outside the lists were skipped.
+void Session::Impl::count_generate_tiles(size_t k, GeneratedFrame& gf) const {
     const TileSet& ts = tiles.sets[k];
     const uint32_t total = tiles_total();
     gf.passes[0].tiles_total = gf.passes[1].tiles_total = gf.passes[2].tiles_total = total;
     gf.passes[1].tiles_skipped = total - std::min(total, list_count(ts.work));
     gf.passes[2].tiles_skipped = total - std::min(total, list_count(ts.generate));
-    return double(gf.passes[2].tiles_skipped) >= min_generate_skip_share() * double(total);
+}
+
+bool Session::Impl::generate_worth_skipping(uint32_t skippable) const {
+    return double(skippable) >= min_generate_skip_share() * double(tiles_total());
 }
 
 double Session::Impl::min_generate_skip_share() const {

@@ -475,7 +475,7 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
                         median(mv_wall)));
         // A run of consecutive moving calls on a fresh session: the calls that classify (the
         // adaptive rule, daemon/engine/src/session.hpp) counted in the mean.
-        {
+        if (o.moving_run) {
             auto run = primed_session(engine, *cap, balanced);
             if (!run) return run.error();
             std::vector<double> all, classified, plain;
@@ -593,6 +593,8 @@ CLI::App* add_bench_command(CLI::App& app, BenchCli& c) {
         "--quick", o.quick,
         "Small run: builtin capture, 1 frame, 2 repeats, 180p, 1 and 2 frames per pair (unless given)");
     cmd->add_flag("--no-plots", c.no_plots, "Do not draw plots");
+    cmd->add_flag("--no-moving-run", c.no_moving_run,
+                  "No run of consecutive moving calls (at least 64) at the headline resolution");
     cmd->add_flag("--still-only", o.still_only,
                   "Only still against moving at the headline resolution (720p if listed in --resolutions)");
     cmd->add_option("--device", o.device.device, "Vulkan device index or name substring");
@@ -608,6 +610,7 @@ int bench_main(BenchCli& c, CLI::App* cmd) {
     if (!c.out.empty()) o.out = c.out;
     o.toggles = !c.no_toggles;
     o.colour = !c.no_colour;
+    o.moving_run = !c.no_moving_run;
     o.plots = !c.no_plots;
     o.progress = !c.quiet;
     if (o.quick) {

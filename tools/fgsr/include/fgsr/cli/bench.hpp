@@ -171,6 +171,9 @@ struct BenchOptions {
     bool quick = false;      // builtin only, 1 frame, 2 repeats, 180p, 1 and 2 alphas (for tests)
     bool still_only = false; // only still against moving at the headline resolution (no captures,
                              // scaling, roofline or frames per pair)
+    // Also a run of consecutive moving calls on one session at the headline resolution (at least
+    // 64 calls: the adaptive tile classification counted in the mean).
+    bool moving_run = true;
     bool plots = true;
     DeviceOptions device;
     bool progress = true;
@@ -266,7 +269,7 @@ double time_copy_ms(uint64_t bytes, int repeats, unsigned threads);
 struct BenchCli {
     BenchOptions options;
     std::string captures, modes, presets, resolutions, alphas, out;
-    bool no_toggles = false, no_plots = false, quiet = false, no_colour = false;
+    bool no_toggles = false, no_plots = false, quiet = false, no_colour = false, no_moving_run = false;
 };
 CLI::App* add_bench_command(CLI::App& app, BenchCli& c);
 int bench_main(BenchCli& c, CLI::App* cmd);
