@@ -42,32 +42,42 @@ void store_output(uint i, vec4 c) { outp[i] = as_u64vec2(c); }
 #include "blend.h"
 #include "generate.h"
 
-#ifdef FGSR_TILED
-void main() {
-    ivec2 p;
-    if (listed_pixel(p)) generate_pixel(p, pc.g);
-}
-#elif defined(FGSR_GENERATE_SPLIT)
-// The split form (generate.h, generate_splatted) for CPU devices, in the TILED layout: stage 1
-// appends the empty pixels (x | y << 16) to the list at GENERATE_COUNT + TILED_APPEND (a tile
-// list's header, tiles.h: one invocation per entry), stage 2 runs over that list bound at
-// GENERATE_COUNT + TILED_LIST (an indirect dispatch).
+#if defined(FGSR_GENERATE_SPLIT)
+// The split form (generate.h, generate_splatted) for CPU devices: stage 1 finishes the splatted
+// pixels and appends the empty ones (x | y << 16) to a pixel list at GENERATE_COUNT + TILED_APPEND
+// (a tile list's header, tiles.h: one invocation per entry); stage 2 runs over that list, bound
+// at GENERATE_COUNT + TILED_LIST (an indirect dispatch), with generate_pixel. Plain: stage 1 runs
+// over every pixel. Tiled (FGSR_TILED): stage 1 runs over the listed tiles (the tile list at
+// TILED_LIST); in stage 2 the pixel list takes TILED_LIST's place, its header's [4] holding the
+// tile side that the tiled key reads (tiles.h) take from it.
 #if FGSR_GENERATE_SPLIT == 1
 layout(std430, binding = GENERATE_COUNT + TILED_APPEND) buffer PixelList { uint pixel_list[]; };
-#else
-layout(std430, binding = GENERATE_COUNT + TILED_LIST) readonly buffer PixelList { uint pixel_list[]; };
+#elif !defined(FGSR_TILED)
+layout(std430, binding = GENERATE_COUNT + TILED_LIST) readonly buffer PixelList { uint tile_list[]; };
 #endif
+#ifndef FGSR_TILED
 #include "tiles.h"
+#endif
 void main() {
 #if FGSR_GENERATE_SPLIT == 1
+#ifdef FGSR_TILED
+    ivec2 t;
+    if (!listed_pixel(t)) return;
+#else
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+#endif
     if (!generate_splatted(t, pc.g)) TILE_APPEND(pixel_list, uint(t.x) | (uint(t.y) << 16), 1u);
 #else
     uint slot = gl_WorkGroupID.x * uint(FGSR_GROUP * FGSR_GROUP) + gl_LocalInvocationIndex;
-    if (slot >= pixel_list[3]) return;
-    uint packed = pixel_list[TILE_LIST_HEADER + slot];
+    if (slot >= tile_list[3]) return;
+    uint packed = tile_list[TILE_LIST_HEADER + slot];
     generate_pixel(ivec2(int(packed & 0xffffu), int(packed >> 16)), pc.g);
 #endif
+}
+#elif defined(FGSR_TILED)
+void main() {
+    ivec2 p;
+    if (listed_pixel(p)) generate_pixel(p, pc.g);
 }
 #else
 void main() { generate_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }

@@ -495,10 +495,13 @@ TEST(Tiles, ClassifiesMovingContentLessAndLessOften) {
     expect_no_validation_errors();
 }
 
-// Where classifying pays on CPU devices (kMinSkipShareCpu, 0.7 of the tiles skippable; on GPUs
-// kMinSkipShare, 0.25): a scene whose left half pans (half of the tiles skippable) backs off after
-// its first call on a CPU device and keeps classifying on a GPU; one whose left eighth pans keeps
-// classifying on both.
+// Where classifying pays on CPU devices (kMinSkipShareCpu, 0.45 of the tiles skippable; on GPUs
+// kMinSkipShare, 0.25): a scene whose left 9/16 pans (3 of 8 tile columns skippable) backs off
+// after its first call on a CPU device and keeps classifying on a GPU; one whose left 3/8 pan
+// (4 or 5 of 8 skippable, as the splat dirties the next column or not) keeps classifying on both.
+// The shares are read from the first call and checked to lie on the sides of the thresholds the
+// expectations take (the second below the 0.7 that CPU devices took before the split form of
+// tiled generate).
 TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
     const uint32_t w = 128, h = 64; // 8 x 4 tiles of 16 px
     const auto frame = [&](int k, uint32_t moving_columns) {
@@ -512,10 +515,11 @@ TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
             }
         return f;
     };
-    for (uint32_t moving : {w / 2, w / 8}) {
+    for (uint32_t moving : {w * 9 / 16, w * 3 / 8}) {
         auto s = engine().create_session(internal_format(w, h), Params{});
         ASSERT_TRUE(s) << s.error().message;
         std::vector<bool> calls;
+        double share = -1;
         for (int k = 0; k < 4; ++k) {
             const RawFrame f = frame(k, moving);
             ASSERT_TRUE((*s)->submit(f.view()));
@@ -523,9 +527,21 @@ TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
             const float alpha = 0.5f;
             auto g = (*s)->interpolate(std::span(&alpha, 1));
             ASSERT_TRUE(g) << g.error().message;
-            calls.push_back(classified((*g)[0].passes));
+            const std::vector<PassTiming>& passes = (*g)[0].passes;
+            calls.push_back(classified(passes));
+            if (k == 1) {
+                ASSERT_EQ(passes.size(), 3u);
+                share = double(passes[2].tiles_skipped) / double(passes[2].tiles_total);
+            }
         }
-        const bool keeps = moving == w / 8 || !engine().is_cpu_device();
+        if (moving == w * 3 / 8) {
+            EXPECT_GE(share, 0.45) << "skippable on both devices";
+            EXPECT_LT(share, 0.7);
+        } else {
+            EXPECT_GE(share, 0.25) << "skippable on a GPU";
+            EXPECT_LT(share, 0.45) << "not on a CPU device";
+        }
+        const bool keeps = moving == w * 3 / 8 || !engine().is_cpu_device();
         EXPECT_EQ(calls, (std::vector<bool>{true, keeps, keeps})) << moving << " moving columns";
     }
     expect_no_validation_errors();

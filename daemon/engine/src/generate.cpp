@@ -141,14 +141,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
         if (!params.separate_passes && rec.group() == 32) {
             // CPU devices: the split form (shaders/generate.h, generate_splatted), the splatted
             // pixels, then the list of the empty ones.
-            if (!gap_list.handle()) {
-                auto r = vk::Buffer::create(*ctx, (VkDeviceSize(TILE_LIST_HEADER) + n) * 4, false);
-                if (!r) return r.error();
-                gap_list = std::move(*r);
-            }
-            const auto empty = empty_list_header(0, 1); // entries are pixels, x | y << 16
-            vkCmdUpdateBuffer(rec.cmd(), gap_list.handle(), 0, sizeof(empty), empty.data());
-            rec.barrier();
+            FGSR_TRY(reset_gap_list(0));
             const auto gen_frames = generated_frames(slice);
             const auto colors = At<GENERATE_COLOR0, GENERATE_COLOR1, GENERATE_OUTPUT>{{f0.color, f1.color, out}};
             constexpr uint32_t base = GENERATE_COUNT;

@@ -24,20 +24,22 @@ constexpr uint32_t kMaxAlphas = 64;
 constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
 constexpr uint32_t kSetsPerFrame = 10;   // descriptor sets of one generated frame (at most 5), doubled
 
-// Classification pays only where tiles can be skipped (on lavapipe a 720p frame with every tile
-// moving costs about 2.7x with it, docs/TILES.md): after a classification that found less than
-// kMinSkipShare of the tiles skippable (generated frames on CPU devices: kMinSkipShareCpu), the next calls
-// (generate) or submits (sr) run every tile without classifying, then classify again. The first such run is
-// kUnclassifiedRun long; each further miss in a row doubles it (7, 15, 31, then kUnclassifiedRunMax: about a
-// second of calls at 60 a second), so a scene that keeps moving pays a classified call once in 64 instead of
-// once in 8. A classification that finds the tiles worth skipping starts again at kUnclassifiedRun. Same
-// frames either way.
+// Classification pays only where tiles can be skipped (on lavapipe at 720p, a fully moving
+// session's classified call and the plain call after it cost 0.85-1.25x two plain calls,
+// docs/TILES.md): after a classification that
+// found less than kMinSkipShare of the tiles skippable (generated frames on CPU devices:
+// kMinSkipShareCpu), the next calls (generate) or submits (sr) run every tile without classifying,
+// then classify again. The first such run is kUnclassifiedRun long; each further miss in a row
+// doubles it (7, 15, 31, then kUnclassifiedRunMax: about a second of calls at 60 a second), so a
+// scene that keeps moving pays a classified call once in 64 instead of once in 8. A classification
+// that finds the tiles worth skipping starts again at kUnclassifiedRun. Same frames either way.
 constexpr double kMinSkipShare = 0.25;
-// Generated frames on CPU devices, where a moving tile costs about 2.4x as much tiled as plain
-// (the CPU split form of generate has no tiled counterpart): skipping pays from about 70 % of the
-// tiles skippable on lavapipe at 720p (`fgsr_tiles_bench`, band scenes: on / off 0.86-0.92 with
-// 74 % skippable, 1.43-1.50 with 49 %; docs/TILES.md).
-constexpr double kMinSkipShareCpu = 0.7;
+// Generated frames on CPU devices, where classify costs about a fifth of a plain frame and a
+// moving tile about 1.35x as much tiled as plain (the split form of generate over the listed
+// tiles): skipping pays from about 45 % of the tiles skippable on lavapipe at 720p
+// (`fgsr_tiles_bench`, band scenes: on / off 0.61-0.64 with 74 % skippable, 0.82-0.94 with 49 %,
+// a loss with 24 %; docs/TILES.md).
+constexpr double kMinSkipShareCpu = 0.45;
 constexpr uint32_t kUnclassifiedRun = 7;
 constexpr uint32_t kUnclassifiedRunMax = 63;
 
@@ -124,6 +126,9 @@ struct Session::Impl {
     // generate.comp FGSR_GENERATE_SPLIT) finishes in its second pass: a tile list's header, then
     // one entry per pixel (created on first use).
     vk::Buffer gap_list;
+    // Creates gap_list on first use and records the reset of its header (side: the tile side the
+    // tiled split form's key reads take from it; 0 for the plain one), then a barrier.
+    Result<void> reset_gap_list(uint32_t side);
     uint32_t last_slice = 0;         // slice of the keys of the last generated frame
     std::vector<vk::Buffer> outputs; // host-visible, one per alpha of a call
     bool last_extrapolate = false;
@@ -251,8 +256,8 @@ struct Session::Impl {
     Result<void> record_tiled(size_t k, const gpu::GenParams& g, bool extrapolate, uint32_t& q);
     // Skip bookkeeping: whether this call (generate) or submit (sr) classifies. A generate call
     // due after a miss only probes: it classifies frame 0's tiles for the decision and runs every
-    // pass over every tile (on lavapipe a classified fully moving frame costs ~2.7x a plain one,
-    // the probe ~1.2x, docs/TILES.md); the next call skips tiles if the probe found enough.
+    // pass over every tile (on lavapipe the probe costs ~1.2x a plain call, docs/TILES.md); the
+    // next call skips tiles if the probe found enough.
     enum class GenTiles { none, tiled, probe };
     GenTiles classify_generate();
     Result<void> record_probe(const gpu::GenParams& g, uint32_t& q);

@@ -169,7 +169,24 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
                                    &sp, ts.work));
     rec.barrier();
     rec.timestamp(q++);
-    if (!sr()) {
+    if (!sr() && rec.group() == 32) {
+        // CPU devices: the split form (shaders/generate.comp), the splatted pixels of the listed
+        // tiles, then the list of the empty ones.
+        FGSR_TRY(reset_gap_list(tile_side()));
+        const auto colors = At<GENERATE_COLOR0, GENERATE_COLOR1, GENERATE_OUTPUT>{{f0.color, f1.color, out}};
+        constexpr uint32_t base = GENERATE_COUNT;
+        using ListSlots = At<base + TILED_LIST, base + TILED_FLAGS, base + TILED_APPEND>;
+        FGSR_TRY(rec.dispatch_indirect(Variant::generate_split_tiled,
+                                       make_slots<PassId::generate, Layout::TILED>(
+                                           generated_frames(), colors, ListSlots{{ts.generate, ts.flags, gap_list}}),
+                                       &g, ts.generate));
+        rec.barrier();
+        FGSR_TRY(rec.dispatch_indirect(
+            Variant::generate_rest_tiled,
+            make_slots<PassId::generate, Layout::TILED>(
+                generated_frames(), colors, ListSlots{{gap_list, ts.flags, unused(gap_list)}}),
+            &g, gap_list));
+    } else if (!sr()) {
         const auto b = make_slots<PassId::generate, Layout::TILED>(
             generated_frames(), at<GENERATE_COLOR0>(f0.color), at<GENERATE_COLOR1>(f1.color),
             at<GENERATE_OUTPUT>(out), tile_list<PassId::generate>(ts.generate, ts, false));
@@ -192,6 +209,18 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
     }
     rec.barrier();
     rec.timestamp(q++);
+    return {};
+}
+
+Result<void> Session::Impl::reset_gap_list(uint32_t side) {
+    if (!gap_list.handle()) {
+        auto r = vk::Buffer::create(*ctx, (VkDeviceSize(TILE_LIST_HEADER) + n) * 4, false);
+        if (!r) return r.error();
+        gap_list = std::move(*r);
+    }
+    const auto empty = empty_list_header(side, 1); // entries are pixels, x | y << 16
+    vkCmdUpdateBuffer(rec.cmd(), gap_list.handle(), 0, sizeof(empty), empty.data());
+    rec.barrier();
     return {};
 }
 
