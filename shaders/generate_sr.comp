@@ -7,23 +7,26 @@ layout(push_constant) uniform Push {
     GenParams g;
     SrParams s;
 } pc;
-layout(std430, binding = GEN_MV1) readonly buffer Mv1 { vec2 mv1[]; };
-layout(std430, binding = GEN_MV0) readonly buffer Mv0 { vec2 mv0[]; };
+// Vectors, colours, the motion field, the history, the LUT and the output as 64-bit words
+// (shaders/load64.h): half the accesses on CPU devices, the same bits.
+layout(std430, binding = GEN_MV1) readonly buffer Mv1 { uint64_t mv1[]; }; // vec2
+layout(std430, binding = GEN_MV0) readonly buffer Mv0 { uint64_t mv0[]; }; // vec2
 layout(std430, binding = GEN_DEPTH1) readonly buffer Depth1 { float depth1[]; };
 layout(std430, binding = GEN_DEPTH0) readonly buffer Depth0 { float depth0[]; };
 layout(std430, binding = GEN_KEYS) readonly buffer Keys { uint64_t keys[]; };
-layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; }; // (m1, m0) per source
-layout(std430, binding = GENSR_COLOR0) readonly buffer Color0 { uvec2 color0[]; }; // pack_color
-layout(std430, binding = GENSR_COLOR1) readonly buffer Color1 { uvec2 color1[]; };
-layout(std430, binding = GENSR_SRC) readonly buffer Src { vec4 src[]; };
-layout(std430, binding = GENSR_LUT) readonly buffer Lut { vec4 lut[]; };
-layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { vec4 outp[]; };
+layout(std430, binding = GEN_MOTION) readonly buffer Motion { u64vec2 motion[]; }; // (m1, m0) per source (vec4)
+layout(std430, binding = GENSR_COLOR0) readonly buffer Color0 { uint64_t color0[]; }; // pack_color (uvec2)
+layout(std430, binding = GENSR_COLOR1) readonly buffer Color1 { uint64_t color1[]; };
+layout(std430, binding = GENSR_SRC) readonly buffer Src { u64vec2 src[]; };              // vec4
+layout(std430, binding = GENSR_LUT) readonly buffer Lut { u64vec2 lut[]; };              // vec4
+layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { u64vec2 outp[]; };      // vec4
+#include "load64.h"
 
-vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
-vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
+vec2 load_mv1(ivec2 q) { return as_vec2(mv1[q.y * int(pc.g.width) + q.x]); }
+vec2 load_mv0(ivec2 q) { return as_vec2(mv0[q.y * int(pc.g.width) + q.x]); }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
-vec4 load_source_motion(uint i) { return motion[i]; }
+vec4 load_source_motion(uint i) { return as_vec4(motion[i]); }
 #include "motion.h"
 #ifdef FGSR_TILED
 layout(std430, binding = GENSR_COUNT + TILED_LIST) readonly buffer TileList { uint tile_list[]; };
@@ -32,6 +35,17 @@ layout(std430, binding = GENSR_COUNT + TILED_FLAGS) readonly buffer Flags { uint
 #define FGSR_TILED_KEYS
 #endif
 #include "tiles.h"
+#endif
+
+#ifdef FGSR_SR_FIELD
+// The CPU form (FGSR_SR_FIELD, TILED layout): the field of every input pixel, written by the
+// separate refine and disocc passes at input resolution, at GENSR_COUNT + TILED_LIST (vec4),
+// TILED_FLAGS (state) and TILED_APPEND (depth), in place of refine_field and fill_hole per output
+// pixel (CPU devices run their neighbourhood reads for every pixel, and each input pixel is read
+// by scale^2 output pixels).
+layout(std430, binding = GENSR_COUNT + TILED_LIST) readonly buffer Field { u64vec2 field[]; }; // vec4
+layout(std430, binding = GENSR_COUNT + TILED_FLAGS) readonly buffer FieldState { uint field_state[]; };
+layout(std430, binding = GENSR_COUNT + TILED_APPEND) readonly buffer FieldDepth { float field_depth[]; };
 #endif
 
 #ifdef FGSR_STATIC_TILES
@@ -45,10 +59,10 @@ vec4 load_motion(uint i) { return vec4(0.0f); }
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
 vec4 load_motion(uint i) { return source_field_vectors(i, pc.g); }
 #endif
-vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
-vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
-vec4 load_src(ivec2 q) { return src[q.y * int(pc.s.hr_width) + q.x]; }
-vec4 load_lut4(uint row) { return lut[row]; }
+vec4 load_color0(ivec2 q) { return unpack_color(as_uvec2(color0[q.y * int(pc.g.width) + q.x])); }
+vec4 load_color1(ivec2 q) { return unpack_color(as_uvec2(color1[q.y * int(pc.g.width) + q.x])); }
+vec4 load_src(ivec2 q) { return as_vec4(src[q.y * int(pc.s.hr_width) + q.x]); }
+vec4 load_lut4(uint row) { return as_vec4(lut[row]); }
 
 #include "field.h"
 #include "refine.h"
@@ -73,5 +87,12 @@ void main() {
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
     if (q.x >= int(pc.s.hr_width) || q.y >= int(pc.s.hr_height)) return;
 #endif
-    outp[q.y * int(pc.s.hr_width) + q.x] = generate_sr_pixel(q, pc.g, pc.s);
+#ifdef FGSR_SR_FIELD
+    ivec2 t = generate_sr_field_pixel(q, pc.g, pc.s);
+    uint i = uint(t.y) * pc.g.width + uint(t.x);
+    outp[q.y * int(pc.s.hr_width) + q.x] =
+        as_u64vec2(generate_sr_finish(q, field_sample(as_vec4(field[i]), field_depth[i], field_state[i]), pc.g, pc.s));
+#else
+    outp[q.y * int(pc.s.hr_width) + q.x] = as_u64vec2(generate_sr_pixel(q, pc.g, pc.s));
+#endif
 }

@@ -38,12 +38,18 @@ FGSR_INLINE vec4 clip_history(vec4 h, uint frame, vec2 lr_pos, GenParams g, SrPa
     return clamp(h, mean - s.clip * sd, mean + s.clip * sd);
 }
 
-FGSR_INLINE vec4 generate_sr_pixel(ivec2 q, GenParams g, SrParams s) {
+// The input pixel whose field output pixel q takes.
+FGSR_INLINE ivec2 generate_sr_field_pixel(ivec2 q, GenParams g, SrParams s) {
+    vec2 pos = (vec2(q) + vec2(0.5f)) / s.scale;
+    return clamp(ivec2(floor(pos)), ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
+}
+
+// Output pixel q from the field sample f of its input pixel (the part of generate_sr_pixel after
+// refine / disocc; the CPU form of generate_sr reads f from the field the separate refine and
+// disocc passes wrote, generate_sr.comp FGSR_SR_FIELD).
+FGSR_INLINE vec4 generate_sr_finish(ivec2 q, FieldSample f, GenParams g, SrParams s) {
     vec2 qc = vec2(q) + vec2(0.5f);
     vec2 pos = qc / s.scale;
-    ivec2 t = clamp(ivec2(floor(pos)), ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
-    FieldSample f = refine_field(t, g);
-    if (f.state == FIELD_HOLE && g.fill_holes != 0u) f = fill_hole(t, g);
     ivec2 out_size = ivec2(int(s.hr_width), int(s.hr_height));
     if (g.extrapolate != 0u) {
         vec2 h1 = qc + vec2(f.v.z, f.v.w) * s.scale;
@@ -57,4 +63,11 @@ FGSR_INLINE vec4 generate_sr_pixel(ivec2 q, GenParams g, SrParams s) {
     float d0 = load_depth0(clamp_pixel(ivec2(floor(p0 / s.scale)), g));
     WarpSample w1 = warp_sample(1u, pos - vec2(s.jitter_x, s.jitter_y), vec2(f.v.z, f.v.w), g);
     return select_blend(c0, ok0 ? d0 : -1.0f, w1.color, w1.depth, f.state, g);
+}
+
+FGSR_INLINE vec4 generate_sr_pixel(ivec2 q, GenParams g, SrParams s) {
+    ivec2 t = generate_sr_field_pixel(q, g, s);
+    FieldSample f = refine_field(t, g);
+    if (f.state == FIELD_HOLE && g.fill_holes != 0u) f = fill_hole(t, g);
+    return generate_sr_finish(q, f, g, s);
 }

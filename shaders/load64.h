@@ -1,5 +1,5 @@
 // Storage-buffer elements read and written as 64-bit words (GLSL entry files only: generate,
-// ingest and splat).
+// generate_sr, ingest, splat and sr).
 // On CPU devices (lavapipe) a storage-buffer access at a per-invocation index is a loop over the
 // lanes with one bounds-checked scalar access per 32-bit component; as 64-bit words a packed
 // colour (uvec2) is one access instead of two and a vec4 two instead of four. The bits are the

@@ -4,15 +4,18 @@
 #include "bindings.h"
 layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
 layout(push_constant) uniform Push { SrParams p; } pc;
-layout(std430, binding = SR_COLOR) readonly buffer Color { uvec2 color[]; }; // pack_color
+// Colours, vectors, the history, the LUT and the output as 64-bit words (shaders/load64.h): half
+// the accesses on CPU devices, the same bits.
+layout(std430, binding = SR_COLOR) readonly buffer Color { uint64_t color[]; }; // pack_color (uvec2)
 layout(std430, binding = SR_DEPTH) readonly buffer Depth { float depth[]; };
-layout(std430, binding = SR_MV) readonly buffer Mv { vec2 mv[]; };
+layout(std430, binding = SR_MV) readonly buffer Mv { uint64_t mv[]; }; // vec2
 layout(std430, binding = SR_PREV_DEPTH) readonly buffer PrevDepth { float prev_depth[]; };
-layout(std430, binding = SR_HISTORY) readonly buffer History { vec4 history[]; };
-layout(std430, binding = SR_LUT) readonly buffer Lut { vec4 lut[]; };
-layout(std430, binding = SR_OUTPUT) writeonly buffer Output { vec4 outp[]; };
+layout(std430, binding = SR_HISTORY) readonly buffer History { u64vec2 history[]; }; // vec4
+layout(std430, binding = SR_LUT) readonly buffer Lut { u64vec2 lut[]; };             // vec4
+layout(std430, binding = SR_OUTPUT) writeonly buffer Output { u64vec2 outp[]; };     // vec4
+#include "load64.h"
 
-vec4 load_lr_color(ivec2 q) { return unpack_color(color[q.y * int(pc.p.lr_width) + q.x]); }
+vec4 load_lr_color(ivec2 q) { return unpack_color(as_uvec2(color[q.y * int(pc.p.lr_width) + q.x])); }
 float load_lr_depth(ivec2 q) { return depth[q.y * int(pc.p.lr_width) + q.x]; }
 #ifdef FGSR_STATIC_TILES
 // Static tiles (classify.h, sr mode): zero vectors and depths that agree with the previous frame's,
@@ -20,11 +23,11 @@ float load_lr_depth(ivec2 q) { return depth[q.y * int(pc.p.lr_width) + q.x]; }
 vec2 load_lr_mv(ivec2 q) { return vec2(0.0f); }
 float load_prev_depth(ivec2 q) { return load_lr_depth(q); }
 #else
-vec2 load_lr_mv(ivec2 q) { return mv[q.y * int(pc.p.lr_width) + q.x]; }
+vec2 load_lr_mv(ivec2 q) { return as_vec2(mv[q.y * int(pc.p.lr_width) + q.x]); }
 float load_prev_depth(ivec2 q) { return prev_depth[q.y * int(pc.p.lr_width) + q.x]; }
 #endif
-vec4 load_src(ivec2 q) { return history[q.y * int(pc.p.hr_width) + q.x]; }
-vec4 load_lut4(uint row) { return lut[row]; }
+vec4 load_src(ivec2 q) { return as_vec4(history[q.y * int(pc.p.hr_width) + q.x]); }
+vec4 load_lut4(uint row) { return as_vec4(lut[row]); }
 
 #include "resample.h"
 #include "sr.h"
@@ -44,5 +47,5 @@ void main() {
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
     if (q.x >= int(pc.p.hr_width) || q.y >= int(pc.p.hr_height)) return;
 #endif
-    outp[q.y * int(pc.p.hr_width) + q.x] = super_resolve(q, pc.p);
+    outp[q.y * int(pc.p.hr_width) + q.x] = as_u64vec2(super_resolve(q, pc.p));
 }

@@ -43,6 +43,30 @@ gpu::SplatParams Session::Impl::splat_params(const gpu::GenParams& g, std::span<
     return sp;
 }
 
+Result<void> Session::Impl::record_refine(uint32_t slice, const gpu::GenParams& g) {
+    const auto b = make_slots<PassId::refine>(generated_frames(slice), at<REFINE_FIELD>(field),
+                                              at<REFINE_FIELD_DEPTH>(field_depth),
+                                              at<REFINE_FIELD_STATE>(field_state));
+    FGSR_TRY(rec.dispatch_pixels(Variant::refine, b, &g, format.width, format.height));
+    rec.barrier();
+    return {};
+}
+
+Result<void> Session::Impl::record_disocc(uint32_t slice, const gpu::GenParams& g) {
+    const auto b = make_slots<PassId::disocc>(generated_frames(slice), at<DISOCC_FIELD>(field),
+                                              at<DISOCC_FIELD_DEPTH>(field_depth),
+                                              at<DISOCC_FIELD_STATE>(field_state));
+    FGSR_TRY(rec.dispatch_pixels(Variant::disocc, b, &g, format.width, format.height));
+    rec.barrier();
+    return {};
+}
+
+Result<void> Session::Impl::record_field(uint32_t slice, const gpu::GenParams& g) {
+    FGSR_TRY(record_refine(slice, g));
+    if (params.fill_holes) FGSR_TRY(record_disocc(slice, g));
+    return {};
+}
+
 Variant Session::Impl::splat_variant(const gpu::GenParams& g, size_t count, bool tiled) {
     static_assert(FGSR_SPLAT_ALPHAS == 4);
     const bool lookup = g.quadratic != 0u && g.frame0_has_mv != 0u;
@@ -126,13 +150,26 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             t.insert(t.end(), after);
             return t;
         };
-        if (sr()) { // joint ISR / ESR at output resolution (always fused)
+        if (sr()) { // joint ISR / ESR at output resolution
             const GenSrPush push = gen_sr_push(g);
-            const auto b = make_slots<PassId::generate_sr>(
-                generated_frames(slice), at<GENSR_COLOR0>(f0.color), at<GENSR_COLOR1>(f1.color),
-                at<GENSR_SRC>(gen_sr_source(extrapolate)), at<GENSR_LUT>(sr_history.lut),
-                at<GENSR_OUTPUT>(out));
-            FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr, b, &push, out_w, out_h));
+            const auto gen = At<GENSR_COLOR0, GENSR_COLOR1, GENSR_SRC, GENSR_LUT, GENSR_OUTPUT>{
+                {f0.color, f1.color, gen_sr_source(extrapolate), sr_history.lut, out}};
+            if (rec.group() == 32) {
+                // CPU devices: the field once per input pixel (refine, disocc), which generate_sr
+                // then reads (shaders/generate_sr.comp, FGSR_SR_FIELD); the same frame.
+                FGSR_TRY(record_field(slice, g));
+                constexpr uint32_t base = GENSR_COUNT;
+                using FieldSlots = At<base + TILED_LIST, base + TILED_FLAGS, base + TILED_APPEND>;
+                FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr_field,
+                                             make_slots<PassId::generate_sr, Layout::TILED>(
+                                                 generated_frames(slice), gen,
+                                                 FieldSlots{{field, field_state, field_depth}}),
+                                             &push, out_w, out_h));
+            } else {
+                FGSR_TRY(rec.dispatch_pixels(
+                    Variant::generate_sr, make_slots<PassId::generate_sr>(generated_frames(slice), gen), &push,
+                    out_w, out_h));
+            }
             rec.barrier();
             rec.timestamp(q++);
             timings[k] = with_splat({PassId::generate_sr});
@@ -172,19 +209,11 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             timings[k] = with_splat({PassId::generate});
             continue;
         }
-        const auto rb = make_slots<PassId::refine>(generated_frames(slice), at<REFINE_FIELD>(field),
-                                                   at<REFINE_FIELD_DEPTH>(field_depth),
-                                                   at<REFINE_FIELD_STATE>(field_state));
-        FGSR_TRY(rec.dispatch_pixels(Variant::refine, rb, &g, format.width, format.height));
-        rec.barrier();
+        FGSR_TRY(record_refine(slice, g));
         rec.timestamp(q++);
         timings[k] = with_splat({PassId::refine});
         if (params.fill_holes) {
-            const auto db = make_slots<PassId::disocc>(generated_frames(slice), at<DISOCC_FIELD>(field),
-                                                       at<DISOCC_FIELD_DEPTH>(field_depth),
-                                                       at<DISOCC_FIELD_STATE>(field_state));
-            FGSR_TRY(rec.dispatch_pixels(Variant::disocc, db, &g, format.width, format.height));
-            rec.barrier();
+            FGSR_TRY(record_disocc(slice, g));
             rec.timestamp(q++);
             timings[k].push_back(PassId::disocc);
         }

@@ -212,6 +212,12 @@ struct Session::Impl {
     // splat's build for `count` frames of one dispatch (tiled: count 1), without the frame-0 vector
     // lookup where the call cannot use it (shaders/motion.h, MOTION_LOOKS_UP_M0).
     static Variant splat_variant(const gpu::GenParams& g, size_t count, bool tiled);
+    // The field of a generated frame at input resolution (field, field_depth, field_state) from
+    // the keys of splat slice `slice`: refine, disocc (record_field: both, disocc where holes are
+    // filled); each dispatch followed by a barrier.
+    Result<void> record_refine(uint32_t slice, const gpu::GenParams& g);
+    Result<void> record_disocc(uint32_t slice, const gpu::GenParams& g);
+    Result<void> record_field(uint32_t slice, const gpu::GenParams& g);
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
     Result<void> ensure_outputs(size_t count);
 
