@@ -44,18 +44,18 @@ gpu::SplatParams Session::Impl::splat_params(const gpu::GenParams& g, std::span<
 }
 
 Result<void> Session::Impl::record_refine(uint32_t slice, const gpu::GenParams& g) {
-    const auto b = make_slots<PassId::refine>(generated_frames(slice), at<REFINE_FIELD>(field),
-                                              at<REFINE_FIELD_DEPTH>(field_depth),
-                                              at<REFINE_FIELD_STATE>(field_state));
+    const auto b =
+        make_slots<PassId::refine>(generated_frames(slice), at<REFINE_FIELD>(field),
+                                   at<REFINE_FIELD_DEPTH>(field_depth), at<REFINE_FIELD_STATE>(field_state));
     FGSR_TRY(rec.dispatch_pixels(Variant::refine, b, &g, format.width, format.height));
     rec.barrier();
     return {};
 }
 
 Result<void> Session::Impl::record_disocc(uint32_t slice, const gpu::GenParams& g) {
-    const auto b = make_slots<PassId::disocc>(generated_frames(slice), at<DISOCC_FIELD>(field),
-                                              at<DISOCC_FIELD_DEPTH>(field_depth),
-                                              at<DISOCC_FIELD_STATE>(field_state));
+    const auto b =
+        make_slots<PassId::disocc>(generated_frames(slice), at<DISOCC_FIELD>(field),
+                                   at<DISOCC_FIELD_DEPTH>(field_depth), at<DISOCC_FIELD_STATE>(field_state));
     FGSR_TRY(rec.dispatch_pixels(Variant::disocc, b, &g, format.width, format.height));
     rec.barrier();
     return {};
@@ -160,15 +160,15 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
                 FGSR_TRY(record_field(slice, g));
                 constexpr uint32_t base = GENSR_COUNT;
                 using FieldSlots = At<base + TILED_LIST, base + TILED_FLAGS, base + TILED_APPEND>;
-                FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr_field,
-                                             make_slots<PassId::generate_sr, Layout::TILED>(
-                                                 generated_frames(slice), gen,
-                                                 FieldSlots{{field, field_state, field_depth}}),
-                                             &push, out_w, out_h));
-            } else {
                 FGSR_TRY(rec.dispatch_pixels(
-                    Variant::generate_sr, make_slots<PassId::generate_sr>(generated_frames(slice), gen), &push,
-                    out_w, out_h));
+                    Variant::generate_sr_field,
+                    make_slots<PassId::generate_sr, Layout::TILED>(
+                        generated_frames(slice), gen, FieldSlots{{field, field_state, field_depth}}),
+                    &push, out_w, out_h));
+            } else {
+                FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr,
+                                             make_slots<PassId::generate_sr>(generated_frames(slice), gen),
+                                             &push, out_w, out_h));
             }
             rec.barrier();
             rec.timestamp(q++);
