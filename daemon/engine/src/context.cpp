@@ -19,6 +19,9 @@ Engine::Engine(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Engine::~Engine() = default;
 
 Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
+    if (options.workgroup != 0 && options.workgroup != 8 && options.workgroup != 32)
+        return make_error(Errc::invalid_argument,
+                          "workgroup " + std::to_string(options.workgroup) + ": 0 (by device), 8 or 32");
     auto impl = std::make_unique<Impl>();
     auto ctx = vk::create_context(options);
     if (!ctx) return ctx.error();
@@ -30,6 +33,14 @@ Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
         impl->ctx->props.limits.maxComputeWorkGroupSize[0] >= 32 &&
         impl->ctx->props.limits.maxComputeWorkGroupSize[1] >= 32)
         impl->group = 32;
+    if (options.workgroup != 0) {
+        const auto& lim = impl->ctx->props.limits;
+        if (options.workgroup * options.workgroup > lim.maxComputeWorkGroupInvocations ||
+            options.workgroup > lim.maxComputeWorkGroupSize[0] || options.workgroup > lim.maxComputeWorkGroupSize[1])
+            return make_error(Errc::unsupported,
+                              "workgroup " + std::to_string(options.workgroup) + ": beyond the device's limits");
+        impl->group = options.workgroup;
+    }
     for (uint32_t v = 0; v < kVariantCount; ++v) {
         const VariantInfo& info = kVariants[v];
         const std::string shader = std::string(info.shader) + "_g" + std::to_string(impl->group);
@@ -47,6 +58,9 @@ std::string Engine::device_name() const {
 }
 bool Engine::is_cpu_device() const {
     return impl_->ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+uint32_t Engine::workgroup() const {
+    return impl_->group;
 }
 uint64_t Engine::validation_errors() const {
     return impl_->ctx->validation_errors.load();

@@ -24,6 +24,11 @@ struct DeviceOptions {
     // Khronos validation layer; also enabled by FGSR_VALIDATION=1. Validation messages of
     // severity error are counted (Engine::validation_errors) and logged to stderr.
     bool validation = false;
+    // Workgroup side of every pass, which also picks the CPU-device forms (32: generate in two
+    // passes, generate_sr from a field written per input pixel, classify and ingest several pixels
+    // per invocation) or the GPU forms (8). 0: by device type (32 on CPU devices that allow it).
+    // Tests run the GPU forms on lavapipe with 8.
+    uint32_t workgroup = 0;
 };
 
 enum class MotionModel : uint32_t {
@@ -178,6 +183,8 @@ class Engine {
 
     std::string device_name() const;
     bool is_cpu_device() const;
+    // The workgroup side of the passes (DeviceOptions::workgroup): 32 selects the CPU-device forms.
+    uint32_t workgroup() const;
     uint64_t validation_errors() const;
     // True when PassTiming begin/end come from calibrated timestamps (VK_EXT_calibrated_timestamps
     // with the CLOCK_MONOTONIC domain).
