@@ -46,7 +46,8 @@ std::vector<ImageRGBA> outputs(Engine& e, Mode mode, bool skip_tiles, const std:
     if (!s) return {};
     std::vector<ImageRGBA> out;
     const bool extrap = mode == Mode::extrap || mode == Mode::esr;
-    const std::vector<float> alphas = extrap ? std::vector<float>{0.5f, 1.f} : std::vector<float>{0.25f, 0.5f};
+    const std::vector<float> alphas =
+        extrap ? std::vector<float>{0.5f, 1.f} : std::vector<float>{0.25f, 0.5f};
     for (size_t k = 0; k < inputs.size(); ++k) {
         FrameView v = inputs[k].view();
         v.jitter_x = k % 2 ? 0.25f : -0.25f;
@@ -102,8 +103,8 @@ TEST(Forms, GpuAndCpuFormsGiveTheSameFrames) {
             for (bool skip : {false, true}) {
                 const std::vector<ImageRGBA> gpu = outputs(engine_with_group(8), mode, skip, *inputs, w, h);
                 const std::vector<ImageRGBA> cpu = outputs(engine_with_group(32), mode, skip, *inputs, w, h);
-                const std::string what = std::string(inputs == &random ? "random" : "half still") + ", mode " +
-                                         std::to_string(int(mode)) + (skip ? ", skipping" : "");
+                const std::string what = std::string(inputs == &random ? "random" : "half still") +
+                                         ", mode " + std::to_string(int(mode)) + (skip ? ", skipping" : "");
                 ASSERT_EQ(gpu.size(), cpu.size()) << what;
                 ASSERT_FALSE(gpu.empty()) << what;
                 float worst = 0;

@@ -36,9 +36,10 @@ Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
     if (options.workgroup != 0) {
         const auto& lim = impl->ctx->props.limits;
         if (options.workgroup * options.workgroup > lim.maxComputeWorkGroupInvocations ||
-            options.workgroup > lim.maxComputeWorkGroupSize[0] || options.workgroup > lim.maxComputeWorkGroupSize[1])
-            return make_error(Errc::unsupported,
-                              "workgroup " + std::to_string(options.workgroup) + ": beyond the device's limits");
+            options.workgroup > lim.maxComputeWorkGroupSize[0] ||
+            options.workgroup > lim.maxComputeWorkGroupSize[1])
+            return make_error(Errc::unsupported, "workgroup " + std::to_string(options.workgroup) +
+                                                     ": beyond the device's limits");
         impl->group = options.workgroup;
     }
     for (uint32_t v = 0; v < kVariantCount; ++v) {
