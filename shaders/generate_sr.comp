@@ -39,13 +39,12 @@ layout(std430, binding = GENSR_COUNT + TILED_FLAGS) readonly buffer Flags { uint
 
 #ifdef FGSR_SR_FIELD
 // The CPU form (FGSR_SR_FIELD, TILED layout): the field of every input pixel, written by the
-// separate refine and disocc passes at input resolution, at GENSR_COUNT + TILED_LIST (vec4),
-// TILED_FLAGS (state) and TILED_APPEND (depth), in place of refine_field and fill_hole per output
+// separate refine and disocc passes at input resolution, at GENSR_COUNT + TILED_LIST (vectors,
+// vec4) and TILED_FLAGS (state; TILED_APPEND unused), in place of refine_field and fill_hole per output
 // pixel (CPU devices run their neighbourhood reads for every pixel, and each input pixel is read
 // by scale^2 output pixels).
 layout(std430, binding = GENSR_COUNT + TILED_LIST) readonly buffer Field { u64vec2 field[]; }; // vec4
 layout(std430, binding = GENSR_COUNT + TILED_FLAGS) readonly buffer FieldState { uint field_state[]; };
-layout(std430, binding = GENSR_COUNT + TILED_APPEND) readonly buffer FieldDepth { float field_depth[]; };
 #endif
 
 #ifdef FGSR_STATIC_TILES
@@ -91,7 +90,7 @@ void main() {
     ivec2 t = generate_sr_field_pixel(q, pc.g, pc.s);
     uint i = uint(t.y) * pc.g.width + uint(t.x);
     outp[q.y * int(pc.s.hr_width) + q.x] =
-        as_u64vec2(generate_sr_finish(q, field_sample(as_vec4(field[i]), field_depth[i], field_state[i]), pc.g, pc.s));
+        as_u64vec2(generate_sr_finish(q, as_vec4(field[i]), field_state[i], pc.g, pc.s));
 #else
     outp[q.y * int(pc.s.hr_width) + q.x] = as_u64vec2(generate_sr_pixel(q, pc.g, pc.s));
 #endif

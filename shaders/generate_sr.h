@@ -44,30 +44,30 @@ FGSR_INLINE ivec2 generate_sr_field_pixel(ivec2 q, GenParams g, SrParams s) {
     return clamp(ivec2(floor(pos)), ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
 }
 
-// Output pixel q from the field sample f of its input pixel (the part of generate_sr_pixel after
-// refine / disocc; the CPU form of generate_sr reads f from the field the separate refine and
-// disocc passes wrote, generate_sr.comp FGSR_SR_FIELD).
-FGSR_INLINE vec4 generate_sr_finish(ivec2 q, FieldSample f, GenParams g, SrParams s) {
+// Output pixel q from the field vectors v and state of its input pixel (the part of
+// generate_sr_pixel after refine / disocc; the CPU form of generate_sr reads both from the field
+// the separate refine and disocc passes wrote, generate_sr.comp FGSR_SR_FIELD).
+FGSR_INLINE vec4 generate_sr_finish(ivec2 q, vec4 v, uint state, GenParams g, SrParams s) {
     vec2 qc = vec2(q) + vec2(0.5f);
     vec2 pos = qc / s.scale;
     ivec2 out_size = ivec2(int(s.hr_width), int(s.hr_height));
     if (g.extrapolate != 0u) {
-        vec2 h1 = qc + vec2(f.v.z, f.v.w) * s.scale;
+        vec2 h1 = qc + vec2(v.z, v.w) * s.scale;
         vec4 c1 = max(resample(h1, out_size, s.resample), vec4(0.0f));
         return clip_history(c1, 1u, h1 / s.scale - vec2(s.jitter_x, s.jitter_y), g, s);
     }
 
-    vec2 p0 = qc + vec2(f.v.x, f.v.y) * s.scale;
+    vec2 p0 = qc + vec2(v.x, v.y) * s.scale;
     bool ok0 = p0.x >= 0.0f && p0.y >= 0.0f && p0.x <= float(s.hr_width) && p0.y <= float(s.hr_height);
     vec4 c0 = clip_history(max(resample(p0, out_size, s.resample), vec4(0.0f)), 0u, p0 / s.scale, g, s);
     float d0 = load_depth0(clamp_pixel(ivec2(floor(p0 / s.scale)), g));
-    WarpSample w1 = warp_sample(1u, pos - vec2(s.jitter_x, s.jitter_y), vec2(f.v.z, f.v.w), g);
-    return select_blend(c0, ok0 ? d0 : -1.0f, w1.color, w1.depth, f.state, g);
+    WarpSample w1 = warp_sample(1u, pos - vec2(s.jitter_x, s.jitter_y), vec2(v.z, v.w), g);
+    return select_blend(c0, ok0 ? d0 : -1.0f, w1.color, w1.depth, state, g);
 }
 
 FGSR_INLINE vec4 generate_sr_pixel(ivec2 q, GenParams g, SrParams s) {
     ivec2 t = generate_sr_field_pixel(q, g, s);
     FieldSample f = refine_field(t, g);
     if (f.state == FIELD_HOLE && g.fill_holes != 0u) f = fill_hole(t, g);
-    return generate_sr_finish(q, f, g, s);
+    return generate_sr_finish(q, f.v, f.state, g, s);
 }

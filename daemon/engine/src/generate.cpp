@@ -163,7 +163,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
                 FGSR_TRY(rec.dispatch_pixels(
                     Variant::generate_sr_field,
                     make_slots<PassId::generate_sr, Layout::TILED>(
-                        generated_frames(slice), gen, FieldSlots{{field, field_state, field_depth}}),
+                        generated_frames(slice), gen, FieldSlots{{field, field_state, unused(field_depth)}}),
                     &push, out_w, out_h));
             } else {
                 FGSR_TRY(rec.dispatch_pixels(Variant::generate_sr,

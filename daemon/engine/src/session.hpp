@@ -25,7 +25,7 @@ constexpr uint32_t kQueriesPerFrame = 8; // start + up to 5 passes, rounded up
 constexpr uint32_t kSetsPerFrame = 10;   // descriptor sets of one generated frame (at most 5), doubled
 
 // Classification pays only where tiles can be skipped (on lavapipe at 720p, a fully moving
-// session's classified call and the plain call after it cost 0.85-1.25x two plain calls,
+// session's classified call and the plain call after it cost 0.85-1.37x two plain calls,
 // docs/TILES.md): after a classification that
 // found less than kMinSkipShare of the tiles skippable (generated frames on CPU devices:
 // kMinSkipShareCpu), the next calls (generate) or submits (sr) run every tile without classifying,
