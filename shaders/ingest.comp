@@ -31,8 +31,10 @@ uvec2 load_mv_pair(uint p) { return uvec2(mv_raw[2u * p], mv_raw[2u * p + 1u]); 
 #endif
 void store_frame(uint i, uvec2 c, float d, vec2 m) {
     color[i] = as_u64(c);
+#ifndef FGSR_INGEST_COLOUR_ONLY
     depth[i] = d;
     mv[i] = as_u64(floatBitsToUint(m));
+#endif
 }
 
 #include "ingest.h"
@@ -43,10 +45,20 @@ void store_frame(uint i, uvec2 c, float d, vec2 m) {
 // conversions would be paid for by every session. The build without them serves any format, one
 // pixel per invocation; the fixed-format CPU builds (FGSR_GROUP 32) take a row segment of
 // FGSR_INGEST_SPAN_CPU pixels per invocation (a fixed cost per invocation, docs/TILES.md).
+// The colour-only builds (FGSR_INGEST_COLOUR_ONLY: sessions without vectors and depth) store the
+// colour alone: the flow pass writes every pixel's vector and depth proxy after it, and where it does
+// not run (a session's first frame, a reset, a cut) the engine fills the two planes with the values
+// ingest would have stored (zero vectors, depth 1; session.cpp). Without the two stores ingest is
+// about 2 of its 3 stores lighter on CPU devices, where every storage-buffer access costs a loop over
+// the SIMD lanes.
 IngestParams fixed_formats(IngestParams p) {
 #ifdef FGSR_INGEST_COLOR
     p.color_format = FGSR_INGEST_COLOR;
     p.mv_format = FGSR_INGEST_MV;
+#endif
+#ifdef FGSR_INGEST_COLOUR_ONLY
+    p.has_mv = 0u;
+    p.has_depth = 0u;
 #endif
     return p;
 }

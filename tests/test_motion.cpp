@@ -616,6 +616,72 @@ TEST(Motion, SceneCutResetsInsteadOfWarping) {
     EXPECT_FALSE(r->has_mv);
 }
 
+// A colour-only session's ingest stores the colour alone (shaders/ingest.comp); the vectors and
+// depth of a frame come from flow, and a frame that starts afresh (the first, a reset, a cut: no
+// flow) must hold no motion and depth 1, not what its slot held from an earlier frame. So the
+// slot is first given non-trivial values (a moving square: flow's vectors and depth proxy), then
+// reused by such a frame; and a pair after a reset must give the frame a fresh session gives.
+TEST(Motion, FramesThatStartAfreshHoldNoMotionAndDepthOne) {
+    const uint32_t w = 128, h = 96;
+    const glm::vec2 start(20.f, 16.f), step(7.f, 3.f);
+    auto frame = [&](float t) {
+        return render(w, h, [&](glm::vec2 p) { return square_scene(p, t, start, step, 40.f); });
+    };
+    auto expect_fresh = [&](const Session& s, const char* what) {
+        auto r = s.read_frame(1);
+        ASSERT_TRUE(r) << what;
+        EXPECT_FALSE(r->has_mv) << what;
+        size_t mv_off = 0, depth_off = 0;
+        for (float v : r->mv) mv_off += v != 0.f;
+        for (float d : r->depth) depth_off += d != 1.f;
+        EXPECT_EQ(mv_off, 0u) << what << ": vector components not 0";
+        EXPECT_EQ(depth_off, 0u) << what << ": depths not 1";
+    };
+    auto s = session_of(colour_only(w, h));
+    ASSERT_TRUE(s);
+    const RawFrame f0 = frame(0.f), f1 = frame(1.f), f2 = frame(2.f), f3 = frame(3.f), f4 = frame(4.f);
+    ASSERT_TRUE(s->submit(f0.view()));
+    expect_fresh(*s, "first frame");
+    ASSERT_TRUE(s->submit(f1.view()));
+    ASSERT_TRUE(s->submit(f2.view())); // into the first frame's slot
+    {
+        auto r = s->read_frame(1);
+        ASSERT_TRUE(r);
+        ASSERT_TRUE(r->has_mv);
+        size_t moving = 0, nearer = 0;
+        for (size_t i = 0; i < size_t(w) * h; ++i) {
+            moving += glm::length(glm::vec2(r->mv[2 * i], r->mv[2 * i + 1]) + step) < 0.5f;
+            nearer += r->depth[i] < 0.99f;
+        }
+        // The precondition: the slot now holds the square's motion and a depth proxy below 1.
+        ASSERT_GT(moving, 500u);
+        ASSERT_GT(nearer, 500u);
+    }
+    FrameView reset = f3.view();
+    reset.reset = true;
+    ASSERT_TRUE(s->submit(reset)); // into f1's slot, which flow wrote
+    expect_fresh(*s, "reset frame");
+    ASSERT_TRUE(s->submit(f4.view()));
+    auto fresh = session_of(colour_only(w, h));
+    ASSERT_TRUE(fresh);
+    ASSERT_TRUE(fresh->submit(f3.view()));
+    ASSERT_TRUE(fresh->submit(f4.view()));
+    const float alpha = 0.5f;
+    auto a = s->interpolate(std::span<const float>(&alpha, 1));
+    auto b = fresh->interpolate(std::span<const float>(&alpha, 1));
+    ASSERT_TRUE(a && b);
+    ASSERT_EQ((*a)[0].color.rgba.size(), (*b)[0].color.rgba.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < (*a)[0].color.rgba.size(); ++i) differ += (*a)[0].color.rgba[i] != (*b)[0].color.rgba[i];
+    EXPECT_EQ(differ, 0u) << "channels that differ from a fresh session's frame";
+    // A cut (a different scene) into the slot flow has just written (f4's pair's frame 0 is f3).
+    const RawFrame cut = render(w, h, [](glm::vec2 p) { return glm::vec4(1.f) - texture(p * 0.7f, 77); });
+    ASSERT_TRUE(s->submit(f0.view()));
+    ASSERT_TRUE(s->submit(cut.view()));
+    ASSERT_TRUE(s->last_scene_cut());
+    expect_fresh(*s, "cut frame");
+}
+
 // ---- Correction of given vectors (Params::correct_vectors, flow.h step 4) ----
 
 // A still, low-contrast textured ground (depth 10) under a vertical shadow band of width 40 that

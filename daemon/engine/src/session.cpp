@@ -7,6 +7,7 @@
 #include "session.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 
@@ -210,8 +211,15 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         {Variant::ingest_c1_m0, Variant::ingest_c1_m1},
         {Variant::ingest_c2_m0, Variant::ingest_c2_m1},
     }};
+    constexpr std::array<Variant, 3> kIngestColourOnly = {Variant::ingest_c0_colour, Variant::ingest_c1_colour,
+                                                          Variant::ingest_c2_colour};
     const bool fixed = p.color_format < kIngestFormats.size() && p.mv_format < kIngestFormats[0].size();
-    const Variant ingest = fixed ? kIngestFormats[p.color_format][p.mv_format] : Variant::ingest;
+    // Without vectors and depth, ingest stores the colour alone: flow writes the vectors and the
+    // depth proxy, and where flow does not run they are filled below (shaders/ingest.comp).
+    const bool colour_only = fixed && s.colour_only();
+    const Variant ingest = colour_only ? kIngestColourOnly[p.color_format]
+                           : fixed     ? kIngestFormats[p.color_format][p.mv_format]
+                                       : Variant::ingest;
     const uint32_t span = fixed && s.rec.group() == 32 ? FGSR_INGEST_SPAN_CPU : 1u;
     FGSR_TRY(s.rec.dispatch_pixels(ingest, b, &p, groups(s.format.width, span), s.format.height));
     s.rec.barrier();
@@ -263,6 +271,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         q = 0;
         s.rec.timestamp(q++);
         flow_skipped = flow_skipped || restart;
+        if (flow_skipped && colour_only) {
+            // What ingest would have stored: no motion, depth 1 (the frame is a new start).
+            vkCmdFillBuffer(s.rec.cmd(), f.mv.handle(), 0, VK_WHOLE_SIZE, 0u);
+            vkCmdFillBuffer(s.rec.cmd(), f.depth.handle(), 0, VK_WHOLE_SIZE, std::bit_cast<uint32_t>(1.0f));
+            s.rec.barrier();
+        }
         if (!flow_skipped) {
             // The coarse levels' refinement, which flow reads, is timed with the other sweeps.
             if (polishing) {

@@ -175,6 +175,8 @@ struct Session::Impl {
 
     // motion.cpp
     bool estimates_motion() const { return !format.has_vectors || params.correct_vectors; }
+    // Neither vectors nor depth from the client: both planes come from the motion passes.
+    bool colour_only() const { return !format.has_vectors && !format.has_depth; }
     // Given vectors corrected by colour (Params::correct_vectors) rather than estimated.
     ref::VectorCorrection correction() const {
         return {format.has_vectors && params.correct_vectors, params.correct_ratio, params.correct_margin,
