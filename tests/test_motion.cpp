@@ -680,6 +680,7 @@ TEST(Motion, FramesThatStartAfreshHoldNoMotionAndDepthOne) {
     ASSERT_TRUE(s->submit(cut.view()));
     ASSERT_TRUE(s->last_scene_cut());
     expect_fresh(*s, "cut frame");
+    expect_no_validation_errors();
 }
 
 // ---- Correction of given vectors (Params::correct_vectors, flow.h step 4) ----
