@@ -48,9 +48,9 @@ void store_frame(uint i, uvec2 c, float d, vec2 m) {
 // The colour-only builds (FGSR_INGEST_COLOUR_ONLY: sessions without vectors and depth) store the
 // colour alone: the flow pass writes every pixel's vector and depth proxy after it, and where it does
 // not run (a session's first frame, a reset, a cut) the engine fills the two planes with the values
-// ingest would have stored (zero vectors, depth 1; session.cpp). Without the two stores ingest is
-// about 2 of its 3 stores lighter on CPU devices, where every storage-buffer access costs a loop over
-// the SIMD lanes.
+// ingest would have stored (zero vectors, depth 1; session.cpp). That leaves one store per pixel
+// of three, on CPU devices each a loop over the SIMD lanes (docs/PERFORMANCE.md, "colour-only
+// ingest").
 IngestParams fixed_formats(IngestParams p) {
 #ifdef FGSR_INGEST_COLOR
     p.color_format = FGSR_INGEST_COLOR;

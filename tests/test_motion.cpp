@@ -672,7 +672,8 @@ TEST(Motion, FramesThatStartAfreshHoldNoMotionAndDepthOne) {
     ASSERT_TRUE(a && b);
     ASSERT_EQ((*a)[0].color.rgba.size(), (*b)[0].color.rgba.size());
     size_t differ = 0;
-    for (size_t i = 0; i < (*a)[0].color.rgba.size(); ++i) differ += (*a)[0].color.rgba[i] != (*b)[0].color.rgba[i];
+    for (size_t i = 0; i < (*a)[0].color.rgba.size(); ++i)
+        differ += (*a)[0].color.rgba[i] != (*b)[0].color.rgba[i];
     EXPECT_EQ(differ, 0u) << "channels that differ from a fresh session's frame";
     // A cut (a different scene) into the slot flow has just written (f4's pair's frame 0 is f3).
     const RawFrame cut = render(w, h, [](glm::vec2 p) { return glm::vec4(1.f) - texture(p * 0.7f, 77); });

@@ -211,8 +211,8 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         {Variant::ingest_c1_m0, Variant::ingest_c1_m1},
         {Variant::ingest_c2_m0, Variant::ingest_c2_m1},
     }};
-    constexpr std::array<Variant, 3> kIngestColourOnly = {Variant::ingest_c0_colour, Variant::ingest_c1_colour,
-                                                          Variant::ingest_c2_colour};
+    constexpr std::array<Variant, 3> kIngestColourOnly = {
+        Variant::ingest_c0_colour, Variant::ingest_c1_colour, Variant::ingest_c2_colour};
     const bool fixed = p.color_format < kIngestFormats.size() && p.mv_format < kIngestFormats[0].size();
     // Without vectors and depth, ingest stores the colour alone: flow writes the vectors and the
     // depth proxy, and where flow does not run they are filled below (shaders/ingest.comp).
