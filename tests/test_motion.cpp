@@ -637,31 +637,34 @@ TEST(Motion, FramesThatStartAfreshHoldNoMotionAndDepthOne) {
         EXPECT_EQ(mv_off, 0u) << what << ": vector components not 0";
         EXPECT_EQ(depth_off, 0u) << what << ": depths not 1";
     };
+    // The precondition for reusing the newest frame's slot: flow wrote the square's motion and a
+    // depth proxy below 1 into it.
+    auto expect_flow_written = [&](const Session& s, const char* what) {
+        auto r = s.read_frame(1);
+        ASSERT_TRUE(r) << what;
+        ASSERT_TRUE(r->has_mv) << what;
+        size_t moving = 0, nearer = 0;
+        for (size_t i = 0; i < size_t(w) * h; ++i) {
+            moving += glm::length(glm::vec2(r->mv[2 * i], r->mv[2 * i + 1]) + step) < 0.5f;
+            nearer += r->depth[i] < 0.99f;
+        }
+        ASSERT_GT(moving, 500u) << what;
+        ASSERT_GT(nearer, 500u) << what;
+    };
     auto s = session_of(colour_only(w, h));
     ASSERT_TRUE(s);
     const RawFrame f0 = frame(0.f), f1 = frame(1.f), f2 = frame(2.f), f3 = frame(3.f), f4 = frame(4.f);
     ASSERT_TRUE(s->submit(f0.view()));
     expect_fresh(*s, "first frame");
     ASSERT_TRUE(s->submit(f1.view()));
+    expect_flow_written(*s, "f1");
     ASSERT_TRUE(s->submit(f2.view())); // into the first frame's slot
-    {
-        auto r = s->read_frame(1);
-        ASSERT_TRUE(r);
-        ASSERT_TRUE(r->has_mv);
-        size_t moving = 0, nearer = 0;
-        for (size_t i = 0; i < size_t(w) * h; ++i) {
-            moving += glm::length(glm::vec2(r->mv[2 * i], r->mv[2 * i + 1]) + step) < 0.5f;
-            nearer += r->depth[i] < 0.99f;
-        }
-        // The precondition: the slot now holds the square's motion and a depth proxy below 1.
-        ASSERT_GT(moving, 500u);
-        ASSERT_GT(nearer, 500u);
-    }
     FrameView reset = f3.view();
     reset.reset = true;
     ASSERT_TRUE(s->submit(reset)); // into f1's slot, which flow wrote
     expect_fresh(*s, "reset frame");
     ASSERT_TRUE(s->submit(f4.view()));
+    expect_flow_written(*s, "f4");
     auto fresh = session_of(colour_only(w, h));
     ASSERT_TRUE(fresh);
     ASSERT_TRUE(fresh->submit(f3.view()));
@@ -675,7 +678,7 @@ TEST(Motion, FramesThatStartAfreshHoldNoMotionAndDepthOne) {
     for (size_t i = 0; i < (*a)[0].color.rgba.size(); ++i)
         differ += (*a)[0].color.rgba[i] != (*b)[0].color.rgba[i];
     EXPECT_EQ(differ, 0u) << "channels that differ from a fresh session's frame";
-    // A cut (a different scene) into the slot flow has just written (f4's pair's frame 0 is f3).
+    // A cut (a different scene) into f4's slot, which flow wrote (checked above).
     const RawFrame cut = render(w, h, [](glm::vec2 p) { return glm::vec4(1.f) - texture(p * 0.7f, 77); });
     ASSERT_TRUE(s->submit(f0.view()));
     ASSERT_TRUE(s->submit(cut.view()));
