@@ -7,6 +7,27 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <random>
+
+// shaders/flow.h compiled on its own, for its cost functions (as the CPU reference compiles it).
+// clang-format off
+namespace fgsr::gpu {
+namespace {
+struct FlowHeader {
+    std::vector<float> cur_luma, prev_luma;
+    float load_cur(uint i) const { return cur_luma[i]; }
+    float load_prev(uint i) const { return prev_luma[i]; }
+    vec4 load_field(uint) const { return vec4(0.0f); }
+    vec2 load_given(uint) const { return vec2(0.0f); }
+    float load_depth(uint) const { return 1.0f; }
+    float load_prev_depth(uint) const { return 1.0f; }
+    vec2 load_field_vector(uint) const { return vec2(0.0f); }
+    void store_flow(uint, vec2, float, bool) {}
+#include "flow.h"
+};
+} // namespace
+} // namespace fgsr::gpu
+// clang-format on
 
 namespace fgsr::test {
 namespace {
@@ -204,6 +225,49 @@ TEST(Motion, SubPixelAndLargeTranslationsAreRecovered) {
 // (the per-pixel choice leaves speckle where texture does not decide between neighbouring blocks)
 // are pulled back to the motion around them and the colour, and a right field stays right (to
 // within the bias of the bilinear reading of the previous frame).
+// flow's step 5 compares two sub-pixel vectors by their mean absolute luma difference over the
+// pixel's 3x3 neighbourhood, the previous frame read bilinearly at each of the 9 displaced pixels
+// with edges clamped; the header reads the 4x4 pixels the 9 reads share once. Checked against that
+// definition computed here tap by tap, in double, on random frames, at pixels on and near the
+// edges and with vectors pointing off the frame.
+TEST(Motion, WindowCostIsTheMeanOfNineBilinearReads) {
+    constexpr int w = 23, h = 17;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(0.f, 1.f), shift(-30.f, 30.f);
+    gpu::FlowHeader f;
+    for (int i = 0; i < w * h; ++i) f.cur_luma.push_back(unit(rng)), f.prev_luma.push_back(unit(rng));
+    gpu::FlowParams p{};
+    p.width = w;
+    p.height = h;
+    const auto at = [&](const std::vector<float>& img, int x, int y) {
+        return double(img[size_t(std::clamp(y, 0, h - 1)) * w + size_t(std::clamp(x, 0, w - 1))]);
+    };
+    const auto expected = [&](glm::ivec2 q, glm::vec2 v) {
+        double sum = 0;
+        for (int oy = -1; oy <= 1; ++oy)
+            for (int ox = -1; ox <= 1; ++ox) {
+                const double px = q.x + ox + double(v.x), py = q.y + oy + double(v.y);
+                const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
+                const double tx = px - x0, ty = py - y0;
+                const double b = (1 - ty) * ((1 - tx) * at(f.prev_luma, x0, y0) + tx * at(f.prev_luma, x0 + 1, y0)) +
+                                 ty * ((1 - tx) * at(f.prev_luma, x0, y0 + 1) + tx * at(f.prev_luma, x0 + 1, y0 + 1));
+                sum += std::abs(at(f.cur_luma, q.x + ox, q.y + oy) - b);
+            }
+        return sum / 9;
+    };
+    double worst = 0;
+    for (int n = 0; n < 400; ++n) {
+        // Every fourth pixel on an edge or a corner; vectors up to 30 px, most of them off the frame.
+        glm::ivec2 q(int(unit(rng) * w) % w, int(unit(rng) * h) % h);
+        if (n % 4 == 0) q.x = n % 8 == 0 ? 0 : w - 1;
+        if (n % 8 == 4) q.y = n % 16 == 4 ? 0 : h - 1;
+        const glm::vec2 a(shift(rng), shift(rng)), b = n % 3 == 0 ? glm::vec2(std::round(a.x), -0.5f) : a * 0.1f;
+        const glm::vec2 costs = f.flow_cost_window_pair(q, a, b, p);
+        worst = std::max({worst, std::abs(double(costs.x) - expected(q, a)), std::abs(double(costs.y) - expected(q, b))});
+    }
+    EXPECT_LT(worst, 2e-5) << "largest difference from the 9 bilinear reads";
+}
+
 TEST(Motion, PolishPullsTornVectorsBackToTheColourAndTheirNeighbours) {
     const uint32_t w = 96, h = 64;
     const glm::vec2 truth(1.3f, -0.6f); // current -> previous: prev(p + truth) = cur(p)
