@@ -263,20 +263,24 @@ namespace {
 // build for any other combination.
 Variant match_variant(const gpu::MatchParams& m) {
     const uint32_t kind = m.same_offset != MOTION_NONE ? 2u : m.coarse_blocks_x > 0u ? 1u : 0u;
-    switch (kind << 4 | m.store) {
-    case 0x00:
+    // The builds below the coarsest level also fix the search radius (FGSR_MATCH_RADIUS).
+    const uint32_t radius = kind == 0u ? 0u : uint32_t(m.radius);
+    switch (radius << 8 | kind << 4 | m.store) {
+    case 0x000:
         return Variant::match_k0_s0;
-    case 0x02:
+    case 0x002:
         return Variant::match_k0_s2;
-    case 0x10:
+    case 0x110:
         return Variant::match_k1_s0;
-    case 0x11:
+    case 0x210:
+        return Variant::match_k1_s0_r2;
+    case 0x111:
         return Variant::match_k1_s1;
-    case 0x12:
+    case 0x212:
         return Variant::match_k1_s2;
-    case 0x22:
+    case 0x122:
         return Variant::match_k2_s2;
-    case 0x27:
+    case 0x127:
         return Variant::match_k2_s7;
     default:
         return Variant::match;
