@@ -257,8 +257,9 @@ TEST(Motion, WindowCostIsTheMeanOfNineBilinearReads) {
                 const double px = q.x + ox + double(v.x), py = q.y + oy + double(v.y);
                 const int x0 = int(std::floor(px)), y0 = int(std::floor(py));
                 const double tx = px - x0, ty = py - y0;
-                const double b = (1 - ty) * ((1 - tx) * at(f.prev_luma, x0, y0) + tx * at(f.prev_luma, x0 + 1, y0)) +
-                                 ty * ((1 - tx) * at(f.prev_luma, x0, y0 + 1) + tx * at(f.prev_luma, x0 + 1, y0 + 1));
+                const double b =
+                    (1 - ty) * ((1 - tx) * at(f.prev_luma, x0, y0) + tx * at(f.prev_luma, x0 + 1, y0)) +
+                    ty * ((1 - tx) * at(f.prev_luma, x0, y0 + 1) + tx * at(f.prev_luma, x0 + 1, y0 + 1));
                 sum += std::abs(at(f.cur_luma, q.x + ox, q.y + oy) - b);
             }
         return sum / 9;
@@ -269,9 +270,11 @@ TEST(Motion, WindowCostIsTheMeanOfNineBilinearReads) {
         glm::ivec2 q(int(unit(rng) * w) % w, int(unit(rng) * h) % h);
         if (n % 4 == 0) q.x = n % 8 == 0 ? 0 : w - 1;
         if (n % 8 == 4) q.y = n % 16 == 4 ? 0 : h - 1;
-        const glm::vec2 a(shift(rng), shift(rng)), b = n % 3 == 0 ? glm::vec2(std::round(a.x), -0.5f) : a * 0.1f;
+        const glm::vec2 a(shift(rng), shift(rng)),
+            b = n % 3 == 0 ? glm::vec2(std::round(a.x), -0.5f) : a * 0.1f;
         const glm::vec2 costs = f.flow_cost_window_pair(q, a, b, p);
-        worst = std::max({worst, std::abs(double(costs.x) - expected(q, a)), std::abs(double(costs.y) - expected(q, b))});
+        worst = std::max(
+            {worst, std::abs(double(costs.x) - expected(q, a)), std::abs(double(costs.y) - expected(q, b))});
     }
     EXPECT_LT(worst, 2e-5) << "largest difference from the 9 bilinear reads";
 }
