@@ -110,6 +110,19 @@ FGSR_INLINE float match_subpixel(float cm, float c0, float cp) {
     return slope > 1.0e-7f ? clamp(0.5f * (cm - cp) / slope, -0.5f, 0.5f) : 0.0f;
 }
 
+#if defined(FGSR_MATCH_RADIUS)
+// One candidate's terms of one block row: its four checkerboard pixels b0..b3 against the
+// destination pixels v0..v3 it compares them with, added to acc in match_cost's order.
+FGSR_INLINE float match_row_terms(float acc, float b0, float b1, float b2, float b3, float v0, float v1, float v2,
+                                  float v3) {
+    acc += abs(b0 - v0);
+    acc += abs(b1 - v1);
+    acc += abs(b2 - v2);
+    acc += abs(b3 - v3);
+    return acc;
+}
+#endif
+
 #if defined(FGSR_MATCH_RADIUS) && FGSR_MATCH_RADIUS == 1
 // One block row's terms of the costs of three horizontally adjacent candidates (dx = -1, 0, 1;
 // acc.x, .y, .z): the row's four checkerboard pixels b0..b3 against the 9 destination pixels from
@@ -118,18 +131,9 @@ FGSR_INLINE vec3 match_row3(float b0, float b1, float b2, float b3, ivec2 at, ve
     float v0 = match_dst(at, p), v1 = match_dst(at + ivec2(1, 0), p), v2 = match_dst(at + ivec2(2, 0), p);
     float v3 = match_dst(at + ivec2(3, 0), p), v4 = match_dst(at + ivec2(4, 0), p), v5 = match_dst(at + ivec2(5, 0), p);
     float v6 = match_dst(at + ivec2(6, 0), p), v7 = match_dst(at + ivec2(7, 0), p), v8 = match_dst(at + ivec2(8, 0), p);
-    acc.x += abs(b0 - v0);
-    acc.x += abs(b1 - v2);
-    acc.x += abs(b2 - v4);
-    acc.x += abs(b3 - v6);
-    acc.y += abs(b0 - v1);
-    acc.y += abs(b1 - v3);
-    acc.y += abs(b2 - v5);
-    acc.y += abs(b3 - v7);
-    acc.z += abs(b0 - v2);
-    acc.z += abs(b1 - v4);
-    acc.z += abs(b2 - v6);
-    acc.z += abs(b3 - v8);
+    acc.x = match_row_terms(acc.x, b0, b1, b2, b3, v0, v2, v4, v6);
+    acc.y = match_row_terms(acc.y, b0, b1, b2, b3, v1, v3, v5, v7);
+    acc.z = match_row_terms(acc.z, b0, b1, b2, b3, v2, v4, v6, v8);
     return acc;
 }
 #endif
@@ -142,26 +146,11 @@ FGSR_INLINE vec4 match_row5(float b0, float b1, float b2, float b3, ivec2 at, ve
     float v3 = match_dst(at + ivec2(3, 0), p), v4 = match_dst(at + ivec2(4, 0), p), v5 = match_dst(at + ivec2(5, 0), p);
     float v6 = match_dst(at + ivec2(6, 0), p), v7 = match_dst(at + ivec2(7, 0), p), v8 = match_dst(at + ivec2(8, 0), p);
     float v9 = match_dst(at + ivec2(9, 0), p), v10 = match_dst(at + ivec2(10, 0), p);
-    acc.x += abs(b0 - v0);
-    acc.x += abs(b1 - v2);
-    acc.x += abs(b2 - v4);
-    acc.x += abs(b3 - v6);
-    acc.y += abs(b0 - v1);
-    acc.y += abs(b1 - v3);
-    acc.y += abs(b2 - v5);
-    acc.y += abs(b3 - v7);
-    acc.z += abs(b0 - v2);
-    acc.z += abs(b1 - v4);
-    acc.z += abs(b2 - v6);
-    acc.z += abs(b3 - v8);
-    acc.w += abs(b0 - v3);
-    acc.w += abs(b1 - v5);
-    acc.w += abs(b2 - v7);
-    acc.w += abs(b3 - v9);
-    e += abs(b0 - v4);
-    e += abs(b1 - v6);
-    e += abs(b2 - v8);
-    e += abs(b3 - v10);
+    acc.x = match_row_terms(acc.x, b0, b1, b2, b3, v0, v2, v4, v6);
+    acc.y = match_row_terms(acc.y, b0, b1, b2, b3, v1, v3, v5, v7);
+    acc.z = match_row_terms(acc.z, b0, b1, b2, b3, v2, v4, v6, v8);
+    acc.w = match_row_terms(acc.w, b0, b1, b2, b3, v3, v5, v7, v9);
+    e = match_row_terms(e, b0, b1, b2, b3, v4, v6, v8, v10);
     return acc;
 }
 #endif
