@@ -168,11 +168,9 @@ FGSR_INLINE float match_total(float r, ivec2 d, vec2 pred, MatchParams p) {
     return r + p.lambda * length(vec2(d) - pred) + (d == ivec2(0) ? p.zero_bias : 0.0f);
 }
 
-// Tries displacement d against the best so far: kept when its cost (match cost plus the
-// regularising term toward pred) is lower; the best itself is not evaluated again.
-FGSR_INLINE MatchSearch match_try(float blk[32], ivec2 origin, ivec2 d, vec2 pred, MatchSearch s, MatchParams p) {
-    if (d == s.best) return s;
-    float r = match_cost(blk, origin, d, p);
+// Keeps displacement d, of match cost r, when its cost (match cost plus the regularising term toward
+// pred) is lower than the best so far's.
+FGSR_INLINE MatchSearch match_keep(float r, ivec2 d, vec2 pred, MatchSearch s, MatchParams p) {
     float cost = match_total(r, d, pred, p);
     if (cost < s.cost) {
         s.cost = cost;
@@ -180,6 +178,12 @@ FGSR_INLINE MatchSearch match_try(float blk[32], ivec2 origin, ivec2 d, vec2 pre
         s.best = d;
     }
     return s;
+}
+
+// Tries displacement d against the best so far (match_keep); the best itself is not evaluated again.
+FGSR_INLINE MatchSearch match_try(float blk[32], ivec2 origin, ivec2 d, vec2 pred, MatchSearch s, MatchParams p) {
+    if (d == s.best) return s;
+    return match_keep(match_cost(blk, origin, d, p), d, pred, s, p);
 }
 
 FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
@@ -267,14 +271,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
                                  origin + centre + ivec2((y & 1) - 1, y + dy), acc, p);
             FGSR_UNROLL for (int c = 0; c < 3; ++c) {
                 ivec2 d = centre + ivec2(c - 1, dy);
-                if (d == centre) continue;
-                float r = (c == 0 ? acc.x : (c == 1 ? acc.y : acc.z)) * (1.0f / 32.0f);
-                float cost = match_total(r, d, pred, p);
-                if (cost < s.cost) {
-                    s.cost = cost;
-                    s.raw = r;
-                    s.best = d;
-                }
+                if (d != centre) s = match_keep((c == 0 ? acc.x : (c == 1 ? acc.y : acc.z)) * (1.0f / 32.0f), d, pred, s, p);
             }
         }
     }
@@ -290,14 +287,8 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
                                  origin + centre + ivec2((y & 1) - 2, y + dy), acc, e, p);
             FGSR_UNROLL for (int c = 0; c < 5; ++c) {
                 ivec2 d = centre + ivec2(c - 2, dy);
-                if (d == centre) continue;
-                float r = (c == 0 ? acc.x : (c == 1 ? acc.y : (c == 2 ? acc.z : (c == 3 ? acc.w : e)))) * (1.0f / 32.0f);
-                float cost = match_total(r, d, pred, p);
-                if (cost < s.cost) {
-                    s.cost = cost;
-                    s.raw = r;
-                    s.best = d;
-                }
+                float r = c == 0 ? acc.x : (c == 1 ? acc.y : (c == 2 ? acc.z : (c == 3 ? acc.w : e)));
+                if (d != centre) s = match_keep(r * (1.0f / 32.0f), d, pred, s, p);
             }
         }
     }
