@@ -124,10 +124,11 @@ FGSR_INLINE float match_row_terms(float acc, float b0, float b1, float b2, float
 #endif
 
 #if defined(FGSR_MATCH_RADIUS) && FGSR_MATCH_RADIUS == 1
-// One block row's terms of the costs of three horizontally adjacent candidates (dx = -1, 0, 1;
-// acc.x, .y, .z): the row's four checkerboard pixels b0..b3 against the 9 destination pixels from
-// `at` on (the row's first checkerboard pixel displaced by the centre, minus 1), each read once.
-FGSR_INLINE vec3 match_row3(float b0, float b1, float b2, float b3, ivec2 at, vec3 acc, MatchParams p) {
+// One block row's terms of the costs of the three horizontally adjacent candidates dx = -1, 0, 1
+// (acc.x, .y, .z; acc.w and e unused): the row's four checkerboard pixels b0..b3 against the 9
+// destination pixels from `at` on (the row's first checkerboard pixel displaced by the centre,
+// minus 1), each read once.
+FGSR_INLINE vec4 match_row(float b0, float b1, float b2, float b3, ivec2 at, vec4 acc, inout float e, MatchParams p) {
     float v0 = match_dst(at, p), v1 = match_dst(at + ivec2(1, 0), p), v2 = match_dst(at + ivec2(2, 0), p);
     float v3 = match_dst(at + ivec2(3, 0), p), v4 = match_dst(at + ivec2(4, 0), p), v5 = match_dst(at + ivec2(5, 0), p);
     float v6 = match_dst(at + ivec2(6, 0), p), v7 = match_dst(at + ivec2(7, 0), p), v8 = match_dst(at + ivec2(8, 0), p);
@@ -136,12 +137,10 @@ FGSR_INLINE vec3 match_row3(float b0, float b1, float b2, float b3, ivec2 at, ve
     acc.z = match_row_terms(acc.z, b0, b1, b2, b3, v2, v4, v6, v8);
     return acc;
 }
-#endif
-
-#if defined(FGSR_MATCH_RADIUS) && FGSR_MATCH_RADIUS == 2
-// The same for five candidates (dx = -2 .. 2; acc.x .. acc.w, then e): 11 destination pixels from
-// `at` (the row's first checkerboard pixel displaced by the centre, minus 2).
-FGSR_INLINE vec4 match_row5(float b0, float b1, float b2, float b3, ivec2 at, vec4 acc, inout float e, MatchParams p) {
+#elif defined(FGSR_MATCH_RADIUS) && FGSR_MATCH_RADIUS == 2
+// The same for the five candidates dx = -2 .. 2 (acc.x .. acc.w, then e): 11 destination pixels
+// from `at` (the row's first checkerboard pixel displaced by the centre, minus 2).
+FGSR_INLINE vec4 match_row(float b0, float b1, float b2, float b3, ivec2 at, vec4 acc, inout float e, MatchParams p) {
     float v0 = match_dst(at, p), v1 = match_dst(at + ivec2(1, 0), p), v2 = match_dst(at + ivec2(2, 0), p);
     float v3 = match_dst(at + ivec2(3, 0), p), v4 = match_dst(at + ivec2(4, 0), p), v5 = match_dst(at + ivec2(5, 0), p);
     float v6 = match_dst(at + ivec2(6, 0), p), v7 = match_dst(at + ivec2(7, 0), p), v8 = match_dst(at + ivec2(8, 0), p);
@@ -256,37 +255,22 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     ivec2 centre = s.best;
     // Builds whose radius is fixed (FGSR_MATCH_RADIUS; the host picks them only for passes of that
     // radius) search a row of candidates at a time: the 2R + 1 candidates of a row compare each
-    // block row with the same 8 + 2R destination pixels, which match_row3 / match_row5 read once
+    // block row with the same 8 + 2R destination pixels, which match_row reads once
     // for all of them (9 reads instead of 12 at R = 1, 11 instead of 20 at R = 2). Each cost adds the
     // same terms in the same order as match_cost, and the candidates are tried in the loop's order
     // below (row-major, the centre skipped: it is the best so far), so the choice is the loop's, bit
     // for bit (Motion.GpuPassesMatchTheCpuReferenceAboveTheHalfResolutionThreshold). The generic
     // build and the CPU reference run the loop.
-#if defined(FGSR_MATCH_RADIUS) && FGSR_MATCH_RADIUS == 1
+#if defined(FGSR_MATCH_RADIUS)
     if (n_search > 0) {
-        FGSR_UNROLL for (int dy = -1; dy <= 1; ++dy) {
-            vec3 acc = vec3(0.0f);
-            FGSR_UNROLL for (int y = 0; y < 8; ++y)
-                acc = match_row3(blk[y * 4], blk[y * 4 + 1], blk[y * 4 + 2], blk[y * 4 + 3],
-                                 origin + centre + ivec2((y & 1) - 1, y + dy), acc, p);
-            FGSR_UNROLL for (int c = 0; c < 3; ++c) {
-                ivec2 d = centre + ivec2(c - 1, dy);
-                if (d != centre) s = match_keep((c == 0 ? acc.x : (c == 1 ? acc.y : acc.z)) * (1.0f / 32.0f), d, pred, s, p);
-            }
-        }
-    }
-    n_search = 0;
-#endif
-#if defined(FGSR_MATCH_RADIUS) && FGSR_MATCH_RADIUS == 2
-    if (n_search > 0) {
-        FGSR_UNROLL for (int dy = -2; dy <= 2; ++dy) {
+        FGSR_UNROLL for (int dy = -FGSR_MATCH_RADIUS; dy <= FGSR_MATCH_RADIUS; ++dy) {
             vec4 acc = vec4(0.0f);
             float e = 0.0f;
             FGSR_UNROLL for (int y = 0; y < 8; ++y)
-                acc = match_row5(blk[y * 4], blk[y * 4 + 1], blk[y * 4 + 2], blk[y * 4 + 3],
-                                 origin + centre + ivec2((y & 1) - 2, y + dy), acc, e, p);
-            FGSR_UNROLL for (int c = 0; c < 5; ++c) {
-                ivec2 d = centre + ivec2(c - 2, dy);
+                acc = match_row(blk[y * 4], blk[y * 4 + 1], blk[y * 4 + 2], blk[y * 4 + 3],
+                                origin + centre + ivec2((y & 1) - FGSR_MATCH_RADIUS, y + dy), acc, e, p);
+            FGSR_UNROLL for (int c = 0; c < 2 * FGSR_MATCH_RADIUS + 1; ++c) {
+                ivec2 d = centre + ivec2(c - FGSR_MATCH_RADIUS, dy);
                 float r = c == 0 ? acc.x : (c == 1 ? acc.y : (c == 2 ? acc.z : (c == 3 ? acc.w : e)));
                 if (d != centre) s = match_keep(r * (1.0f / 32.0f), d, pred, s, p);
             }

@@ -228,11 +228,6 @@ TEST(Motion, SubPixelAndLargeTranslationsAreRecovered) {
     }
 }
 
-// The variational refinement (shaders/polish.h) on its own, CPU reference: a continuous luma
-// pattern translated by a sub-pixel vector. What it is for: vectors torn from their neighbours
-// (the per-pixel choice leaves speckle where texture does not decide between neighbouring blocks)
-// are pulled back to the motion around them and the colour, and a right field stays right (to
-// within the bias of the bilinear reading of the previous frame).
 // flow's step 5 compares two sub-pixel vectors by their mean absolute luma difference over the
 // pixel's 3x3 neighbourhood, the previous frame read bilinearly at each of the 9 displaced pixels
 // with edges clamped; the header reads the 4x4 pixels the 9 reads share once. Checked against that
@@ -279,6 +274,11 @@ TEST(Motion, WindowCostIsTheMeanOfNineBilinearReads) {
     EXPECT_LT(worst, 2e-5) << "largest difference from the 9 bilinear reads";
 }
 
+// The variational refinement (shaders/polish.h) on its own, CPU reference: a continuous luma
+// pattern translated by a sub-pixel vector. What it is for: vectors torn from their neighbours
+// (the per-pixel choice leaves speckle where texture does not decide between neighbouring blocks)
+// are pulled back to the motion around them and the colour, and a right field stays right (to
+// within the bias of the bilinear reading of the previous frame).
 TEST(Motion, PolishPullsTornVectorsBackToTheColourAndTheirNeighbours) {
     const uint32_t w = 96, h = 64;
     const glm::vec2 truth(1.3f, -0.6f); // current -> previous: prev(p + truth) = cur(p)
