@@ -295,12 +295,16 @@ TEST_F(LayerE2E, PresentWaitGivesDisplayTimes) {
     const double median = after_call[after_call.size() / 2];
     std::printf("[ present  ] display time after the present call: median %.2f ms (emulated delay 15 ms)\n",
                 median);
-    // Displayed no sooner than the driver said, and found within a few polls of it.
-    EXPECT_GE(median, 15.0);
+    // Displayed when the driver said, found within a few polls of it. The driver's 15 ms count from
+    // its own return, which the layer's clock reads a little later: a present preempted in between
+    // (a loaded machine) shows less than 15, so the median is held to 14.5, not 15.
+    EXPECT_GE(median, 14.5);
     EXPECT_LT(median, 15.0 + 10.0);
-    size_t early = 0;
-    for (double d : after_call) early += d < 14.9 ? 1 : 0;
-    EXPECT_LE(double(early), total - displayed) << "only fallbacks carry their call time";
+    // A fallback's display time is its call time (0 ms after it); a present the driver timed is
+    // 15 ms after its call less that preemption, which is never half of it.
+    size_t at_call = 0;
+    for (double d : after_call) at_call += d < 7.5 ? 1 : 0;
+    EXPECT_LE(double(at_call), total - displayed) << "only fallbacks carry their call time";
 }
 
 TEST_F(LayerE2E, WithoutPresentWaitTimesAreThePresentCalls) {
@@ -437,7 +441,30 @@ TEST_F(LayerE2E, TwoSwapchainsEachGetTheirFrames) {
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     EXPECT_EQ(json_number(r.stats, "app_presents"), 60);
-    EXPECT_GE(json_number(r.stats, "generated"), 48); // of 2 x (30 - 1 first frame)
+    // Each application frame is followed by one generated frame, shown or dropped (a swapchain's
+    // first frame has none to pair with, and a loaded machine drops those that come too late).
+    const double generated = json_number(r.stats, "generated");
+    EXPECT_EQ(generated + json_number(r.stats, "dropped"), 60) << r.stats;
+    EXPECT_EQ(json_number(r.stats, "presents"), 60 + generated) << r.stats;
+    // One swapchain alone makes at most 29: more than that, and both got frames.
+    EXPECT_GE(generated, 30) << r.stats;
+    // And fgsrd made each of its two sessions' frames (logged as each closes with its swapchain:
+    // "session S of client C destroyed (F frames, O outputs, ...)").
+    std::vector<long> outputs;
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    for (;;) {
+        const std::string log = daemon_->stderr_text();
+        outputs.clear();
+        for (size_t at = log.find(" destroyed ("); at != std::string::npos; at = log.find(" destroyed (", at + 1)) {
+            const size_t comma = log.find(" frames, ", at);
+            if (comma != std::string::npos) outputs.push_back(std::atol(log.c_str() + comma + 9));
+        }
+        if (outputs.size() >= 2 || std::chrono::steady_clock::now() > give_up) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    ASSERT_EQ(outputs.size(), 2u) << daemon_->stderr_text();
+    std::printf("[ sessions ] fgsrd outputs: %ld and %ld\n", outputs[0], outputs[1]);
+    for (long o : outputs) EXPECT_GE(o, 15) << daemon_->stderr_text(); // of 29 each
 }
 
 TEST_F(LayerE2E, TwoSwapchainsInOnePresentPassThrough) {
