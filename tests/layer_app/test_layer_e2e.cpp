@@ -455,7 +455,8 @@ TEST_F(LayerE2E, TwoSwapchainsEachGetTheirFrames) {
     for (;;) {
         const std::string log = daemon_->stderr_text();
         outputs.clear();
-        for (size_t at = log.find(" destroyed ("); at != std::string::npos; at = log.find(" destroyed (", at + 1)) {
+        for (size_t at = log.find(" destroyed ("); at != std::string::npos;
+             at = log.find(" destroyed (", at + 1)) {
             const size_t comma = log.find(" frames, ", at);
             if (comma != std::string::npos) outputs.push_back(std::atol(log.c_str() + comma + 9));
         }
