@@ -12,9 +12,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <optional>
+#include <string>
 #include <poll.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
@@ -23,6 +25,42 @@
 #include <vector>
 
 namespace fgsr::test {
+
+// AddressSanitizer builds of the tests (FGSR_TEST_ASAN), and ASan options for the daemons a test
+// starts.
+#if defined(__SANITIZE_ADDRESS__)
+#define FGSR_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define FGSR_TEST_ASAN 1
+#endif
+#endif
+
+// Appends `option` to ASAN_OPTIONS for the processes started while it lives (ASan builds only).
+class AsanOptionForChildren {
+  public:
+    explicit AsanOptionForChildren([[maybe_unused]] const char* option) {
+#ifdef FGSR_TEST_ASAN
+        const char* old = std::getenv("ASAN_OPTIONS");
+        if (old) old_ = old;
+        const std::string value = old_ ? *old_ + ":" + option : std::string(option);
+        setenv("ASAN_OPTIONS", value.c_str(), 1);
+#endif
+    }
+    ~AsanOptionForChildren() {
+#ifdef FGSR_TEST_ASAN
+        if (old_)
+            setenv("ASAN_OPTIONS", old_->c_str(), 1);
+        else
+            unsetenv("ASAN_OPTIONS");
+#endif
+    }
+    AsanOptionForChildren(const AsanOptionForChildren&) = delete;
+    AsanOptionForChildren& operator=(const AsanOptionForChildren&) = delete;
+
+  private:
+    std::optional<std::string> old_;
+};
 
 constexpr uint32_t kW = 64, kH = 64;
 

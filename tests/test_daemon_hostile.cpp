@@ -182,6 +182,9 @@ TEST(DaemonHostile, AHeavySessionDoesNotHoldUpHelloOrSmallClients) {
 // SIGTERM while a long frame runs (2048x2048, eight outputs: seconds on lavapipe): clients are
 // disconnected at once and the daemon exits after --shutdown-grace, not after the frame.
 TEST(DaemonHostile, SigtermDoesNotWaitForALongFrame) {
+    // What is timed is the daemon's exit, not LeakSanitizer's scan of its heap at the exit (the
+    // other daemon tests check for leaks): with the scan, an ASan build under load took 2.0 s.
+    const AsanOptionForChildren no_leak_scan("detect_leaks=0");
     auto d = FgsrdProcess::start({"--shutdown-grace", "0.2"});
     ASSERT_TRUE(d) << FgsrdProcess::last_error();
     auto heavy = open_session(d->socket_path(), square_desc(2048));
@@ -204,7 +207,11 @@ TEST(DaemonHostile, SigtermDoesNotWaitForALongFrame) {
     EXPECT_TRUE(heavy->raw.closed_by_daemon(10));
     const bool finished = s.wait(0).has_value();
     if (!finished) { // else this machine ran eight 2048x2048 frames in 300 ms: nothing to test
+#ifdef FGSR_TEST_ASAN
+        EXPECT_LT(exit_ms, 3000.0); // an instrumented daemon's teardown is slower (the frame is not)
+#else
         EXPECT_LT(exit_ms, 1500.0);
+#endif
         EXPECT_NE(d->stderr_text().find("exiting without waiting"), std::string::npos) << d->stderr_text();
     }
     EXPECT_NE(access(d->socket_path().c_str(), F_OK), 0) << "socket file left behind";

@@ -762,40 +762,6 @@ pid_t spawn_client(const std::string& path, State state, int ready) {
 // or two more lines in /proc/<pid>/maps per cycle and RSS that only grows, with no leak. The daemon
 // of this test runs without the quarantine there, which makes its mapping count as exact as in
 // the other builds; leaks of heap memory are LeakSanitizer's, at the daemon's exit.
-#if defined(__SANITIZE_ADDRESS__)
-#define FGSR_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define FGSR_TEST_ASAN 1
-#endif
-#endif
-
-// Appends `option` to ASAN_OPTIONS for the processes started while it lives (ASan builds only).
-class AsanOptionForChildren {
-  public:
-    explicit AsanOptionForChildren([[maybe_unused]] const char* option) {
-#ifdef FGSR_TEST_ASAN
-        const char* old = std::getenv("ASAN_OPTIONS");
-        if (old) old_ = old;
-        const std::string value = old_ ? *old_ + ":" + option : std::string(option);
-        setenv("ASAN_OPTIONS", value.c_str(), 1);
-#endif
-    }
-    ~AsanOptionForChildren() {
-#ifdef FGSR_TEST_ASAN
-        if (old_)
-            setenv("ASAN_OPTIONS", old_->c_str(), 1);
-        else
-            unsetenv("ASAN_OPTIONS");
-#endif
-    }
-    AsanOptionForChildren(const AsanOptionForChildren&) = delete;
-    AsanOptionForChildren& operator=(const AsanOptionForChildren&) = delete;
-
-  private:
-    std::optional<std::string> old_;
-};
-
 #ifdef FGSR_TEST_ASAN
 constexpr int kAsanRegions = 2;
 #else
