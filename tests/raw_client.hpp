@@ -16,8 +16,8 @@
 #include <cstring>
 #include <memory>
 #include <optional>
-#include <string>
 #include <poll.h>
+#include <string>
 #include <sys/mman.h>
 #include <sys/socket.h>
 #include <unistd.h>
