@@ -336,7 +336,10 @@ inline std::optional<Conn> open_session(const std::string& path,
     m.desc = desc;
     if (!raw->send(&m, sizeof(m))) return std::nullopt;
     auto s = std::make_unique<RawSession>();
-    auto msg = raw->recv(&s->fds);
+    // A 2048x2048 session's buffers take seconds to create in an ASan build on a loaded machine
+    // (a clean-clone CI run beside other work took more than the default 20 s): a minute before the
+    // reply counts as missing.
+    auto msg = raw->recv(&s->fds, nullptr, 60000);
     s->reply = as<fgsr_create_session_reply>(msg);
     if (msg.size() != sizeof(fgsr_create_session_reply) || s->reply.status != FGSR_STATUS_OK ||
         s->fds.size() != FGSR_FD_COUNT) {
