@@ -15,6 +15,18 @@ layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { uint64_t colo
 layout(std430, binding = GENERATE_OUTPUT) writeonly buffer Output { u64vec2 outp[]; }; // vec4
 #include "load64.h"
 
+// The CPU builds for extrapolation (FGSR_GENERATE_EXTRAPOLATE=1u) fix g.extrapolate, so that the
+// frame-0 warp and the blend, which extrapolation does not use, are compiled out: CPU devices run
+// both sides of a branch with the inactive lanes masked off, and an extrapolated frame paid for
+// the interpolation's reads (docs/PERFORMANCE.md, "builds per mode").
+GenParams gen_params() {
+    GenParams g = pc.g;
+#ifdef FGSR_GENERATE_EXTRAPOLATE
+    g.extrapolate = FGSR_GENERATE_EXTRAPOLATE;
+#endif
+    return g;
+}
+
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
@@ -29,7 +41,7 @@ layout(std430, binding = GENERATE_COUNT + TILED_FLAGS) readonly buffer Flags { u
 #include "tiles.h"
 #else
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
-vec4 load_motion(uint src) { return source_field_vectors(src, pc.g); }
+vec4 load_motion(uint src) { return source_field_vectors(src, gen_params()); }
 #endif
 vec4 load_color0(ivec2 q) { return unpack_color(as_uvec2(color0[q.y * int(pc.g.width) + q.x])); }
 vec4 load_color1(ivec2 q) { return unpack_color(as_uvec2(color1[q.y * int(pc.g.width) + q.x])); }
@@ -66,19 +78,19 @@ void main() {
 #else
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
 #endif
-    if (!generate_splatted(t, pc.g)) TILE_APPEND(pixel_list, uint(t.x) | (uint(t.y) << 16), 1u);
+    if (!generate_splatted(t, gen_params())) TILE_APPEND(pixel_list, uint(t.x) | (uint(t.y) << 16), 1u);
 #else
     uint slot = gl_WorkGroupID.x * uint(FGSR_GROUP * FGSR_GROUP) + gl_LocalInvocationIndex;
     if (slot >= tile_list[3]) return;
     uint packed = tile_list[TILE_LIST_HEADER + slot];
-    generate_pixel(ivec2(int(packed & 0xffffu), int(packed >> 16)), pc.g);
+    generate_pixel(ivec2(int(packed & 0xffffu), int(packed >> 16)), gen_params());
 #endif
 }
 #elif defined(FGSR_TILED)
 void main() {
     ivec2 p;
-    if (listed_pixel(p)) generate_pixel(p, pc.g);
+    if (listed_pixel(p)) generate_pixel(p, gen_params());
 }
 #else
-void main() { generate_pixel(ivec2(gl_GlobalInvocationID.xy), pc.g); }
+void main() { generate_pixel(ivec2(gl_GlobalInvocationID.xy), gen_params()); }
 #endif

@@ -22,6 +22,17 @@ layout(std430, binding = GENSR_LUT) readonly buffer Lut { u64vec2 lut[]; };     
 layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { u64vec2 outp[]; };      // vec4
 #include "load64.h"
 
+// The CPU builds of the field form (FGSR_SR_FIELD) fix g.extrapolate (FGSR_GENERATE_EXTRAPOLATE 0u
+// or 1u): ISR and ESR each take a branch of generate_sr_finish that CPU devices would otherwise run
+// for both, the other with its lanes masked off (generate.comp).
+GenParams gen_params() {
+    GenParams g = pc.g;
+#ifdef FGSR_GENERATE_EXTRAPOLATE
+    g.extrapolate = FGSR_GENERATE_EXTRAPOLATE;
+#endif
+    return g;
+}
+
 vec2 load_mv1(ivec2 q) { return as_vec2(mv1[q.y * int(pc.g.width) + q.x]); }
 vec2 load_mv0(ivec2 q) { return as_vec2(mv0[q.y * int(pc.g.width) + q.x]); }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
@@ -90,7 +101,7 @@ void main() {
     ivec2 t = generate_sr_field_pixel(q, pc.g, pc.s);
     uint i = uint(t.y) * pc.g.width + uint(t.x);
     outp[q.y * int(pc.s.hr_width) + q.x] =
-        as_u64vec2(generate_sr_finish(q, as_vec4(field[i]), field_state[i], pc.g, pc.s));
+        as_u64vec2(generate_sr_finish(q, as_vec4(field[i]), field_state[i], gen_params(), pc.s));
 #else
     outp[q.y * int(pc.s.hr_width) + q.x] = as_u64vec2(generate_sr_pixel(q, pc.g, pc.s));
 #endif

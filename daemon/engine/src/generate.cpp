@@ -161,7 +161,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
                 constexpr uint32_t base = GENSR_COUNT;
                 using FieldSlots = At<base + TILED_LIST, base + TILED_FLAGS, base + TILED_APPEND>;
                 FGSR_TRY(rec.dispatch_pixels(
-                    Variant::generate_sr_field,
+                    extrapolate ? Variant::generate_sr_field_extrap : Variant::generate_sr_field,
                     make_slots<PassId::generate_sr, Layout::TILED>(
                         generated_frames(slice), gen, FieldSlots{{field, field_state, unused(field_depth)}}),
                     &push, out_w, out_h));
@@ -184,13 +184,13 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             constexpr uint32_t base = GENERATE_COUNT;
             using ListSlots = At<base + TILED_LIST, base + TILED_FLAGS, base + TILED_APPEND>;
             FGSR_TRY(rec.dispatch_pixels(
-                Variant::generate_split,
+                extrapolate ? Variant::generate_split_extrap : Variant::generate_split,
                 make_slots<PassId::generate, Layout::TILED>(
                     gen_frames, colors, ListSlots{{unused(gap_list), unused(gap_list), gap_list}}),
                 &g, format.width, format.height));
             rec.barrier();
             FGSR_TRY(rec.dispatch_indirect(
-                Variant::generate_rest,
+                extrapolate ? Variant::generate_rest_extrap : Variant::generate_rest,
                 make_slots<PassId::generate, Layout::TILED>(
                     gen_frames, colors, ListSlots{{gap_list, unused(gap_list), unused(gap_list)}}),
                 &g, gap_list));

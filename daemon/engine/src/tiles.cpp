@@ -177,13 +177,13 @@ Result<void> Session::Impl::record_tiled(size_t k, const gpu::GenParams& g, bool
         constexpr uint32_t base = GENERATE_COUNT;
         using ListSlots = At<base + TILED_LIST, base + TILED_FLAGS, base + TILED_APPEND>;
         FGSR_TRY(rec.dispatch_indirect(
-            Variant::generate_split_tiled,
+            extrapolate ? Variant::generate_split_tiled_extrap : Variant::generate_split_tiled,
             make_slots<PassId::generate, Layout::TILED>(generated_frames(), colors,
                                                         ListSlots{{ts.generate, ts.flags, gap_list}}),
             &g, ts.generate));
         rec.barrier();
         FGSR_TRY(rec.dispatch_indirect(
-            Variant::generate_rest_tiled,
+            extrapolate ? Variant::generate_rest_tiled_extrap : Variant::generate_rest_tiled,
             make_slots<PassId::generate, Layout::TILED>(generated_frames(), colors,
                                                         ListSlots{{gap_list, ts.flags, unused(gap_list)}}),
             &g, gap_list));
