@@ -83,6 +83,16 @@ struct GenParams {
     uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector
 };
 
+// `g` with the mode of a build that fixes it (FGSR_GENERATE_EXTRAPOLATE 0u or 1u: the CPU builds of
+// generate and generate_sr per mode, variants.def), so that the other mode's branch is compiled
+// out: CPU devices run both sides of a branch, the untaken one with its lanes masked off.
+FGSR_INLINE GenParams fixed_mode(GenParams g) {
+#ifdef FGSR_GENERATE_EXTRAPOLATE
+    g.extrapolate = FGSR_GENERATE_EXTRAPOLATE;
+#endif
+    return g;
+}
+
 // splat: the generated frame's GenParams (g.alpha unused), then the alphas this dispatch splats,
 // sharing the motion of each source pixel (splat.h). Alpha k writes its keys and field vectors
 // at element offset k * stride of the keys and motion buffers.

@@ -15,17 +15,9 @@ layout(std430, binding = GENERATE_COLOR1) readonly buffer Color1 { uint64_t colo
 layout(std430, binding = GENERATE_OUTPUT) writeonly buffer Output { u64vec2 outp[]; }; // vec4
 #include "load64.h"
 
-// The CPU builds for extrapolation (FGSR_GENERATE_EXTRAPOLATE=1u) fix g.extrapolate, so that the
-// frame-0 warp and the blend, which extrapolation does not use, are compiled out: CPU devices run
-// both sides of a branch with the inactive lanes masked off, and an extrapolated frame paid for
-// the interpolation's reads (docs/PERFORMANCE.md, "builds per mode").
-GenParams gen_params() {
-    GenParams g = pc.g;
-#ifdef FGSR_GENERATE_EXTRAPOLATE
-    g.extrapolate = FGSR_GENERATE_EXTRAPOLATE;
-#endif
-    return g;
-}
+// The CPU builds for extrapolation fix the mode (common.h, fixed_mode): an extrapolated frame
+// no longer pays for interpolation's frame-0 warp and blend (docs/PERFORMANCE.md, "builds per mode").
+GenParams gen_params() { return fixed_mode(pc.g); }
 
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }

@@ -22,16 +22,9 @@ layout(std430, binding = GENSR_LUT) readonly buffer Lut { u64vec2 lut[]; };     
 layout(std430, binding = GENSR_OUTPUT) writeonly buffer Output { u64vec2 outp[]; };      // vec4
 #include "load64.h"
 
-// The CPU builds of the field form (FGSR_SR_FIELD) fix g.extrapolate (FGSR_GENERATE_EXTRAPOLATE 0u
-// or 1u): ISR and ESR each take a branch of generate_sr_finish that CPU devices would otherwise run
-// for both, the other with its lanes masked off (generate.comp).
-GenParams gen_params() {
-    GenParams g = pc.g;
-#ifdef FGSR_GENERATE_EXTRAPOLATE
-    g.extrapolate = FGSR_GENERATE_EXTRAPOLATE;
-#endif
-    return g;
-}
+// The CPU builds of the field form (FGSR_SR_FIELD) fix the mode (common.h, fixed_mode): ISR no
+// longer runs ESR's history resampling and clip, nor ESR ISR's.
+GenParams gen_params() { return fixed_mode(pc.g); }
 
 vec2 load_mv1(ivec2 q) { return as_vec2(mv1[q.y * int(pc.g.width) + q.x]); }
 vec2 load_mv0(ivec2 q) { return as_vec2(mv0[q.y * int(pc.g.width) + q.x]); }
