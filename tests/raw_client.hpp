@@ -242,9 +242,12 @@ struct RawSession {
                 c[4 * p + 1] = 1.f - v;
                 c[4 * p + 2] = 0.25f;
                 c[4 * p + 3] = 1.f;
-                d[p] = 10.f;
-                m[2 * p] = -step;
-                m[2 * p + 1] = 0.f;
+                // Only the planes the session has (a colour-only session's are of size 0).
+                if (layout().depth.size) d[p] = 10.f;
+                if (layout().mv.size) {
+                    m[2 * p] = -step;
+                    m[2 * p + 1] = 0.f;
+                }
             }
     }
     fgsr_submit_entry entry(uint32_t slot_index, uint32_t flags = FGSR_SUBMIT_HAS_MV) {

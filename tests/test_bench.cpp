@@ -101,6 +101,7 @@ TEST(Presets, MapToTheParamsTheyClaim) {
     EXPECT_EQ(perf.blend, fgsr::BlendMode::select);
     EXPECT_FALSE(perf.dilate_mvs);
     EXPECT_FALSE(perf.separate_passes);
+    EXPECT_TRUE(perf.fast_motion);
 
     const fgsr::Params bal = *fgsr::preset_params("balanced");
     EXPECT_EQ(bal.motion, fgsr::MotionModel::quadratic);
@@ -110,6 +111,7 @@ TEST(Presets, MapToTheParamsTheyClaim) {
     EXPECT_EQ(bal.blend, fgsr::BlendMode::mix);
     EXPECT_FALSE(bal.dilate_mvs);
     EXPECT_FALSE(bal.separate_passes);
+    EXPECT_FALSE(bal.fast_motion);
 
     const fgsr::Params q = *fgsr::preset_params("quality");
     EXPECT_EQ(q.motion, fgsr::MotionModel::quadratic);
@@ -119,6 +121,7 @@ TEST(Presets, MapToTheParamsTheyClaim) {
     EXPECT_EQ(q.blend, fgsr::BlendMode::mix);
     EXPECT_TRUE(q.dilate_mvs);
     EXPECT_FALSE(q.separate_passes);
+    EXPECT_FALSE(q.fast_motion);
 
     // Calibrated thresholds in every preset.
     for (const fgsr::Params& p : {perf, bal, q}) {
@@ -141,6 +144,10 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_TRUE(p.separate_passes);
     ASSERT_TRUE(fgsr::apply_switch(p, "fill_holes=off"));
     EXPECT_FALSE(p.fill_holes);
+    ASSERT_TRUE(fgsr::apply_switch(p, "fast_motion=on"));
+    EXPECT_TRUE(p.fast_motion);
+    ASSERT_TRUE(fgsr::apply_switch(p, "fast_motion=off"));
+    EXPECT_FALSE(p.fast_motion);
     const fgsr::Params before = p;
     auto e = fgsr::apply_switch(p, "motion=cubic");
     ASSERT_FALSE(e);
@@ -153,10 +160,10 @@ TEST(Presets, SwitchesApplyAndToggle) {
     // From balanced, every toggle changes exactly the switch it names.
     const fgsr::Params base = *fgsr::preset_params("balanced");
     const std::vector<std::string> toggles = fgsr::switch_toggles(base);
-    const std::set<std::string> expected{"motion=linear", "resample=catmull_rom", "resample=lut",
-                                         "fill_gaps=off", "fill_holes=off",       "blend=select",
-                                         "dilate_mvs=on", "denoise=off",          "passes=separate",
-                                         "correct_vectors=on"};
+    const std::set<std::string> expected{"motion=linear",      "resample=catmull_rom", "resample=lut",
+                                         "fill_gaps=off",      "fill_holes=off",       "blend=select",
+                                         "dilate_mvs=on",      "denoise=off",          "passes=separate",
+                                         "correct_vectors=on", "fast_motion=on"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;
@@ -210,11 +217,12 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
     }
     const auto rows = read_csv(out / "bench.csv");
     // builtin: interp (3 presets + 6 switches that act on it), extrap (no blend switch), and each
-    // on colour alone (balanced+colour).
+    // on colour alone (balanced+colour, and balanced+colour+fast_motion=on).
     std::set<std::string> got, expected;
-    for (const char* c : {"performance", "balanced", "quality", "balanced+motion=linear",
-                          "balanced+fill_gaps=off", "balanced+fill_holes=off", "balanced+passes=separate",
-                          "balanced+correct_vectors=on", "balanced+colour"}) {
+    for (const char* c :
+         {"performance", "balanced", "quality", "balanced+motion=linear", "balanced+fill_gaps=off",
+          "balanced+fill_holes=off", "balanced+passes=separate", "balanced+correct_vectors=on",
+          "balanced+colour", "balanced+colour+fast_motion=on"}) {
         expected.insert(std::string("interp ") + c);
         expected.insert(std::string("extrap ") + c);
     }
@@ -233,8 +241,9 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
         // Colour-only rows: the EPE of the estimated vectors and the motion passes' time (0 until
         // the engine times them); corrected-vector rows: the same of the corrected vectors (the
         // synthetic scene's vectors are exact: few pixels change); the others have neither.
-        if (row.at("config") == "balanced+colour") {
-            EXPECT_EQ(row.at("switch"), "input=colour");
+        if (row.at("config") == "balanced+colour" || row.at("config") == "balanced+colour+fast_motion=on") {
+            EXPECT_EQ(row.at("switch"),
+                      row.at("config") == "balanced+colour" ? "input=colour" : "input=colour fast_motion=on");
             const double epe = std::stod(row.at("epe"));
             EXPECT_TRUE(std::isfinite(epe) && epe > 0) << row.at("epe"); // the scene moves
             EXPECT_GE(std::stod(row.at("motion_ms")), 0.0);
@@ -312,7 +321,18 @@ TEST(Bench, StillOnlyRunsJustStillAgainstMoving) {
         // Every sample adds a positive ingest time to its call, so each median grows.
         EXPECT_GT(frame[size_t(k)], call[size_t(k)]) << (k ? "moving" : "still");
     }
-    EXPECT_NE(md.find("## Colour only (180p"), std::string::npos) << md; // motion estimation timed too
+    // Motion estimation timed too, by default and fast: at 320x180 the default refines the estimate
+    // (a polish pass), the fast setting does not.
+    const size_t colour = md.find("## Colour only (180p");
+    ASSERT_NE(colour, std::string::npos) << md;
+    for (const char* setting : {"\n| default | ", "\n| fast | "}) {
+        const size_t at = md.find(setting, colour);
+        ASSERT_NE(at, std::string::npos) << setting << " in " << md.substr(colour);
+        const std::string line = md.substr(at + 1, md.find('\n', at + 1) - at - 1);
+        EXPECT_NE(line.find("match "), std::string::npos) << line;
+        EXPECT_EQ(line.find("polish ") != std::string::npos, std::string(setting) == "\n| default | ")
+            << line;
+    }
     // The moving run (64 calls for --quick): the synthetic scene moves everywhere, so the calls
     // that classify are the first and the probes after 7, 15 and 31 plain calls: 0, 8, 24, 56.
     const size_t run = md.find("## Moving, 64 consecutive calls (180p");

@@ -281,6 +281,47 @@ TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
     }
 }
 
+// Colour-only sessions (FGSR_SESSION_NO_MVS | NO_DEPTH, minor 2) estimate motion from colour at
+// every submit after the first, and refine the estimate at this size unless the session asked for
+// fast motion estimation (FGSR_SESSION_FAST_MOTION, minor 5): its completions then carry no polish
+// record, and it still generates frames.
+TEST_F(Daemon, FastMotionSessionsSkipTheRefinementOfTheEstimate) {
+    for (const bool fast : {false, true}) {
+        SCOPED_TRACE(fast ? "fast motion" : "default motion");
+        fgsr_session_desc d = default_desc();
+        d.flags = FGSR_SESSION_NO_MVS | FGSR_SESSION_NO_DEPTH | (fast ? FGSR_SESSION_FAST_MOTION : 0u);
+        d.modes = FGSR_MODE_INTERPOLATE;
+        d.scale = 1.f;
+        auto c = open_session(path(), d);
+        ASSERT_TRUE(c);
+        RawSession& s = *c->s;
+        const float alpha = 0.5f;
+        for (uint32_t frame = 0; frame < 3; ++frame) {
+            s.fill(frame % 2, 2.f * float(frame));
+            fgsr_submit_entry e = s.entry(frame % 2, 0);
+            e.interp_count = 1;
+            std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
+            s.push(e);
+            auto v = s.wait_submit();
+            ASSERT_EQ(v.size(), 1u);
+            if (frame == 0) {
+                EXPECT_EQ(v[0].status, FGSR_STATUS_NOT_READY);
+                continue;
+            }
+            EXPECT_EQ(v[0].status, FGSR_STATUS_OK);
+            EXPECT_NE(v[0].output_slot, FGSR_NO_SLOT);
+            std::set<uint32_t> passes;
+            for (uint32_t p = 0; p < v[0].telemetry.pass_count; ++p)
+                passes.insert(v[0].telemetry.passes[p].pass);
+            for (uint32_t want :
+                 {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
+                EXPECT_EQ(passes.count(want), 1u) << "pass " << want;
+            EXPECT_EQ(passes.count(FGSR_PASS_POLISH), fast ? 0u : 1u);
+            if (v[0].output_slot != FGSR_NO_SLOT) s.release(v[0].output_slot);
+        }
+    }
+}
+
 // A still scene (same frame, zero vectors): the completion's pass records carry the engine's tile
 // counts, every splat tile is skipped (so the splat bit of skipped_passes is set), and a moving
 // scene skips none.

@@ -12,7 +12,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <string>
+#include <utility>
 
 namespace {
 
@@ -68,6 +70,25 @@ std::unique_ptr<TelemetryHub> hub_with_session(uint32_t id) {
     return hub;
 }
 
+// The session list says how each session gets its motion: given, from colour, from colour fast.
+TEST(DaemonTelemetry, SessionsSayHowTheirMotionIsEstimated) {
+    auto hub = std::make_unique<TelemetryHub>(fgsrd::HubOptions{60, 1 << 16, "test"});
+    fgsr_session_desc given = desc_of(64, 32), colour = desc_of(64, 32), fast = desc_of(64, 32);
+    given.flags = 0;
+    fast.flags |= FGSR_SESSION_FAST_MOTION;
+    hub->session_opened(1, {"a", "c1", 1}, given, layout_of(64, 32));
+    hub->session_opened(2, {"b", "c2", 2}, colour, layout_of(64, 32));
+    hub->session_opened(3, {"c", "c3", 3}, fast, layout_of(64, 32));
+    const nlohmann::json s = hub->state(true);
+    ASSERT_EQ(s["sessions"].size(), 3u);
+    std::map<uint32_t, std::pair<bool, bool>> got;
+    for (const auto& j : s["sessions"])
+        got[j["id"].get<uint32_t>()] = {j["colour_only"].get<bool>(), j["fast_motion"].get<bool>()};
+    EXPECT_EQ(got[1], std::make_pair(false, false));
+    EXPECT_EQ(got[2], std::make_pair(true, false));
+    EXPECT_EQ(got[3], std::make_pair(true, true));
+}
+
 TEST(DaemonTelemetry, OutputsAreTheTimelineUntilPresentsAreReported) {
     auto hub = hub_with_session(3);
     const uint64_t t0 = fgsr::monotonic_ns() - 2000000000ull; // two seconds ago
@@ -83,6 +104,7 @@ TEST(DaemonTelemetry, OutputsAreTheTimelineUntilPresentsAreReported) {
     EXPECT_EQ(s["sessions"][0]["tiles_total"], 4 * 128);
     EXPECT_EQ(s["sessions"][0]["tiles_skipped"], 4 * 48);
     EXPECT_EQ(s["sessions"][0]["colour_only"], true);
+    EXPECT_EQ(s["sessions"][0]["fast_motion"], false);
 
     // Presents reported: they become the timeline; outputs keep their latencies but no frame time.
     const uint64_t t1 = t0 + 100000000;

@@ -96,8 +96,11 @@ double psnr(const std::vector<float>& a, const std::vector<glm::vec4>& b) {
     return 10.0 * std::log10(1.0 / std::max(se / double(b.size() * 3), 1e-12));
 }
 
-void expect_gpu_matches_cpu(uint32_t w, uint32_t h) {
-    auto s = session_of(colour_only(w, h));
+// fast: Params::fast_motion (no refinement at any size).
+void expect_gpu_matches_cpu(uint32_t w, uint32_t h, bool fast = false) {
+    Params params;
+    params.fast_motion = fast;
+    auto s = session_of(colour_only(w, h), params);
     ASSERT_TRUE(s);
     const RawFrame f0 = render(w, h, [](glm::vec2 p) { return texture(p, 1); });
     const RawFrame f1 = render(w, h, [](glm::vec2 p) { return texture(p + glm::vec2(4.3f, -2.6f), 1); });
@@ -107,8 +110,8 @@ void expect_gpu_matches_cpu(uint32_t w, uint32_t h) {
     ASSERT_TRUE(gpu);
     ASSERT_TRUE(gpu->has_mv);
     EXPECT_FALSE(s->last_scene_cut());
-    // The refinement runs up to kPolishMaxPixels only.
-    const bool polished = ref::polishes(w, h);
+    // The refinement runs up to kPolishMaxPixels only, and not with fast motion estimation.
+    const bool polished = !fast && ref::polishes(w, h);
     ASSERT_EQ(s->last_motion_timings().size(), polished ? 4u : 3u);
     EXPECT_EQ(s->last_motion_timings()[0].pass, PassId::luma);
     EXPECT_EQ(s->last_motion_timings()[2].pass, PassId::flow);
@@ -120,7 +123,8 @@ void expect_gpu_matches_cpu(uint32_t w, uint32_t h) {
     ASSERT_TRUE(r0);
     ref::InternalFrame c0 = to_internal(*r0, w, h), c1 = to_internal(*gpu, w, h);
     c1.has_mv = false;
-    const ref::MotionSummary summary = ref::estimate_motion(c0, c1, true);
+    std::vector<glm::vec4> field;
+    const ref::MotionSummary summary = ref::estimate_motion(c0, c1, true, field, {}, fast);
     EXPECT_FALSE(summary.cut);
     ASSERT_TRUE(c1.has_mv);
     size_t differ = 0, differ_01 = 0;
@@ -168,6 +172,15 @@ TEST(Motion, GpuPassesMatchTheCpuReference) {
     ASSERT_EQ(ref::motion_first_level(ref::motion_levels(w, h)), 0u);
     ASSERT_TRUE(ref::polishes(w, h));
     expect_gpu_matches_cpu(w, h);
+}
+
+TEST(Motion, FastMotionRunsNoRefinementAndMatchesTheCpuReference) {
+    // At a size the refinement runs at by default: the session with Params::fast_motion times no
+    // polish pass, lavapipe then equals the reference bit for bit (the refinement's tie flips are
+    // what the default's bound allows), and the motion is still found.
+    const uint32_t w = 152, h = 94;
+    ASSERT_TRUE(ref::polishes(w, h));
+    expect_gpu_matches_cpu(w, h, true);
 }
 
 TEST(Motion, GpuPassesMatchTheCpuReferenceAtAWidthDivisibleByFour) {

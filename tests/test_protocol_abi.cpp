@@ -374,7 +374,7 @@ TEST(ProtocolAbi, EnumValues) {
 TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAGIC), uint64_t(0x52534746u));
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAJOR), uint64_t(1u));
-    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(4u));
+    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(5u));
     EXPECT_EQ(uint64_t(FGSR_REPORT_APPLICATION), uint64_t(0xffffffffu));
     EXPECT_EQ(uint64_t(FGSR_REPORT_DROPPED), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_MAX_REPORTS_PER_MESSAGE), uint64_t(16u));
@@ -403,6 +403,7 @@ TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_SESSION_NO_MVS), uint64_t(0x20u));
     EXPECT_EQ(uint64_t(FGSR_SESSION_NO_DEPTH), uint64_t(0x40u));
     EXPECT_EQ(uint64_t(FGSR_SESSION_CORRECT_MVS), uint64_t(0x80u));
+    EXPECT_EQ(uint64_t(FGSR_SESSION_FAST_MOTION), uint64_t(0x100u));
     EXPECT_EQ(uint64_t(FGSR_CAP_ZERO_COPY_INPUT), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_CAP_SR), uint64_t(0x2u));
     EXPECT_EQ(uint64_t(FGSR_CAP_INTERPOLATE), uint64_t(0x4u));

@@ -423,7 +423,7 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
             }
     // Bits beyond the known ones are still refused.
     fgsr_session_desc in = base_desc(), d{};
-    in.flags = FGSR_SESSION_CORRECT_MVS << 1;
+    in.flags = FGSR_SESSION_FAST_MOTION << 1;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, nullptr, 0), FGSR_STATUS_INVALID_ARGUMENT);
     // Correction of given vectors needs given vectors, and no super resolution.
     char reason[160];
@@ -436,6 +436,14 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
     in.flags = FGSR_SESSION_CORRECT_MVS | FGSR_SESSION_NO_MVS;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(reason).find("CORRECT_MVS"), std::string::npos) << reason;
+    // Fast motion estimation is for sessions that estimate motion: only with NO_MVS.
+    in.flags = FGSR_SESSION_FAST_MOTION;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(reason).find("FAST_MOTION"), std::string::npos) << reason;
+    EXPECT_NE(std::string(reason).find("NO_MVS"), std::string::npos) << reason;
+    in.flags = FGSR_SESSION_FAST_MOTION | FGSR_SESSION_NO_MVS;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
+    EXPECT_EQ(d.flags, FGSR_SESSION_FAST_MOTION | FGSR_SESSION_NO_MVS);
 }
 
 TEST(Rings, HelpersAndLoopsAgreeAcrossWrapAround) {

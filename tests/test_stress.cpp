@@ -72,6 +72,8 @@ TEST(Stress, TableCoversTheIssue) {
                                  "colour-only/scene-cut",
                                  "colour-only/pan-216px",
                                  "colour-only/pan-diagonal-quarter",
+                                 "colour-only/fast/flat-changing",
+                                 "colour-only/fast/noise",
                                  "corrected/flat-changing",
                                  "corrected/noise",
                                  "corrected/pan-216px"})
@@ -88,6 +90,8 @@ TEST(Stress, ColourOnlyCasesWithholdVectorsAndDepth) {
         EXPECT_FALSE(c.format.has_vectors) << c.name;
         EXPECT_FALSE(c.format.has_depth) << c.name;
         EXPECT_GT(c.max_seconds, 0.0) << c.name << ": bounded in time";
+        // The fast/ cases, and only they, estimate motion without refinement.
+        EXPECT_EQ(c.params.fast_motion, c.name.rfind("colour-only/fast/", 0) == 0) << c.name;
         std::vector<std::vector<std::byte>> colours;
         for (size_t i = 0; i < c.step_count; ++i) {
             const stress::Step st = c.step(i);
@@ -121,7 +125,7 @@ TEST(Stress, ColourOnlyCasesWithholdVectorsAndDepth) {
                 << c.name;
         }
     }
-    EXPECT_EQ(colour_cases, 9u);
+    EXPECT_EQ(colour_cases, 11u);
 }
 
 // The corrected-vectors cases give zero vectors and depth with every frame and turn the correction

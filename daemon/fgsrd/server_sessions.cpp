@@ -139,9 +139,12 @@ void Server::session_created(uint64_t client_id, uint32_t sequence, uint32_t id,
     ev.events = EPOLLIN | EPOLLET; // a wake-up per client write; the counter is never read
     ev.data.u64 = tag(kSession, id);
     epoll_ctl(epoll_.get(), EPOLL_CTL_ADD, s.submit_event_fd(), &ev);
-    log::info("client {} ({}): session {} {}x{} x{} on the {} lane ({})", c.id, c.name, id, d.width, d.height,
-              d.scale, lane_index == kBulk ? "bulk" : "interactive",
-              s.zero_copy() ? "zero-copy input" : "staging copies");
+    const char* input = !(d.flags & FGSR_SESSION_NO_MVS)       ? ""
+                        : (d.flags & FGSR_SESSION_FAST_MOTION) ? ", colour only, fast motion"
+                                                               : ", colour only";
+    log::info("client {} ({}): session {} {}x{} x{} on the {} lane ({}{})", c.id, c.name, id, d.width,
+              d.height, d.scale, lane_index == kBulk ? "bulk" : "interactive",
+              s.zero_copy() ? "zero-copy input" : "staging copies", input);
 }
 
 bool Server::signal(Client& c, ServiceSession& s) {

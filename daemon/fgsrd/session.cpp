@@ -144,6 +144,7 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine* engine, uin
     params.mvs_contain_jitter = (d.flags & FGSR_SESSION_MVS_CONTAIN_JITTER) != 0;
     params.denoise = (d.flags & FGSR_SESSION_NO_DENOISE) == 0;
     params.correct_vectors = (d.flags & FGSR_SESSION_CORRECT_MVS) != 0;
+    params.fast_motion = (d.flags & FGSR_SESSION_FAST_MOTION) != 0;
 
     std::unique_ptr<ServiceSession> s(new ServiceSession());
     s->id_ = id;

@@ -177,6 +177,7 @@ void TelemetryHub::session_opened(uint32_t id, const SessionMeta& meta, const fg
     s.info.output_width = layout.output_width;
     s.info.output_height = layout.output_height;
     s.info.colour_only = (desc.flags & FGSR_SESSION_NO_MVS) != 0;
+    s.info.fast_motion = (desc.flags & FGSR_SESSION_FAST_MOTION) != 0;
     {
         std::lock_guard lock(mutex_);
         sessions_[id] = std::move(s);

@@ -28,7 +28,7 @@ std::optional<std::string> env_pick(uint8_t v) {
 bool same(const fgsr::layer::LayerConfig& a, const fgsr::layer::LayerConfig& b) {
     return a.enabled == b.enabled && a.multiplier == b.multiplier && a.mode == b.mode &&
            a.pacing == b.pacing && a.fps_limit == b.fps_limit && a.socket_path == b.socket_path &&
-           a.profile == b.profile;
+           a.profile == b.profile && a.motion == b.motion;
 }
 
 } // namespace
@@ -57,6 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FGSR_FUZZ_CHECK(cfg->mode == fgsr::layer::Mode::interpolate ||
                     cfg->mode == fgsr::layer::Mode::extrapolate);
     FGSR_FUZZ_CHECK(cfg->pacing == fgsr::layer::Pacing::even || cfg->pacing == fgsr::layer::Pacing::none);
+    FGSR_FUZZ_CHECK(cfg->motion == fgsr::layer::Motion::full || cfg->motion == fgsr::layer::Motion::fast);
     const auto again = fgsr::layer::parse_config(text, exe, env);
     FGSR_FUZZ_CHECK(again && same(*cfg, *again));
     return 0;

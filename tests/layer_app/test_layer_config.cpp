@@ -48,6 +48,7 @@ active_in = ["vkcube", "game"]
 multiplier = 4
 mode = "extrapolate"
 fps_limit = 30
+motion = "fast"
 )";
 
 } // namespace
@@ -59,6 +60,7 @@ TEST(LayerConfig, EmptyTextGivesTheDefaults) {
     EXPECT_EQ(c.mode, Mode::interpolate);
     EXPECT_EQ(c.pacing, Pacing::even);
     EXPECT_EQ(c.fps_limit, 0.0);
+    EXPECT_EQ(c.motion, Motion::full);
     EXPECT_TRUE(c.socket_path.empty());
     EXPECT_TRUE(c.profile.empty());
 }
@@ -66,13 +68,14 @@ TEST(LayerConfig, EmptyTextGivesTheDefaults) {
 TEST(LayerConfig, GlobalTableApplies) {
     const LayerConfig c =
         ok("[global]\nenabled = false\nmultiplier = 4\nmode = \"extrapolate\"\npacing = \"none\"\n"
-           "socket = \"/run/s\"\nfps_limit = 24.5\n");
+           "socket = \"/run/s\"\nfps_limit = 24.5\nmotion = \"fast\"\n");
     EXPECT_FALSE(c.enabled);
     EXPECT_EQ(c.multiplier, 4u);
     EXPECT_EQ(c.mode, Mode::extrapolate);
     EXPECT_EQ(c.pacing, Pacing::none);
     EXPECT_EQ(c.socket_path, "/run/s");
     EXPECT_DOUBLE_EQ(c.fps_limit, 24.5);
+    EXPECT_EQ(c.motion, Motion::fast);
 }
 
 TEST(LayerConfig, FirstMatchingProfileWinsOverGlobal) {
@@ -86,6 +89,8 @@ TEST(LayerConfig, FirstMatchingProfileWinsOverGlobal) {
     EXPECT_EQ(game.multiplier, 4u);
     EXPECT_EQ(game.mode, Mode::extrapolate);
     EXPECT_DOUBLE_EQ(game.fps_limit, 30.0);
+    EXPECT_EQ(game.motion, Motion::fast);
+    EXPECT_EQ(cube.motion, Motion::full);
     EXPECT_EQ(game.profile, "game"); // unnamed: the executable's name
     const LayerConfig none = ok(kProfiles, "unlisted");
     EXPECT_EQ(none.multiplier, 2u);
@@ -101,13 +106,18 @@ TEST(LayerConfig, EnvironmentOverridesFileAndProfile) {
     env.multiplier = "2";
     env.mode = "interpolate";
     env.fps_limit = "15";
+    env.motion = "full";
     const LayerConfig c = ok(kProfiles, "game", env);
     EXPECT_EQ(c.multiplier, 2u);
+    EXPECT_EQ(c.motion, Motion::full); // the profile's "fast" overridden
     EXPECT_EQ(c.mode, Mode::interpolate);
     EXPECT_DOUBLE_EQ(c.fps_limit, 15.0);
     ConfigEnv only_mode;
     only_mode.mode = "extrapolate";
     EXPECT_EQ(ok("", "game", only_mode).mode, Mode::extrapolate);
+    ConfigEnv only_motion;
+    only_motion.motion = "fast";
+    EXPECT_EQ(ok("", "game", only_motion).motion, Motion::fast);
 }
 
 TEST(LayerConfig, ErrorsNameTheKeyAndTheAllowedValues) {
@@ -121,6 +131,13 @@ TEST(LayerConfig, ErrorsNameTheKeyAndTheAllowedValues) {
     EXPECT_NE(error_of("[global]\nenabled = 1").find("true or false"), std::string::npos);
     EXPECT_NE(error_of("[global]\nfps_limit = -1").find("0..1000"), std::string::npos);
     EXPECT_NE(error_of("[global]\nsocket = 3").find("expected a string"), std::string::npos);
+    EXPECT_NE(error_of("[global]\nmotion = \"quick\"").find("full or fast"), std::string::npos);
+    EXPECT_NE(error_of("[global]\nmotion = true").find("global.motion: expected a string"),
+              std::string::npos);
+    // The unknown-key message lists every key a table may hold.
+    const std::string unknown = error_of("[global]\nspeed = 1");
+    for (const char* key : {"enabled", "multiplier", "mode", "pacing", "fps_limit", "motion", "socket"})
+        EXPECT_NE(unknown.find(key), std::string::npos) << key << " in " << unknown;
     EXPECT_NE(error_of("global = 3").find("expected a table"), std::string::npos);
     EXPECT_NE(error_of("[other]\nx = 1").find("unknown top-level key"), std::string::npos);
     EXPECT_NE(error_of("[[profile]]\nmultiplier = 3").find("active_in missing"), std::string::npos);
@@ -140,6 +157,9 @@ TEST(LayerConfig, ErrorsNameTheKeyAndTheAllowedValues) {
     ConfigEnv bad_fps;
     bad_fps.fps_limit = "fast";
     EXPECT_NE(error_of("", bad_fps).find("FGSR_FPS_LIMIT"), std::string::npos);
+    ConfigEnv bad_motion;
+    bad_motion.motion = "slow";
+    EXPECT_NE(error_of("", bad_motion).find("FGSR_MOTION"), std::string::npos);
 }
 
 // toml++ 3.3 reaches undefined behaviour on U+00A1..U+0499, U+2C5E..U+3057 and U+FB26..U+FEFE

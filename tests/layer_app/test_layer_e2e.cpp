@@ -323,11 +323,15 @@ TEST_F(LayerE2E, WithoutPresentWaitTimesAreThePresentCalls) {
 TEST_F(LayerE2E, AppExtrapolatesWithValidationClean) {
     start_daemon();
     const std::string presents = (dir_ / "presents.csv").string();
+    // With the fast motion estimation (FGSR_MOTION=fast: session flag FGSR_SESSION_FAST_MOTION).
     const AppRun r = run(app() + " --frames 75 --width 128 --height 72 --fps 8",
-                         {"FGSR_MODE=extrapolate", "FGSR_LAYER_PRESENTS=" + presents});
+                         {"FGSR_MODE=extrapolate", "FGSR_MOTION=fast", "FGSR_LAYER_PRESENTS=" + presents});
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     EXPECT_NE(r.stats.find("\"mode\": \"extrapolate\""), std::string::npos);
+    EXPECT_NE(r.stats.find("\"motion\": \"fast\""), std::string::npos) << r.stats;
+    EXPECT_NE(daemon_->stderr_text().find("colour only, fast motion)"), std::string::npos)
+        << daemon_->stderr_text();
     expect_multiplied(r, 2, 75);
     // Generated frames follow the real frame they were made from, about halfway to the next one.
     const std::vector<PresentRow> rows = read_presents(presents);

@@ -96,6 +96,9 @@ int main(int argc, char** argv) {
                      "--correct-vectors: only where the depth at the given vector's previous position is "
                      "within this relative difference (inf: anywhere)")
         ->capture_default_str();
+    eval->add_flag("--fast-motion", eo.params.fast_motion,
+                   "fgsr-colour: estimate motion without refining the estimate (session flag "
+                   "FGSR_SESSION_FAST_MOTION; about half the motion passes' time)");
     std::string lut_file;
     eval->add_option("--lut", lut_file,
                      "SR: history resampling table (.lut file, fgsr lut-train) instead of the shipped one");
@@ -253,6 +256,7 @@ int main(int argc, char** argv) {
             if (eval->count("--correct-margin")) p.correct_margin = eo.params.correct_margin;
             if (eval->count("--correct-depth")) p.correct_depth = eo.params.correct_depth;
             if (eval->count("--dilate")) p.dilate_mvs = true;
+            if (eval->count("--fast-motion")) p.fast_motion = true;
             if (eval->count("--denoise-strength")) p.denoise_strength = eo.params.denoise_strength;
             if (eval->count("--noise-floor")) p.noise_floor = eo.params.noise_floor;
             eo.params = p;

@@ -76,6 +76,13 @@ Result<Pacing> parse_pacing(std::string_view v, const std::string& where) {
                       where + ": pacing \"" + std::string(v) + "\" unknown (even or none)");
 }
 
+Result<Motion> parse_motion(std::string_view v, const std::string& where) {
+    if (v == "full") return Motion::full;
+    if (v == "fast") return Motion::fast;
+    return make_error(Errc::invalid_argument,
+                      where + ": motion \"" + std::string(v) + "\" unknown (full or fast)");
+}
+
 // Applies the keys of one table ([global] or a [[profile]]) onto cfg. active_in/name are allowed
 // only in profiles (and read by the caller).
 Result<void> apply_table(const toml::table& t, LayerConfig& cfg, const std::string& where, bool profile) {
@@ -109,15 +116,21 @@ Result<void> apply_table(const toml::table& t, LayerConfig& cfg, const std::stri
                 return make_error(Errc::invalid_argument,
                                   at + ": expected a number of frames per second, 0..1000");
             cfg.fps_limit = *v;
+        } else if (key == "motion") {
+            if (!value.is_string()) return make_error(Errc::invalid_argument, at + ": expected a string");
+            auto m = parse_motion(*value.value<std::string_view>(), where);
+            if (!m) return m.error();
+            cfg.motion = *m;
         } else if (key == "socket") {
             if (!value.is_string()) return make_error(Errc::invalid_argument, at + ": expected a string");
             cfg.socket_path = std::string(*value.value<std::string_view>());
         } else if (profile && (key == "active_in" || key == "name")) {
             continue;
         } else {
-            return make_error(Errc::invalid_argument,
-                              at + ": unknown key (enabled, multiplier, mode, pacing, socket" +
-                                  std::string(profile ? ", active_in, name)" : ")"));
+            return make_error(
+                Errc::invalid_argument,
+                at + ": unknown key (enabled, multiplier, mode, pacing, fps_limit, motion, socket" +
+                    std::string(profile ? ", active_in, name)" : ")"));
         }
     }
     return {};
@@ -146,11 +159,16 @@ Result<bool> profile_matches(const toml::table& p, std::string_view exe_name, co
 } // namespace
 
 ConfigEnv config_env_from_process() {
-    return ConfigEnv{env_value("FGSR_MULTIPLIER"), env_value("FGSR_MODE"), env_value("FGSR_FPS_LIMIT")};
+    return ConfigEnv{env_value("FGSR_MULTIPLIER"), env_value("FGSR_MODE"), env_value("FGSR_FPS_LIMIT"),
+                     env_value("FGSR_MOTION")};
 }
 
 const char* mode_name(Mode m) {
     return m == Mode::interpolate ? "interpolate" : "extrapolate";
+}
+
+const char* motion_name(Motion m) {
+    return m == Motion::full ? "full" : "fast";
 }
 
 Result<LayerConfig> parse_config(std::string_view toml_text, std::string_view exe_name,
@@ -234,6 +252,11 @@ Result<LayerConfig> parse_config(std::string_view toml_text, std::string_view ex
         auto m = parse_mode(*env.mode, "FGSR_MODE");
         if (!m) return m.error();
         cfg.mode = *m;
+    }
+    if (env.motion) {
+        auto m = parse_motion(*env.motion, "FGSR_MOTION");
+        if (!m) return m.error();
+        cfg.motion = *m;
     }
     return cfg;
 }

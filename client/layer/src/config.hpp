@@ -10,13 +10,17 @@
 //   socket = "/run/user/1000/fgsr/fgsrd.sock"   # empty: libfgsr_client's default
 //   fps_limit = 30                 # cap on the application's own frame rate (0: none), so that
 //                                  # the daemon keeps up; presents then reach fps_limit * multiplier
+//   motion = "full"                # motion estimated from colour: "full" | "fast" (no refinement
+//                                  # of the estimate: about half the motion passes' time on a
+//                                  # CPU device, about 0.3 dB lower; FGSR_SESSION_FAST_MOTION)
 //
 //   [[profile]]
 //   active_in = ["vkcube", "game.x86_64"]       # executable names (basename); first match wins
 //   multiplier = 3
 //
 // Unknown keys, wrong types and out-of-range values are errors (one message naming the key); the
-// layer then passes frames through. Env overrides: FGSR_MULTIPLIER, FGSR_MODE, FGSR_FPS_LIMIT.
+// layer then passes frames through. Env overrides: FGSR_MULTIPLIER, FGSR_MODE, FGSR_FPS_LIMIT,
+// FGSR_MOTION.
 #pragma once
 
 #include <fgsr/core/result.hpp>
@@ -31,6 +35,7 @@ namespace fgsr::layer {
 
 enum class Mode { interpolate, extrapolate };
 enum class Pacing { even, none };
+enum class Motion { full, fast };
 
 struct LayerConfig {
     bool enabled = true;
@@ -38,6 +43,7 @@ struct LayerConfig {
     Mode mode = Mode::interpolate;
     Pacing pacing = Pacing::even;
     double fps_limit = 0;    // application presents per second at most (0: no cap), 0..1000
+    Motion motion = Motion::full;
     std::string socket_path; // empty: libfgsr_client's default ($FGSR_SOCKET, $XDG_RUNTIME_DIR/...)
     std::string profile;     // name (or first active_in entry) of the profile applied; empty: none
 };
@@ -47,6 +53,7 @@ struct ConfigEnv {
     std::optional<std::string> multiplier; // FGSR_MULTIPLIER
     std::optional<std::string> mode;       // FGSR_MODE
     std::optional<std::string> fps_limit;  // FGSR_FPS_LIMIT
+    std::optional<std::string> motion;     // FGSR_MOTION
 };
 ConfigEnv config_env_from_process();
 
@@ -63,6 +70,7 @@ std::string config_path_from_process();
 std::string executable_name();
 
 const char* mode_name(Mode m);
+const char* motion_name(Motion m);
 
 // Loads the file at `path` (a missing file gives the defaults, plus env) and watches it: poll()
 // re-reads it when its mtime or size changed, at most every `min_interval_ns`. Not thread-safe.

@@ -74,6 +74,9 @@ bool DaemonLink::ensure(const SessionShape& shape, uint64_t now_ns) {
 #if defined(FGSR_SESSION_NO_MVS) && defined(FGSR_SESSION_NO_DEPTH)
     d.flags = FGSR_SESSION_NO_MVS | FGSR_SESSION_NO_DEPTH;
 #endif
+#if defined(FGSR_SESSION_FAST_MOTION)
+    if (shape.motion == Motion::fast) d.flags |= FGSR_SESSION_FAST_MOTION;
+#endif
     // Mailbox: when the layer falls behind, the daemon works on the newest frame only.
     d.queue_policy = FGSR_QUEUE_MAILBOX;
     d.input_slots = 3;

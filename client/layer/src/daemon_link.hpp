@@ -26,6 +26,7 @@ struct SessionShape {
     Mode mode = Mode::interpolate;
     uint32_t multiplier = 2;
     std::string socket_path;
+    Motion motion = Motion::full;
     bool operator==(const SessionShape&) const = default;
 };
 

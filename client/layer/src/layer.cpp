@@ -52,7 +52,7 @@ void log_config(const Result<LayerConfig>& c, const std::string& path, bool relo
     log_line(std::string(reload ? "configuration reloaded" : "configuration") + " (" +
              (path.empty() ? "no file" : path) + "): " + (c->enabled ? "enabled" : "disabled") +
              ", multiplier " + std::to_string(c->multiplier) + ", " + mode_name(c->mode) + ", pacing " +
-             (c->pacing == Pacing::even ? "even" : "none") +
+             (c->pacing == Pacing::even ? "even" : "none") + ", motion " + motion_name(c->motion) +
              (c->fps_limit > 0 ? ", fps limit " + std::to_string(c->fps_limit) : "") +
              (c->profile.empty() ? "" : ", profile " + c->profile));
 }

@@ -115,13 +115,13 @@ void Report::write_files() {
             std::fprintf(
                 f,
                 "{\"app_presents\": %llu, \"presents\": %llu, \"generated\": %llu, \"dropped\": %llu, "
-                "\"mode\": \"%s\", \"multiplier\": %u, \"present_wait\": %s, "
+                "\"mode\": \"%s\", \"motion\": \"%s\", \"multiplier\": %u, \"present_wait\": %s, "
                 "\"displayed_by_present_wait\": %llu, \"present_wait_fallbacks\": %llu, "
                 "\"layer_cpu_ns_per_present\": %.0f}\n",
                 static_cast<unsigned long long>(s_->app_presents),
                 static_cast<unsigned long long>(s_->presents), static_cast<unsigned long long>(s_->generated),
                 static_cast<unsigned long long>(s_->dropped), mode_name(s_->config.mode),
-                s_->config.multiplier, s_->present_wait ? "true" : "false",
+                motion_name(s_->config.motion), s_->config.multiplier, s_->present_wait ? "true" : "false",
                 static_cast<unsigned long long>(s_->displayed),
                 static_cast<unsigned long long>(s_->display_fallbacks), cpu);
             std::fclose(f);

@@ -398,8 +398,8 @@ void Swapchain::present_real(const Item& item, uint64_t intended_ns) {
 
 std::vector<Swapchain::Generated> Swapchain::generate(const Item& item, uint64_t deadline_ns) {
     std::vector<Generated> out;
-    SessionShape shape{extent_.width, extent_.height,      fgsr_format_for(kind_),
-                       item.cfg.mode, item.cfg.multiplier, item.cfg.socket_path};
+    SessionShape shape{extent_.width,       extent_.height,       fgsr_format_for(kind_), item.cfg.mode,
+                       item.cfg.multiplier, item.cfg.socket_path, item.cfg.motion};
     const uint64_t now = monotonic_ns();
     if (!link_.ensure(shape, now)) return out;
     fgsr_session* session = link_.session();

@@ -137,7 +137,7 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 }
 
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
-                              std::vector<glm::vec4>& field, VectorCorrection correct) {
+                              std::vector<glm::vec4>& field, VectorCorrection correct, bool fast) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
     const std::vector<float> p0 = luma_pyramid(f0, levels), p1 = luma_pyramid(f1, levels);
     const size_t half = motion_field_blocks(levels);
@@ -158,7 +158,7 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     }
     fill_level(field, fill_params(levels, false));
     fill_level(field, fill_params(levels, true));
-    const bool polishing = !correct.on && polishes(f1.width, f1.height);
+    const bool polishing = !correct.on && !fast && polishes(f1.width, f1.height);
     const std::vector<glm::vec2> coarse =
         polishing ? polish_coarse(p1, p0, field, levels) : std::vector<glm::vec2>();
     flow(p1, p0, field, flow_params(levels, s.global, write_depth, correct, polishing), f1, &f0, &coarse);

@@ -237,9 +237,10 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // is their aliasing, different every frame (measured on the train captures: SR sessions' ISR /
     // ESR -0.01 to -0.06 dB with level 0 alone; orbit-sr's interpolation -0.19 with the coarse
     // levels; docs/MOTION.md, "Variational refinement", "Coarse to fine"), as the correction of given
-    // vectors is refused there. Nor above ref::kPolishMaxPixels, for time.
-    const bool polishing = !correcting && frame.jitter_x == 0.f && frame.jitter_y == 0.f &&
-                           ref::polishes(s.format.width, s.format.height);
+    // vectors is refused there. Nor above ref::kPolishMaxPixels, for time, nor when the session
+    // asked for fast motion estimation (Params::fast_motion).
+    const bool polishing = !correcting && !s.params.fast_motion && frame.jitter_x == 0.f &&
+                           frame.jitter_y == 0.f && ref::polishes(s.format.width, s.format.height);
     s.estimator.timings.clear();
     s.estimator.last_cut = false;
     if (s.estimates_motion()) {

@@ -26,10 +26,12 @@ extern "C" {
 #endif
 
 #define FGSR_PROTOCOL_MAJOR 1u
-#define FGSR_PROTOCOL_MINOR 4u /* 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE;
-                                * 2: FGSR_SESSION_NO_MVS, FGSR_SESSION_NO_DEPTH, motion passes;
-                                * 3: present reports (fgsr_present_report, FGSR_MSG_REPORT);
-                                * 4: FGSR_SESSION_CORRECT_MVS */
+/* Minor versions: 1: FGSR_SESSION_NO_DENOISE, FGSR_PASS_DENOISE;
+ * 2: FGSR_SESSION_NO_MVS, FGSR_SESSION_NO_DEPTH, motion passes;
+ * 3: present reports (fgsr_present_report, FGSR_MSG_REPORT);
+ * 4: FGSR_SESSION_CORRECT_MVS;
+ * 5: FGSR_SESSION_FAST_MOTION */
+#define FGSR_PROTOCOL_MINOR 5u
 
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
 #define FGSR_MAX_ALPHAS 8u          /* interpolated or extrapolated frames per submit, each */
@@ -124,6 +126,11 @@ typedef enum fgsr_queue_policy {
  * objects fixed to the camera). Depth stays the client's. Costs the motion passes at every submit.
  * Refused together with NO_MVS, and with a scale other than 1 (on jittered, aliased input it loses). */
 #define FGSR_SESSION_CORRECT_MVS 0x80u
+/* Fast motion estimation (minor 5), with FGSR_SESSION_NO_MVS only: the daemon estimates motion
+ * without refining the estimated vectors, for CPU devices that cannot afford the refinement. On
+ * lavapipe the motion passes then take about half the time, and frames lose about 0.3 dB on
+ * average (docs/MOTION.md, "The fast setting"). Refused without FGSR_SESSION_NO_MVS. */
+#define FGSR_SESSION_FAST_MOTION 0x100u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */
 #define FGSR_CAP_ZERO_COPY_INPUT 0x1u /* inputs imported without a copy (external host memory) */

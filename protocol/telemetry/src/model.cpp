@@ -127,6 +127,7 @@ nlohmann::json session_json(const SessionInfo& s) {
             {"output_width", s.output_width},
             {"output_height", s.output_height},
             {"colour_only", s.colour_only},
+            {"fast_motion", s.fast_motion},
             {"active", s.active},
             {"frames", s.frames},
             {"generated", s.generated},

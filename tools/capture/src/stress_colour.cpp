@@ -11,6 +11,8 @@
 // request is refused as after a reset (Step::across_cut). Three of them also run with zero vectors
 // and depth given and corrected by colour (Params::correct_vectors): content where the correction
 // has nothing to go by (flat, noise) or where every pixel disagrees with its given vector (the pan).
+// Two run with fast motion estimation too (Params::fast_motion: the vectors without refinement):
+// flat colour that brightens and noise, where nothing but the refinement smooths the estimate.
 #include "stress_internal.hpp"
 
 #include <cmath>
@@ -91,7 +93,7 @@ const std::vector<float> kExtrap = {1e-6f, 0.5f, 1.f};
 // Three frames made by `frame(k)`: every request after the second and the third (SR outputs with
 // a scale), then one more interpolation.
 Case sequence_case(std::string name, std::string checks, const FrameFormat& f, float scale,
-                   std::function<Frame(int)> frame) {
+                   std::function<Frame(int)> frame, bool fast_motion = false) {
     const bool sr = scale > 1.f;
     Case c;
     c.name = sr ? name + "/sr" : std::move(name);
@@ -99,6 +101,7 @@ Case sequence_case(std::string name, std::string checks, const FrameFormat& f, f
     c.format = f;
     c.params = params_of(scale);
     c.params.correct_vectors = f.has_vectors; // the corrected/* cases below
+    c.params.fast_motion = fast_motion;
     c.cpu_reference = false; // the CPU reference has no motion estimation; GPU-CPU tests are the passes'
     c.max_seconds = kMaxSeconds;
     std::vector<StepFn> s;
@@ -141,6 +144,15 @@ void add_colour_only_cases(std::vector<Case>& out) {
                       "colour only: 480x270, full-frame pan of (-130, 72) px per frame (over a quarter "
                       "of the frame on both axes)",
                       f, 1.f, [f](int k) { return panned(f, glm::vec2(-130.f, 72.f) * float(k), 11); }));
+
+    // Fast motion estimation on the content with nothing to match.
+    const FrameFormat small = colour_format(64, 36);
+    out.push_back(sequence_case(
+        "colour-only/fast/flat-changing", "colour only, fast motion: flat colour that brightens every frame",
+        small, 1.f, [small](int k) { return flat(small, 0.2f + 0.3f * float(k)); }, true));
+    out.push_back(sequence_case(
+        "colour-only/fast/noise", "colour only, fast motion: independent uniform noise every frame", small,
+        1.f, [small](int k) { return noise(small, uint32_t(k)); }, true));
 
     // The same content with zero vectors and depth given, corrected by colour.
     const FrameFormat z = format_of(64, 36);

@@ -84,6 +84,8 @@ bool switch_applies(const std::string& key, const std::string& mode) {
     if (key == "dilate_mvs") return mode == "sr";
     if (key == "denoise") return mode == "sr" || joint;
     if (key == "correct_vectors") return fg; // refused with super resolution
+    // fast_motion acts on sessions without vectors only: its configuration is the colour-only
+    // one's (configs_for), not a toggle of the configurations with vectors.
     return false;
 }
 
@@ -93,9 +95,12 @@ struct Config {
     bool colour_only = false; // vectors and depth withheld (eval's fgsr-colour)
 };
 
-// The colour-only configuration's name, and its `switch` column.
+// The colour-only configurations' names, and their `switch` column: motion estimated as by
+// default, and with fast_motion=on.
 constexpr const char* kColourConfig = "balanced+colour";
 constexpr const char* kColourToggle = "input=colour";
+constexpr const char* kColourFastConfig = "balanced+colour+fast_motion=on";
+constexpr const char* kColourFastToggle = "input=colour fast_motion=on";
 
 Result<std::vector<Config>> configs_for(const BenchOptions& o, const std::string& mode) {
     std::vector<Config> out;
@@ -112,7 +117,12 @@ Result<std::vector<Config>> configs_for(const BenchOptions& o, const std::string
             FGSR_TRY(apply_switch(p, t));
             out.push_back({"balanced+" + t, "balanced", t, p});
         }
-    if (o.colour) out.push_back({kColourConfig, "balanced", kColourToggle, base, true});
+    if (o.colour) {
+        out.push_back({kColourConfig, "balanced", kColourToggle, base, true});
+        Params fast = base;
+        fast.fast_motion = true;
+        out.push_back({kColourFastConfig, "balanced", kColourFastToggle, fast, true});
+    }
     return out;
 }
 
@@ -331,7 +341,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
 
 // BenchReport::colour on `cap` (the moving synthetic scene at the headline resolution).
 Result<void> time_colour_only(const BenchOptions& o, Engine& engine, const capture::Capture& cap,
-                              const Params& params, BenchReport& rep) {
+                              const Params& params, BenchReport::ColourTiming& t) {
     auto s = engine.create_session(colour_only(cap.format), params);
     if (!s) return s.error();
     for (const capture::Frame& f : cap.inputs) FGSR_TRY((*s)->submit(session_view((*s)->format(), f.view())));
@@ -352,14 +362,14 @@ Result<void> time_colour_only(const BenchOptions& o, Engine& engine, const captu
         if (!c) return c.error();
         call.push_back(*c);
     }
-    BenchReport::ColourTiming& t = rep.colour;
     t.measured = true;
     t.motion_ms = median(motion);
     t.ingest_ms = median(ingest);
     t.call_ms = median(call);
     for (const auto& [name, v] : passes) t.motion_pass_ms[name] = median(v);
-    progress(o, fmt::format("colour only: motion {:.2f} ms, ingest {:.2f} ms, interpolate call {:.2f} ms",
-                            t.motion_ms, t.ingest_ms, t.call_ms));
+    progress(o,
+             fmt::format("colour only{}: motion {:.2f} ms, ingest {:.2f} ms, interpolate call {:.2f} ms",
+                         params.fast_motion ? " (fast_motion=on)" : "", t.motion_ms, t.ingest_ms, t.call_ms));
     return {};
 }
 
@@ -502,7 +512,12 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
                                "{:.2f} ms; mean {:.2f} ms, max {:.2f} ms",
                                run_calls, m.classified, m.classified_ms, m.plain_ms, m.mean_ms, m.max_ms));
         }
-        if (o.colour) FGSR_TRY(time_colour_only(o, engine, *cap, balanced, rep));
+        if (o.colour) {
+            FGSR_TRY(time_colour_only(o, engine, *cap, balanced, rep.colour));
+            Params fast = balanced;
+            fast.fast_motion = true;
+            FGSR_TRY(time_colour_only(o, engine, *cap, fast, rep.colour_fast));
+        }
         rep.still_ms = median(st);
         rep.moving_ms = median(mv);
         rep.still_frame_ms = median(st_frame);

@@ -259,18 +259,28 @@ std::string bench_markdown(const BenchReport& r) {
             num(m.mean_ms, 2), m.plain_ms > 0 ? num(m.mean_ms / m.plain_ms, 3) : "-", num(m.max_ms, 2));
     }
     if (r.colour.measured) {
-        std::string split;
-        for (const auto& [name, ms] : r.colour.motion_pass_ms)
-            split += fmt::format("{}{} {:.2f}", split.empty() ? "" : ", ", name, ms);
-        const double rest = r.colour.ingest_ms + r.colour.call_ms;
         s += fmt::format(
             "\n## Colour only ({}, balanced interpolation, vectors and depth withheld)\n\nEach "
             "sample on a fresh pair: the new input's submit (motion estimation, ingest), then the "
-            "call.\n\n| motion passes | ingest | interpolate call | motion / (ingest + call) | "
-            "motion per pass |\n|---:|---:|---:|---:|---|\n| {} ms | {} ms | {} ms | {} | {} |\n",
-            r.headline.name, num(r.colour.motion_ms, 2), num(r.colour.ingest_ms, 2), num(r.colour.call_ms, 2),
-            num(rest > 0 ? r.colour.motion_ms / rest : 0.0, 2),
-            split.empty() ? "(the engine times no motion pass yet)" : split);
+            "call. Fast: Params::fast_motion (session flag FGSR_SESSION_FAST_MOTION), the motion "
+            "estimate without its refinement.\n\n| motion estimation | motion passes | ingest | "
+            "interpolate call | motion / (ingest + call) | motion per pass "
+            "|\n|---|---:|---:|---:|---:|---|\n",
+            r.headline.name);
+        for (const auto* c : {&r.colour, &r.colour_fast}) {
+            if (!c->measured) continue;
+            std::string split;
+            for (const auto& [name, ms] : c->motion_pass_ms)
+                split += fmt::format("{}{} {:.2f}", split.empty() ? "" : ", ", name, ms);
+            const double rest = c->ingest_ms + c->call_ms;
+            s += fmt::format("| {} | {} ms | {} ms | {} ms | {} | {} |\n",
+                             c == &r.colour ? "default" : "fast", num(c->motion_ms, 2), num(c->ingest_ms, 2),
+                             num(c->call_ms, 2), num(rest > 0 ? c->motion_ms / rest : 0.0, 2),
+                             split.empty() ? "(the engine times no motion pass yet)" : split);
+        }
+        if (r.colour_fast.measured && r.colour.motion_ms > 0)
+            s += fmt::format("\nFast / default motion passes, same run: {}.\n",
+                             num(r.colour_fast.motion_ms / r.colour.motion_ms, 2));
     }
     return s;
 }

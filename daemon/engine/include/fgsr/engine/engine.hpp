@@ -85,6 +85,12 @@ struct Params {
     float correct_ratio = defaults::correct_ratio;   // [0, 1]
     float correct_margin = defaults::correct_margin; // >= 0, luma units
     float correct_depth = defaults::correct_depth;   // >= 0, relative depth difference
+    // Sessions without vectors: estimate motion without the variational refinement of the
+    // estimated vectors (shaders/polish.h), for CPU devices that cannot afford it. The refinement
+    // is otherwise on up to 960x540 (ref::kPolishMaxPixels) on unjittered input; off, the motion
+    // passes take about half the time and frames lose about 0.3 dB on average (docs/MOTION.md,
+    // "The fast setting"). No effect with vectors (the correction never refines).
+    bool fast_motion = false;
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).
     bool mvs_contain_jitter = false;

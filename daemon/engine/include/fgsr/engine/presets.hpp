@@ -3,7 +3,8 @@
 //
 // Presets span the run-time / error trade-off (figures: docs/PERFORMANCE.md):
 //   performance  uniform-velocity motion (Eqs. 14-15, no frame-0 vector lookups), no gap refinement,
-//                the paper's select blend, bilinear SR history resampling, fused passes.
+//                the paper's select blend, bilinear SR history resampling, fused passes; without
+//                vectors, fast motion estimation (no refinement of the estimated vectors).
 //   balanced     uniform-acceleration motion, gap and hole filling, mix blend, bilinear SR history
 //                resampling (on orbit-sr as good as the LUT and cheaper), fused passes.
 //   quality      everything on: uniform acceleration, gap and hole filling, mix blend, the learned
@@ -42,6 +43,7 @@ inline Params preset_params(Preset preset) {
     switch (preset) {
     case Preset::performance:
         p.motion = MotionModel::linear;
+        p.fast_motion = true;
         p.fill_gaps = false;
         p.fill_holes = true; // without it holes keep garbage vectors: large error for little time
         p.blend = BlendMode::select;
@@ -83,7 +85,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 9> kSwitches{{
+inline constexpr std::array<SwitchInfo, 10> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", {"bilinear", "catmull_rom", "lut"}, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -93,6 +95,7 @@ inline constexpr std::array<SwitchInfo, 9> kSwitches{{
     {"denoise", {"on", "off", ""}, "SR: pre-filter input whose estimated noise exceeds the floor"},
     {"passes", {"fused", "separate", ""}, "one fused generate pass or refine/disocc/warp/blend"},
     {"correct_vectors", {"on", "off", ""}, "given vectors corrected where shading moves (shadows)"},
+    {"fast_motion", {"on", "off", ""}, "without vectors: no refinement of the estimated vectors"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
@@ -110,6 +113,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "denoise") return onoff(p.denoise);
     if (key == "passes") return p.separate_passes ? "separate" : "fused";
     if (key == "correct_vectors") return onoff(p.correct_vectors);
+    if (key == "fast_motion") return onoff(p.fast_motion);
     return "";
 }
 
@@ -126,7 +130,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
-                "correct_vectors)");
+                "correct_vectors, fast_motion)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -149,6 +153,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "denoise") p.denoise = on;
     if (key == "passes") p.separate_passes = value == "separate";
     if (key == "correct_vectors") p.correct_vectors = on;
+    if (key == "fast_motion") p.fast_motion = on;
     return {};
 }
 

@@ -268,9 +268,11 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 // The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
 // cut f1 keeps its input (has_mv false). `field`: the field buffer carried from the previous call
 // (the engine's temporal candidates), or empty for a first frame; it is resized and updated. With
-// correct.on, f1's given vectors are corrected instead (a cut leaves them as they are).
+// correct.on, f1's given vectors are corrected instead (a cut leaves them as they are). fast: no
+// refinement at any size (Params::fast_motion).
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
-                              std::vector<glm::vec4>& field, VectorCorrection correct = {});
+                              std::vector<glm::vec4>& field, VectorCorrection correct = {},
+                              bool fast = false);
 inline MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
     std::vector<glm::vec4> field;
     return estimate_motion(f0, f1, write_depth, field);

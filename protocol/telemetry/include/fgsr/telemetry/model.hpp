@@ -50,6 +50,7 @@ struct SessionInfo {
     std::string mode; // "interpolate", "extrapolate", "sr", joined with '+'
     uint32_t width = 0, height = 0, output_width = 0, output_height = 0;
     bool colour_only = false;
+    bool fast_motion = false; // colour only, motion estimated without refinement (FGSR_SESSION_FAST_MOTION)
     bool active = true;
     uint64_t frames = 0;    // frames on the session's timeline (displayed, or outputs without reports)
     uint64_t generated = 0; // generated frames (outputs the daemon wrote)

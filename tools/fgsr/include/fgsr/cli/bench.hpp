@@ -247,7 +247,7 @@ struct BenchReport {
         bool measured = false;
         double motion_ms = 0, ingest_ms = 0, call_ms = 0;
         std::map<std::string, double> motion_pass_ms;
-    } colour;
+    } colour, colour_fast; // colour_fast: Params::fast_motion (no refinement of the estimate)
     double seconds = 0;
     int repeats = 0, frames = 0;
     unsigned copy_threads = 0;
