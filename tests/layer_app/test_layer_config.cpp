@@ -14,6 +14,7 @@ using fgsr::layer::ConfigEnv;
 using fgsr::layer::ConfigWatcher;
 using fgsr::layer::LayerConfig;
 using fgsr::layer::Mode;
+using fgsr::layer::Motion;
 using fgsr::layer::Pacing;
 using fgsr::layer::parse_config;
 
