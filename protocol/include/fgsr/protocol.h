@@ -128,8 +128,9 @@ typedef enum fgsr_queue_policy {
 #define FGSR_SESSION_CORRECT_MVS 0x80u
 /* Fast motion estimation (minor 5), with FGSR_SESSION_NO_MVS only: the daemon estimates motion
  * without refining the estimated vectors, for CPU devices that cannot afford the refinement. On
- * lavapipe the motion passes then take about half the time, and frames lose about 0.3 dB on
- * average (docs/MOTION.md, "The fast setting"). Refused without FGSR_SESSION_NO_MVS. */
+ * lavapipe the motion passes then take 0.5-0.6x the time (a whole frame about 0.65-0.7x, up to
+ * 960x540; above, the two are the same), and frames lose 0.3-0.4 dB on average, up to 1.2 dB
+ * (docs/MOTION.md, "The fast setting"). Refused without FGSR_SESSION_NO_MVS. */
 #define FGSR_SESSION_FAST_MOTION 0x100u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */

@@ -87,8 +87,9 @@ struct Params {
     float correct_depth = defaults::correct_depth;   // >= 0, relative depth difference
     // Sessions without vectors: estimate motion without the variational refinement of the
     // estimated vectors (shaders/polish.h), for CPU devices that cannot afford it. The refinement
-    // is otherwise on up to 960x540 (ref::kPolishMaxPixels) on unjittered input; off, the motion
-    // passes take about half the time and frames lose about 0.3 dB on average (docs/MOTION.md,
+    // is otherwise on up to 960x540 (ref::kPolishMaxPixels) on unjittered input; off, on lavapipe
+    // the motion passes take 0.5-0.6x the time (a whole colour-only frame about 0.65-0.7x) and
+    // frames lose 0.3-0.4 dB on average, up to 1.2 dB on a near-static scene (docs/MOTION.md,
     // "The fast setting"). No effect with vectors (the correction never refines).
     bool fast_motion = false;
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
