@@ -2,6 +2,8 @@
 // overrides, every kind of error, and reloading a changed file.
 #include "config.hpp"
 
+#include <fgsr/protocol.h>
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -119,6 +121,17 @@ TEST(LayerConfig, EnvironmentOverridesFileAndProfile) {
     ConfigEnv only_motion;
     only_motion.motion = "fast";
     EXPECT_EQ(ok("", "game", only_motion).motion, Motion::fast);
+}
+
+// motion = "fast" reaches fgsrd as FGSR_SESSION_FAST_MOTION only when the daemon knows the flag
+// (minor 5): an older daemon would refuse the whole session for an unknown flag.
+TEST(LayerConfig, FastMotionIsAskedOnlyOfDaemonsThatKnowIt) {
+    EXPECT_GE(uint32_t(FGSR_PROTOCOL_MINOR), fgsr::layer::kFastMotionMinor);
+    EXPECT_TRUE(fgsr::layer::asks_fast_motion(Motion::fast, FGSR_PROTOCOL_MINOR));
+    EXPECT_TRUE(fgsr::layer::asks_fast_motion(Motion::fast, 5));
+    EXPECT_FALSE(fgsr::layer::asks_fast_motion(Motion::fast, 4));
+    EXPECT_FALSE(fgsr::layer::asks_fast_motion(Motion::fast, 0));
+    EXPECT_FALSE(fgsr::layer::asks_fast_motion(Motion::full, FGSR_PROTOCOL_MINOR));
 }
 
 TEST(LayerConfig, ErrorsNameTheKeyAndTheAllowedValues) {

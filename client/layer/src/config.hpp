@@ -73,6 +73,14 @@ std::string executable_name();
 const char* mode_name(Mode m);
 const char* motion_name(Motion m);
 
+// Whether the layer's session asks fgsrd for fast motion estimation (FGSR_SESSION_FAST_MOTION,
+// protocol minor 5): when the configuration says so and the daemon knows the flag. A daemon of an
+// older minor would refuse the session, so the layer then gets the full estimation (and logs it).
+inline constexpr uint32_t kFastMotionMinor = 5;
+inline bool asks_fast_motion(Motion m, uint32_t daemon_minor) {
+    return m == Motion::fast && daemon_minor >= kFastMotionMinor;
+}
+
 // Loads the file at `path` (a missing file gives the defaults, plus env) and watches it: poll()
 // re-reads it when its mtime or size changed, at most every `min_interval_ns`. Not thread-safe.
 class ConfigWatcher {

@@ -75,7 +75,19 @@ bool DaemonLink::ensure(const SessionShape& shape, uint64_t now_ns) {
     d.flags = FGSR_SESSION_NO_MVS | FGSR_SESSION_NO_DEPTH;
 #endif
 #if defined(FGSR_SESSION_FAST_MOTION)
-    if (shape.motion == Motion::fast) d.flags |= FGSR_SESSION_FAST_MOTION;
+    static_assert(FGSR_PROTOCOL_MINOR >= kFastMotionMinor, "the flag came with minor 5");
+    if (shape.motion == Motion::fast) {
+        fgsr_daemon_info info{};
+        fgsr_daemon_info_get(connection_, &info);
+        if (asks_fast_motion(shape.motion, info.minor)) {
+            d.flags |= FGSR_SESSION_FAST_MOTION;
+        } else if (!old_daemon_logged_) {
+            log_line("fgsrd speaks protocol minor " + std::to_string(info.minor) +
+                     ", before fast motion estimation (" + std::to_string(kFastMotionMinor) +
+                     "): its full estimation is used");
+            old_daemon_logged_ = true;
+        }
+    }
 #endif
     // Mailbox: when the layer falls behind, the daemon works on the newest frame only.
     d.queue_policy = FGSR_QUEUE_MAILBOX;

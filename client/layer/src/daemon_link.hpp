@@ -61,6 +61,7 @@ class DaemonLink {
     std::string connected_socket_;
     uint64_t retry_at_ns_ = 0;
     bool unavailable_logged_ = false;
+    bool old_daemon_logged_ = false; // motion = "fast" asked of a daemon that predates it
     std::vector<bool> depth_cleared_;
 };
 
