@@ -29,6 +29,7 @@
 #include <thread>
 #include <time.h>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 namespace fgsr::test {
@@ -249,6 +250,23 @@ TEST_F(Daemon, OutputsTelemetryAndNotReadyOnTheFirstFrame) {
     }
 }
 
+// Submits input slot `slot` (FGSR_SUBMIT_* `flags`) asking for one interpolated frame at alpha
+// 0.5, waits for its single completion and returns it with the passes its records name.
+std::pair<fgsr_completion_entry, std::set<uint32_t>> submit_interpolating(RawSession& s, uint32_t slot,
+                                                                          uint32_t flags) {
+    const float alpha = 0.5f;
+    fgsr_submit_entry e = s.entry(slot, flags);
+    e.interp_count = 1;
+    std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
+    s.push(e);
+    auto v = s.wait_submit();
+    EXPECT_EQ(v.size(), 1u);
+    if (v.empty()) return {};
+    std::set<uint32_t> passes;
+    for (uint32_t p = 0; p < v[0].telemetry.pass_count; ++p) passes.insert(v[0].telemetry.passes[p].pass);
+    return {v[0], passes};
+}
+
 // FGSR_SESSION_CORRECT_MVS (minor 4): the session has vectors and the daemon also runs the motion
 // passes on every submit after the first; their records come with the interpolated output.
 TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
@@ -259,25 +277,17 @@ TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
     auto c = open_session(path(), d);
     ASSERT_TRUE(c);
     RawSession& s = *c->s;
-    const float alpha = 0.5f;
     for (uint32_t frame = 0; frame < 2; ++frame) {
         s.fill(frame, float(frame));
-        fgsr_submit_entry e = s.entry(frame, FGSR_SUBMIT_HAS_MV);
-        e.interp_count = 1;
-        std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
-        s.push(e);
-        auto v = s.wait_submit();
-        ASSERT_EQ(v.size(), 1u);
-        std::set<uint32_t> passes;
-        for (uint32_t p = 0; p < v[0].telemetry.pass_count; ++p) passes.insert(v[0].telemetry.passes[p].pass);
+        const auto [done, passes] = submit_interpolating(s, frame, FGSR_SUBMIT_HAS_MV);
         if (frame == 0) {
-            EXPECT_EQ(v[0].status, FGSR_STATUS_NOT_READY);
+            EXPECT_EQ(done.status, FGSR_STATUS_NOT_READY);
             continue;
         }
-        EXPECT_EQ(v[0].status, FGSR_STATUS_OK);
+        EXPECT_EQ(done.status, FGSR_STATUS_OK);
         for (uint32_t want : {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
             EXPECT_EQ(passes.count(want), 1u) << "pass " << want;
-        if (v[0].output_slot != FGSR_NO_SLOT) s.release(v[0].output_slot);
+        if (done.output_slot != FGSR_NO_SLOT) s.release(done.output_slot);
     }
 }
 
@@ -295,29 +305,19 @@ TEST_F(Daemon, FastMotionSessionsSkipTheRefinementOfTheEstimate) {
         auto c = open_session(path(), d);
         ASSERT_TRUE(c);
         RawSession& s = *c->s;
-        const float alpha = 0.5f;
         for (uint32_t frame = 0; frame < 3; ++frame) {
             s.fill(frame % 2, 2.f * float(frame));
-            fgsr_submit_entry e = s.entry(frame % 2, 0);
-            e.interp_count = 1;
-            std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
-            s.push(e);
-            auto v = s.wait_submit();
-            ASSERT_EQ(v.size(), 1u);
+            const auto [done, passes] = submit_interpolating(s, frame % 2, 0);
             if (frame == 0) {
-                EXPECT_EQ(v[0].status, FGSR_STATUS_NOT_READY);
+                EXPECT_EQ(done.status, FGSR_STATUS_NOT_READY);
                 continue;
             }
-            EXPECT_EQ(v[0].status, FGSR_STATUS_OK);
-            EXPECT_NE(v[0].output_slot, FGSR_NO_SLOT);
-            std::set<uint32_t> passes;
-            for (uint32_t p = 0; p < v[0].telemetry.pass_count; ++p)
-                passes.insert(v[0].telemetry.passes[p].pass);
-            for (uint32_t want :
-                 {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
+            EXPECT_EQ(done.status, FGSR_STATUS_OK);
+            EXPECT_NE(done.output_slot, FGSR_NO_SLOT);
+            for (uint32_t want : {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
                 EXPECT_EQ(passes.count(want), 1u) << "pass " << want;
             EXPECT_EQ(passes.count(FGSR_PASS_POLISH), fast ? 0u : 1u);
-            if (v[0].output_slot != FGSR_NO_SLOT) s.release(v[0].output_slot);
+            if (done.output_slot != FGSR_NO_SLOT) s.release(done.output_slot);
         }
     }
 }
