@@ -314,7 +314,8 @@ TEST_F(Daemon, FastMotionSessionsSkipTheRefinementOfTheEstimate) {
             }
             EXPECT_EQ(done.status, FGSR_STATUS_OK);
             EXPECT_NE(done.output_slot, FGSR_NO_SLOT);
-            for (uint32_t want : {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
+            for (uint32_t want :
+                 {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
                 EXPECT_EQ(passes.count(want), 1u) << "pass " << want;
             EXPECT_EQ(passes.count(FGSR_PASS_POLISH), fast ? 0u : 1u);
             if (done.output_slot != FGSR_NO_SLOT) s.release(done.output_slot);
