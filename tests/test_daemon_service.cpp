@@ -267,6 +267,12 @@ std::pair<fgsr_completion_entry, std::set<uint32_t>> submit_interpolating(RawSes
     return {v[0], passes};
 }
 
+// The motion estimation's passes (luma, match, flow) are among a completion's records, once each.
+void expect_motion_passes(const std::set<uint32_t>& passes) {
+    for (uint32_t want : {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
+        EXPECT_EQ(passes.count(want), 1u) << "pass " << want;
+}
+
 // FGSR_SESSION_CORRECT_MVS (minor 4): the session has vectors and the daemon also runs the motion
 // passes on every submit after the first; their records come with the interpolated output.
 TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
@@ -285,8 +291,7 @@ TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
             continue;
         }
         EXPECT_EQ(done.status, FGSR_STATUS_OK);
-        for (uint32_t want : {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
-            EXPECT_EQ(passes.count(want), 1u) << "pass " << want;
+        expect_motion_passes(passes);
         if (done.output_slot != FGSR_NO_SLOT) s.release(done.output_slot);
     }
 }
@@ -314,9 +319,7 @@ TEST_F(Daemon, FastMotionSessionsSkipTheRefinementOfTheEstimate) {
             }
             EXPECT_EQ(done.status, FGSR_STATUS_OK);
             EXPECT_NE(done.output_slot, FGSR_NO_SLOT);
-            for (uint32_t want :
-                 {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
-                EXPECT_EQ(passes.count(want), 1u) << "pass " << want;
+            expect_motion_passes(passes);
             EXPECT_EQ(passes.count(FGSR_PASS_POLISH), fast ? 0u : 1u);
             if (done.output_slot != FGSR_NO_SLOT) s.release(done.output_slot);
         }
