@@ -36,6 +36,15 @@ namespace fgsr::test {
 #endif
 #endif
 
+// ThreadSanitizer builds of the tests (FGSR_TEST_TSAN): the daemons they start run instrumented too.
+#if defined(__SANITIZE_THREAD__)
+#define FGSR_TEST_TSAN 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define FGSR_TEST_TSAN 1
+#endif
+#endif
+
 // Appends `option` to ASAN_OPTIONS for the processes started while it lives (ASan builds only).
 class AsanOptionForChildren {
   public:

@@ -318,7 +318,8 @@ class FakeDaemon {
     std::string dir_;
     size_t output_mapped_ = 0;
     int listen_ = -1;
-    int conn_ = -1;
+    // Written by the serving thread (accept), read by stop() on the test's thread to unblock it.
+    std::atomic<int> conn_{-1};
     std::thread thread_;
     uint64_t submit_tail_ = 0, completion_head_ = 0, release_tail_ = 0;
 };

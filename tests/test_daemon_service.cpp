@@ -813,6 +813,14 @@ constexpr int kAsanRegions = 2;
 constexpr int kAsanRegions = 0;
 #endif
 
+// The lines of `now` (/proc/<pid>/maps) that `before` does not have, one per line.
+std::string mappings_not_in(const std::vector<std::string>& now, const std::vector<std::string>& before) {
+    std::string out = "mappings not in the baseline:\n";
+    for (const std::string& line : now)
+        if (std::find(before.begin(), before.end(), line) == before.end()) out += "  " + line + "\n";
+    return out;
+}
+
 TEST(DaemonProcess, KillNineAtEachProtocolStateLeavesNoFdOrMappingBehind) {
     auto d = [] {
         const AsanOptionForChildren no_quarantine("quarantine_size_mb=0");
@@ -828,6 +836,7 @@ TEST(DaemonProcess, KillNineAtEachProtocolStateLeavesNoFdOrMappingBehind) {
         for (float shift : {0.f, 1.f, 2.f, 3.f, 3.f, 3.f}) ASSERT_EQ(roundtrip(*c->s, shift).size(), 1u);
     }
     const Usage base = quiesce(*d);
+    const std::vector<std::string> base_maps = d->mappings();
     ASSERT_GT(base.fds, 0);
     for (State st : {State::connected, State::hello, State::session, State::submitting}) {
         for (int round = 0; round < 2; ++round) {
@@ -860,7 +869,7 @@ TEST(DaemonProcess, KillNineAtEachProtocolStateLeavesNoFdOrMappingBehind) {
             // second session-state kill, 2 fewer than the baseline after the next two kills. So
             // under ASan up to kAsanRegions more; the regular build (in the main suite) is exact,
             // and LeakSanitizer checks the heap at the daemon's exit.
-            EXPECT_LE(after.maps, base.maps + kAsanRegions);
+            EXPECT_LE(after.maps, base.maps + kAsanRegions) << mappings_not_in(d->mappings(), base_maps);
             EXPECT_EQ(after.memfd_bytes, 0);
             // Resident memory: no growth beyond allocator noise per cycle.
             EXPECT_LT(after.rss_kib, base.rss_kib + 32 * 1024);

@@ -15,20 +15,28 @@ namespace {
 
 constexpr float kRelTolerance = 1e-5f;
 
-Engine& engine_with_group(uint32_t group) {
-    static std::unique_ptr<Engine> e8, e32;
-    std::unique_ptr<Engine>& e = group == 8 ? e8 : e32;
-    if (!e) {
-        DeviceOptions o;
-        o.workgroup = group;
-        auto r = Engine::create(o);
-        if (!r) {
-            ADD_FAILURE() << "workgroup " << group << ": " << r.error().message;
-            std::abort();
-        }
-        e = std::move(*r);
+std::unique_ptr<Engine> engine_of_group(uint32_t group) {
+    DeviceOptions o;
+    o.workgroup = group;
+    auto r = Engine::create(o);
+    if (!r) {
+        ADD_FAILURE() << "workgroup " << group << ": " << r.error().message;
+        std::abort();
     }
-    return *e;
+    return std::move(*r);
+}
+
+// Each engine is created in its static's initialiser, so that its destruction at exit is
+// registered after the Vulkan layers it loads and runs before their globals go: a static created
+// empty and filled later was destroyed after them, and the validation layer crashed in
+// vkDestroyPipeline at exit.
+Engine& engine_with_group(uint32_t group) {
+    if (group == 8) {
+        static const std::unique_ptr<Engine> e8 = engine_of_group(8);
+        return *e8;
+    }
+    static const std::unique_ptr<Engine> e32 = engine_of_group(32);
+    return *e32;
 }
 
 enum class Mode { interp, extrap, sr, isr, esr };

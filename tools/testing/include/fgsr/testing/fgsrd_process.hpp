@@ -193,6 +193,15 @@ class FgsrdProcess {
         while (std::getline(f, line)) ++n;
         return n;
     }
+    // The lines of /proc/<pid>/maps themselves (empty if it cannot be read), for a failure message
+    // that says which mappings a check found more of.
+    std::vector<std::string> mappings() const {
+        std::ifstream f("/proc/" + std::to_string(pid_) + "/maps");
+        std::vector<std::string> lines;
+        std::string line;
+        while (std::getline(f, line)) lines.push_back(line);
+        return lines;
+    }
     // VmRSS in KiB from /proc/<pid>/status, or -1.
     long rss_kib() const { return status_field("VmRSS:"); }
     // Bytes of memfd mappings ("/memfd:" in /proc/<pid>/maps): the sessions' shared memory.
