@@ -5,6 +5,8 @@
 #   tools/setup.sh test   install what is missing, build with warnings as errors, run the test suite;
 #                         then the service and client tests under ASan + UBSan and a short run of
 #                         each fuzz target
+#   tools/setup.sh tsan   install what is missing, then the service and client tests under
+#                         ThreadSanitizer (not part of `test`: docs/RELIABILITY.md, "CI")
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -91,8 +93,20 @@ test)
     tools/fuzz.sh --ci
     echo "setup: fuzz targets $((SECONDS - start)) s" >&2
     ;;
+tsan)
+    # fgsrd, fgsr and the service and client tests built with -fsanitize=thread (preset tsan);
+    # the test preset selects the same tests as asan's. tests/sanitizers/tsan.supp says what it
+    # leaves out (lavapipe's LLVM).
+    install_missing
+    start=$SECONDS
+    build tsan
+    echo "setup: tsan build $((SECONDS - start)) s" >&2
+    start=$SECONDS
+    ctest --preset tsan -j"$(nproc)"
+    echo "setup: tsan tests $((SECONDS - start)) s" >&2
+    ;;
 *)
-    echo "usage: $0 demo|test" >&2
+    echo "usage: $0 demo|test|tsan" >&2
     exit 2
     ;;
 esac

@@ -83,6 +83,14 @@ void at_exit() {
     Report::get().write_files();
 }
 
+// Runs at_exit at the process's exit, or when the loader unloads the layer (dlclose, at the last
+// vkDestroyInstance) if that comes first. A static's destructor is registered with the layer's own
+// DSO handle (__cxa_atexit), as glibc registers atexit() called from a shared library; std::atexit
+// under ThreadSanitizer lost the handle, and the process's exit then called into the unloaded layer.
+struct ExitHook {
+    ~ExitHook() { at_exit(); }
+};
+
 template <class T> T* find_chain(const void* pnext, VkStructureType type, VkLayerFunction function) {
     for (auto* p = static_cast<const VkBaseInStructure*>(pnext); p; p = p->pNext) {
         if (p->sType != type) continue;
@@ -139,7 +147,7 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateInstance(const VkInstanceCreateInfo* ci,
     g().instances[dispatch_key(*out)] = d;
     if (!g().exit_hook) {
         g().exit_hook = true;
-        std::atexit(at_exit);
+        static ExitHook hook;
     }
     return VK_SUCCESS;
 }
