@@ -46,6 +46,16 @@ build() {
     cmake --build --preset "$preset" -j"$(nproc)"
 }
 
+# Builds a sanitizer preset and runs its test preset, with the time of each on stderr.
+sanitized() {
+    local preset=$1 start=$SECONDS
+    build "$preset"
+    echo "setup: $preset build $((SECONDS - start)) s" >&2
+    start=$SECONDS
+    ctest --preset "$preset" -j"$(nproc)"
+    echo "setup: $preset tests $((SECONDS - start)) s" >&2
+}
+
 case "${1:-}" in
 demo)
     install_missing
@@ -83,27 +93,17 @@ test)
     # (preset asan: fgsrd, fgsr and fgsr_tests only; the test preset selects the Daemon*,
     # DaemonProcess*, Client* and StressDaemon* tests), then each fuzz target for a fixed count
     # of inputs (docs/RELIABILITY.md, "Sanitizers and fuzzing").
-    start=$SECONDS
-    build asan
-    echo "setup: asan build $((SECONDS - start)) s" >&2
-    start=$SECONDS
-    ctest --preset asan -j"$(nproc)"
-    echo "setup: asan tests $((SECONDS - start)) s" >&2
+    sanitized asan
     start=$SECONDS
     tools/fuzz.sh --ci
     echo "setup: fuzz targets $((SECONDS - start)) s" >&2
     ;;
 tsan)
-    # fgsrd, fgsr and the service and client tests built with -fsanitize=thread (preset tsan);
-    # the test preset selects the same tests as asan's. tests/sanitizers/tsan.supp says what it
-    # leaves out (lavapipe's LLVM).
-    install_missing
-    start=$SECONDS
-    build tsan
-    echo "setup: tsan build $((SECONDS - start)) s" >&2
-    start=$SECONDS
-    ctest --preset tsan -j"$(nproc)"
-    echo "setup: tsan tests $((SECONDS - start)) s" >&2
+    # fgsrd, fgsr, the layer and the service, client and layer tests built with -fsanitize=thread
+    # (preset tsan); tests/sanitizers/tsan.supp says what it leaves out (lavapipe's LLVM and the
+    # validation layer, which are not instrumented). The layer's end-to-end tests need Xvfb.
+    install_missing xvfb
+    sanitized tsan
     ;;
 *)
     echo "usage: $0 demo|test|tsan" >&2
