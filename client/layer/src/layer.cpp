@@ -36,7 +36,6 @@ struct Globals {
     std::unordered_map<VkSwapchainKHR, DeviceData*> swapchain_device;
     std::mutex config_mutex;
     std::unique_ptr<ConfigWatcher> config;
-    bool exit_hook = false;
 };
 
 Globals& g() {
@@ -145,10 +144,8 @@ VKAPI_ATTR VkResult VKAPI_CALL CreateInstance(const VkInstanceCreateInfo* ci,
     current_config(); // loads and logs the configuration once per process
     std::lock_guard l(g().mutex);
     g().instances[dispatch_key(*out)] = d;
-    if (!g().exit_hook) {
-        g().exit_hook = true;
-        static ExitHook hook;
-    }
+    static ExitHook exit_hook; // once per process
+    (void)exit_hook;
     return VK_SUCCESS;
 }
 

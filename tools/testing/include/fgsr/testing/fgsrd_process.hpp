@@ -184,14 +184,10 @@ class FgsrdProcess {
             ++n;
         return ec ? -1 : n;
     }
-    // Lines of /proc/<pid>/maps (memory mappings), or -1.
+    // Lines of /proc/<pid>/maps (memory mappings), or -1 (a live process has some).
     int mapping_count() const {
-        std::ifstream f("/proc/" + std::to_string(pid_) + "/maps");
-        if (!f) return -1;
-        int n = 0;
-        std::string line;
-        while (std::getline(f, line)) ++n;
-        return n;
+        const size_t n = mappings().size();
+        return n == 0 ? -1 : int(n);
     }
     // The lines of /proc/<pid>/maps themselves (empty if it cannot be read), for a failure message
     // that says which mappings a check found more of.
