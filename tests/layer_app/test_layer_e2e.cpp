@@ -95,12 +95,59 @@ class Xvfb {
     std::string display_;
 };
 
+// All CPUs' time in /proc/stat's first line, and the part of it the hypervisor ran other guests in
+// (steal time), in clock ticks. Both 0 when the line is not there.
+struct CpuTimes {
+    double steal = 0, total = 0;
+};
+
+// "cpu  user nice system idle iowait irq softirq steal guest guest_nice": guest and guest_nice are
+// already counted in user and nice, so the total is the first eight.
+CpuTimes parse_cpu_times(const std::string& proc_stat) {
+    CpuTimes t;
+    if (proc_stat.rfind("cpu ", 0) != 0) return t;
+    std::istringstream line(proc_stat.substr(4, proc_stat.find('\n') - 4));
+    double v = 0;
+    for (int i = 0; i < 8 && line >> v; ++i) {
+        t.total += v;
+        if (i == 7) t.steal = v;
+    }
+    return t;
+}
+
+CpuTimes cpu_times() {
+    return parse_cpu_times(read_file("/proc/stat"));
+}
+
+// The fraction of the CPU time between two readings that the host gave to others.
+double steal_fraction(const CpuTimes& before, const CpuTimes& after) {
+    const double total = after.total - before.total;
+    return total > 0 ? (after.steal - before.steal) / total : 0;
+}
+
+// Above this much steal over a run, a run counted to 2 % says more about the host than about fgsr.
+constexpr double kHeavySteal = 0.10;
+
 struct AppRun {
     int status = -1;  // the wait status
     std::string json; // the application's JSON line (fgsr_layer_app), if any
     std::string log;  // stdout + stderr
     std::string stats;
+    double steal = 0;      // steal_fraction over the run
+    std::string contended; // why the test cannot judge its timing, when every run had heavy steal
 };
+
+// Empty when presents are within 2 % of app_presents * multiplier, else what missed.
+std::string multiplied_miss(const AppRun& r, double multiplier, double frames) {
+    const double presents = json_number(r.stats, "presents");
+    if (json_number(r.stats, "app_presents") == frames &&
+        std::fabs(presents - frames * multiplier) <= 0.02 * frames * multiplier)
+        return {};
+    char what[96];
+    std::snprintf(what, sizeof what, "%.0f application presents, %.0f presents of %.0f",
+                  json_number(r.stats, "app_presents"), presents, frames * multiplier);
+    return what;
+}
 
 class LayerE2E : public ::testing::Test {
   protected:
@@ -149,7 +196,10 @@ class LayerE2E : public ::testing::Test {
         for (const std::string& e : env) line += " " + e;
         line += " " + command + " > " + (dir_ / "out.log").string() + " 2>&1";
         AppRun r;
+        std::filesystem::remove(stats);
+        const CpuTimes before = cpu_times();
         r.status = std::system(line.c_str());
+        r.steal = steal_fraction(before, cpu_times());
         r.log = read_file((dir_ / "out.log").string());
         r.stats = read_file(stats);
         std::istringstream lines(r.log);
@@ -157,7 +207,32 @@ class LayerE2E : public ::testing::Test {
             if (l.rfind("{\"frames\"", 0) == 0) r.json = l;
         std::printf("[ layer    ] %s\n[ stats    ] %s", command.c_str(), r.stats.c_str());
         if (!r.json.empty()) std::printf("[ app      ] %s\n", r.json.c_str());
+        std::printf("[ steal    ] %.1f %% of the CPU time went to the host's other guests\n", 100 * r.steal);
         return r;
+    }
+
+    // A run that expect_multiplied counts. How many generated frames reach the screen in time depends
+    // on the CPU time the processes get: on a virtual machine whose host takes much of it (steal
+    // above kHeavySteal), a run misses the 2 % bound with nothing wrong in fgsr (seen at 44 % steal).
+    // Such a run is repeated, three runs at most. A miss with less steal is returned to fail; when
+    // every run missed under heavy steal, `contended` says so and the test skips.
+    AppRun run_multiplied(const std::string& command, const std::vector<std::string>& env, bool validation,
+                          double multiplier, double frames) {
+        std::string misses;
+        for (int attempt = 1;; ++attempt) {
+            AppRun r = run(command, env, validation);
+            const std::string miss = r.status == 0 ? multiplied_miss(r, multiplier, frames) : std::string();
+            if (miss.empty() || r.steal < kHeavySteal) return r;
+            char line[160];
+            std::snprintf(line, sizeof line, "run %d: %s at %.0f %% steal; ", attempt, miss.c_str(),
+                          100 * r.steal);
+            std::printf("[ steal    ] %s\n", line);
+            misses += line;
+            if (attempt == 3) {
+                r.contended = "the host took too much of the CPU time to judge the timing: " + misses;
+                return r;
+            }
+        }
     }
 
     static std::string app() { return FGSR_LAYER_APP; }
@@ -225,7 +300,9 @@ TEST_F(LayerE2E, VkcubePresentsDoubleWithValidationClean) {
     // 80 frames: 160 presents within 2 % leaves room for the first frame (no predecessor) and 2 more.
     // 128x128 at 8 fps: fgsrd (motion estimation included) keeps up on two cores shared with other
     // work (the CI machine's load reaches 8).
-    const AppRun r = run("vkcube --c 80 --width 128 --height 128", {"FGSR_FPS_LIMIT=8", "FGSR_MULTIPLIER=2"});
+    const AppRun r = run_multiplied("vkcube --c 80 --width 128 --height 128",
+                                    {"FGSR_FPS_LIMIT=8", "FGSR_MULTIPLIER=2"}, true, 2, 80);
+    if (!r.contended.empty()) GTEST_SKIP() << r.contended;
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     EXPECT_NE(r.log.find("connected to fgsrd"), std::string::npos) << r.log;
@@ -241,8 +318,9 @@ double metric(const std::string& text, const std::string& sample) {
 TEST_F(LayerE2E, AppInterpolatesThreeTimesWithValidationClean) {
     start_daemon({"--http", "127.0.0.1:0"});
     const std::string presents = (dir_ / "presents.csv").string();
-    const AppRun r = run(app() + " --frames 75 --width 128 --height 72 --fps 8",
-                         {"FGSR_MULTIPLIER=3", "FGSR_LAYER_PRESENTS=" + presents});
+    const AppRun r = run_multiplied(app() + " --frames 75 --width 128 --height 72 --fps 8",
+                                    {"FGSR_MULTIPLIER=3", "FGSR_LAYER_PRESENTS=" + presents}, true, 3, 75);
+    if (!r.contended.empty()) GTEST_SKIP() << r.contended;
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     EXPECT_NE(r.stats.find("\"mode\": \"interpolate\""), std::string::npos);
@@ -327,8 +405,10 @@ TEST_F(LayerE2E, AppExtrapolatesWithValidationClean) {
     start_daemon();
     const std::string presents = (dir_ / "presents.csv").string();
     // With the fast motion estimation (FGSR_MOTION=fast: session flag FGSR_SESSION_FAST_MOTION).
-    const AppRun r = run(app() + " --frames 75 --width 128 --height 72 --fps 8",
-                         {"FGSR_MODE=extrapolate", "FGSR_MOTION=fast", "FGSR_LAYER_PRESENTS=" + presents});
+    const AppRun r = run_multiplied(
+        app() + " --frames 75 --width 128 --height 72 --fps 8",
+        {"FGSR_MODE=extrapolate", "FGSR_MOTION=fast", "FGSR_LAYER_PRESENTS=" + presents}, true, 2, 75);
+    if (!r.contended.empty()) GTEST_SKIP() << r.contended;
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
     EXPECT_NE(r.stats.find("\"mode\": \"extrapolate\""), std::string::npos);
@@ -509,13 +589,16 @@ TEST_F(LayerE2E, ProfileMatchesTheExecutableAndEnvOverridesIt) {
     const std::string config = "FGSR_CONFIG=" + (dir_ / "fgsr.toml").string();
     // 50 frames: the first has no predecessor (2 of 150 presents missing, 1.3 %).
     // 75 frames: the first has no predecessor (2 of 225 presents missing, 0.9 %).
-    const AppRun profiled = run(app() + " --frames 75 --width 128 --height 72", {config}, false);
+    const AppRun profiled =
+        run_multiplied(app() + " --frames 75 --width 128 --height 72", {config}, false, 3, 75);
+    if (!profiled.contended.empty()) GTEST_SKIP() << profiled.contended;
     ASSERT_EQ(profiled.status, 0) << profiled.log;
     EXPECT_EQ(json_number(profiled.stats, "multiplier"), 3);
     EXPECT_NE(profiled.log.find("profile fgsr_layer_app"), std::string::npos) << profiled.log;
     expect_multiplied(profiled, 3, 75);
-    const AppRun overridden =
-        run(app() + " --frames 75 --width 128 --height 72", {config, "FGSR_MULTIPLIER=2"}, false);
+    const AppRun overridden = run_multiplied(app() + " --frames 75 --width 128 --height 72",
+                                             {config, "FGSR_MULTIPLIER=2"}, false, 2, 75);
+    if (!overridden.contended.empty()) GTEST_SKIP() << overridden.contended;
     ASSERT_EQ(overridden.status, 0) << overridden.log;
     EXPECT_EQ(json_number(overridden.stats, "multiplier"), 2);
     expect_multiplied(overridden, 2, 75);
@@ -604,4 +687,22 @@ TEST_F(LayerE2E, GeneratedFramesScoreAgainstExactIntermediateFrames) {
     } else {
         EXPECT_GT(gen, blend + 0.5) << "motion-estimated frames beat the 50/50 blend: " << score.log;
     }
+}
+
+// The steal reading that decides whether a timing miss is the host's (run_multiplied): fields
+// counted by hand from a line of this machine's /proc/stat.
+TEST(LayerE2ESteal, ReadsStealTimeFromProcStat) {
+    const CpuTimes a =
+        parse_cpu_times("cpu  2882307 253394 308880 1073071 4111 0 6028 18785 7 9\ncpu0 1 2 3\n");
+    EXPECT_EQ(a.total, 2882307.0 + 253394 + 308880 + 1073071 + 4111 + 0 + 6028 + 18785);
+    EXPECT_EQ(a.steal, 18785);
+    // 100 ticks later, 44 of them stolen.
+    const CpuTimes b = parse_cpu_times("cpu  2882330 253394 308890 1073093 4111 0 6029 18829 0 0\n");
+    EXPECT_NEAR(steal_fraction(a, b), 0.44, 1e-12);
+    EXPECT_EQ(parse_cpu_times("intr 1 2 3\n").total, 0);
+    EXPECT_EQ(steal_fraction(CpuTimes{}, CpuTimes{}), 0);
+    // Older kernels without a steal column: no steal.
+    EXPECT_EQ(parse_cpu_times("cpu  1 2 3 4\n").steal, 0);
+    // This machine's own file parses to a positive total.
+    EXPECT_GT(cpu_times().total, 0);
 }
