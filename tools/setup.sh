@@ -5,7 +5,7 @@
 #   tools/setup.sh test   install what is missing, build with warnings as errors, run the test suite;
 #                         then the service and client tests under ASan + UBSan and a short run of
 #                         each fuzz target
-#   tools/setup.sh tsan   install what is missing, then the service and client tests under
+#   tools/setup.sh tsan   install what is missing, then the service, client and layer tests under
 #                         ThreadSanitizer (not part of `test`: docs/RELIABILITY.md, "CI")
 set -euo pipefail
 cd "$(dirname "$0")/.."
