@@ -89,10 +89,11 @@ test)
     install_missing "${test_packages[@]}"
     build ci
     ctest --preset ci -j"$(nproc)"
-    # The service and the client again under AddressSanitizer + UndefinedBehaviorSanitizer
-    # (preset asan: fgsrd, fgsr and fgsr_tests only; the test preset selects the Daemon*,
-    # DaemonProcess*, Client* and StressDaemon* tests), then each fuzz target for a fixed count
-    # of inputs (docs/RELIABILITY.md, "Sanitizers and fuzzing").
+    # The service, the client and the layer again under AddressSanitizer +
+    # UndefinedBehaviorSanitizer (preset asan: fgsrd, fgsr, fgsr_tests and fgsr_layer_tests only;
+    # the test preset selects the Daemon*, DaemonProcess*, Client*, StressDaemon* and Layer*
+    # tests), then each fuzz target for a fixed count of inputs (docs/RELIABILITY.md, "Sanitizers
+    # and fuzzing").
     sanitized asan
     start=$SECONDS
     tools/fuzz.sh --ci

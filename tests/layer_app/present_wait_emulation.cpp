@@ -58,15 +58,20 @@ struct State {
     std::unordered_map<void*, Device> devices;
     std::map<VkSwapchainKHR, std::map<uint64_t, uint64_t>> displayed; // id -> display time
     uint64_t delay_ns = 12'000'000;
+
+    State() {
+        if (const char* d = std::getenv("FGSR_TEST_DISPLAY_DELAY_MS"))
+            delay_ns = uint64_t(std::atof(d) * 1e6);
+    }
 };
 
+// Destroyed when the loader unloads this layer, or at exit (an ASan build's leak check sees no
+// unreachable state). Made inside the fgsr layer's vkCreateInstance, before the fgsr layer's exit
+// hook, so destroyed after it: the fgsr layer's present threads, which call down into this layer,
+// are stopped first.
 State& st() {
-    static State* s = [] {
-        auto* x = new State;
-        if (const char* d = std::getenv("FGSR_TEST_DISPLAY_DELAY_MS")) x->delay_ns = uint64_t(std::atof(d) * 1e6);
-        return x;
-    }();
-    return *s;
+    static State s;
+    return s;
 }
 
 template <class T> T* chain_info(const void* pnext, VkStructureType type, VkLayerFunction f) {

@@ -293,8 +293,9 @@ double median_pacing_error(const std::vector<PresentRow>& rows, double m) {
 
 TEST_F(LayerE2E, VkcubePresentsDoubleWithValidationClean) {
     if (!have("vkcube")) GTEST_SKIP() << "vkcube is not installed (tools/setup.sh installs vulkan-tools)";
-#if defined(__SANITIZE_THREAD__)
-    GTEST_SKIP() << "vkcube is not built with ThreadSanitizer, so this build's layer cannot load into it";
+#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP()
+        << "vkcube is not built with this build's sanitizer, so this build's layer cannot load into it";
 #endif
     start_daemon();
     // 80 frames: 160 presents within 2 % leaves room for the first frame (no predecessor) and 2 more.
@@ -495,7 +496,7 @@ TEST_F(LayerE2E, DaemonStartedLaterIsConnectedTo) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1500));
         late = FgsrdProcess::spawn({FGSR_BIN_DIR "/fgsrd", "--socket", socket}, (dir_ / "late.log").string());
     });
-#if defined(__SANITIZE_THREAD__)
+#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
     const std::string frames = "120"; // an instrumented fgsrd takes seconds more to start
 #else
     const std::string frames = "60";

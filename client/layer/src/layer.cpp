@@ -15,6 +15,7 @@
 
 #include <fgsr/core/clock.hpp>
 
+#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -38,9 +39,37 @@ struct Globals {
     std::unique_ptr<ConfigWatcher> config;
 };
 
+// The process-wide state: made at first use, freed by the exit hook once the application has
+// destroyed everything it made (release_globals), so that a process which loads and unloads the
+// layer repeatedly (an instance created and destroyed in a loop) does not leak it per load.
+std::atomic<Globals*> globals{nullptr};
+std::mutex globals_mutex; // guards making and freeing `globals`, not its contents
+
 Globals& g() {
-    static Globals* globals = new Globals(); // never freed: the exit hook and layer threads use it
-    return *globals;
+    if (Globals* p = globals.load(std::memory_order_acquire)) return *p;
+    std::lock_guard l(globals_mutex);
+    Globals* p = globals.load(std::memory_order_relaxed);
+    if (!p) {
+        p = new Globals();
+        globals.store(p, std::memory_order_release);
+    }
+    return *p;
+}
+
+// Frees the process-wide state (Globals and the Report) when no instance, device or swapchain of
+// the application's is left: then no layer thread runs and no call can reach them. Otherwise (the
+// process exits with its Vulkan objects alive) they stay, reachable, for the threads still stopping.
+void release_globals() {
+    std::lock_guard l(globals_mutex);
+    Globals* p = globals.load(std::memory_order_relaxed);
+    if (!p) return;
+    {
+        std::lock_guard state(p->mutex);
+        if (!p->instances.empty() || !p->devices.empty() || !p->swapchains.empty()) return;
+    }
+    globals.store(nullptr, std::memory_order_release);
+    delete p;
+    Report::release();
 }
 
 void log_config(const Result<LayerConfig>& c, const std::string& path, bool reload) {
@@ -82,12 +111,16 @@ void at_exit() {
     Report::get().write_files();
 }
 
-// Runs at_exit at the process's exit, or when the loader unloads the layer (dlclose, at the last
-// vkDestroyInstance) if that comes first. A static's destructor is registered with the layer's own
-// DSO handle (__cxa_atexit), as glibc registers atexit() called from a shared library; std::atexit
-// under ThreadSanitizer lost the handle, and the process's exit then called into the unloaded layer.
+// Runs at_exit, then release_globals, at the process's exit, or when the loader unloads the layer
+// (dlclose, at the last vkDestroyInstance) if that comes first. A static's destructor is registered with the
+// layer's own DSO handle (__cxa_atexit), as glibc registers atexit() called from a shared library;
+// std::atexit under ThreadSanitizer lost the handle, and the process's exit then called into the unloaded
+// layer.
 struct ExitHook {
-    ~ExitHook() { at_exit(); }
+    ~ExitHook() {
+        at_exit();
+        release_globals();
+    }
 };
 
 template <class T> T* find_chain(const void* pnext, VkStructureType type, VkLayerFunction function) {

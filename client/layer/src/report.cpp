@@ -4,6 +4,7 @@
 #include <fgsr/core/presentmon.hpp>
 #include <fgsr/protocol.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -33,15 +34,36 @@ struct Report::State {
     bool present_wait = false;
 };
 
-Report::Report() : s_(new State) { // never freed: used from atexit and from layer threads
+namespace {
+// Made at first use; freed by release() when the layer frees its process-wide state (layer.cpp).
+std::atomic<Report*> report{nullptr};
+std::mutex report_mutex; // guards making and freeing `report`
+} // namespace
+
+Report::Report() : s_(new State) {
     if (const char* p = std::getenv("FGSR_LAYER_STATS")) s_->stats_path = p;
     if (const char* p = std::getenv("FGSR_LAYER_PRESENTS")) s_->presents_path = p;
     if (const char* p = std::getenv("FGSR_LAYER_DUMP")) s_->dump_dir = p;
 }
 
+Report::~Report() {
+    delete s_;
+}
+
 Report& Report::get() {
-    static Report* r = new Report();
+    if (Report* r = report.load(std::memory_order_acquire)) return *r;
+    std::lock_guard l(report_mutex);
+    Report* r = report.load(std::memory_order_relaxed);
+    if (!r) {
+        r = new Report();
+        report.store(r, std::memory_order_release);
+    }
     return *r;
+}
+
+void Report::release() {
+    std::lock_guard l(report_mutex);
+    delete report.exchange(nullptr, std::memory_order_acq_rel);
 }
 
 void Report::app_present() {

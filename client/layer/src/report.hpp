@@ -48,6 +48,9 @@ struct DumpInfo {
 class Report {
   public:
     static Report& get();
+    // Frees the Report (the next get() makes a fresh one). Only when nothing can use it any more:
+    // the layer calls it as it unloads, with no instance, device or swapchain left.
+    static void release();
 
     void app_present();
     // app_ns: when the application presented the real frame this present belongs to (generated
@@ -70,6 +73,9 @@ class Report {
 
   private:
     Report();
+    ~Report();
+    Report(const Report&) = delete;
+    Report& operator=(const Report&) = delete;
     struct State;
     State* s_;
 };
