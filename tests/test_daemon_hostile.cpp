@@ -181,24 +181,35 @@ TEST(DaemonHostile, AHeavySessionDoesNotHoldUpHelloOrSmallClients) {
 
 // SIGTERM while a long frame runs (2048x2048, eight outputs: seconds on lavapipe): clients are
 // disconnected at once and the daemon exits after --shutdown-grace, not after the frame.
+// The long frame of SigtermDoesNotWaitForALongFrame: a 2048x2048 session's second input with 8
+// interpolated frames (several seconds on a CPU device). Returns the session, `frame` pushed at
+// `pushed` (monotonic ns).
+std::optional<Conn> push_long_frame(const FgsrdProcess& d, uint64_t& pushed) {
+    auto heavy = open_session(d.socket_path(), square_desc(2048));
+    if (!heavy) return std::nullopt;
+    RawSession& s = *heavy->s;
+    fill_any(s, 0, 0.f);
+    s.push(s.entry(0));
+    EXPECT_EQ(s.wait_submit().size(), 1u);
+    fill_any(s, 1, 4.f);
+    fgsr_submit_entry e = s.entry(1);
+    e.interp_count = 8;
+    for (uint32_t k = 0; k < 8; ++k) e.interp_alphas[k] = float(k + 1) / 9.f;
+    pushed = monotonic_ns();
+    s.push(e);
+    return heavy;
+}
+
 TEST(DaemonHostile, SigtermDoesNotWaitForALongFrame) {
     // What is timed is the daemon's exit, not LeakSanitizer's scan of its heap at the exit (the
     // other daemon tests check for leaks): with the scan, an ASan build under load took 2.0 s.
     const AsanOptionForChildren no_leak_scan("detect_leaks=0");
     auto d = FgsrdProcess::start({"--shutdown-grace", "0.2"});
     ASSERT_TRUE(d) << FgsrdProcess::last_error();
-    auto heavy = open_session(d->socket_path(), square_desc(2048));
+    uint64_t submitted = 0;
+    auto heavy = push_long_frame(*d, submitted);
     ASSERT_TRUE(heavy);
     RawSession& s = *heavy->s;
-    fill_any(s, 0, 0.f);
-    s.push(s.entry(0));
-    ASSERT_EQ(s.wait_submit().size(), 1u);
-    fill_any(s, 1, 4.f);
-    fgsr_submit_entry e = s.entry(1);
-    e.interp_count = 8;
-    for (uint32_t k = 0; k < 8; ++k) e.interp_alphas[k] = float(k + 1) / 9.f;
-    const uint64_t submitted = monotonic_ns();
-    s.push(e);
     usleep(300000); // the frame is running
     const uint64_t t0 = monotonic_ns();
     const int status = d->terminate(30000);
@@ -206,17 +217,34 @@ TEST(DaemonHostile, SigtermDoesNotWaitForALongFrame) {
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
     EXPECT_TRUE(heavy->raw.closed_by_daemon(10));
     const bool finished = s.wait(0).has_value();
-    if (!finished) { // else this machine ran eight 2048x2048 frames in 300 ms: nothing to test
-#if defined(FGSR_TEST_ASAN) || defined(FGSR_TEST_TSAN)
-        EXPECT_LT(exit_ms, 3000.0); // an instrumented daemon's teardown is slower (the frame is not)
-#else
-        EXPECT_LT(exit_ms, 1500.0);
-#endif
-        EXPECT_NE(d->stderr_text().find("exiting without waiting"), std::string::npos) << d->stderr_text();
-    }
     EXPECT_NE(access(d->socket_path().c_str(), F_OK), 0) << "socket file left behind";
     std::printf("[ measured ] SIGTERM to exit %.0f ms, %.0f ms after the submit\n", exit_ms,
                 double(monotonic_ns() - submitted) * 1e-6);
+    if (finished) return; // this machine ran eight 2048x2048 frames in 300 ms: nothing to test
+    EXPECT_NE(d->stderr_text().find("exiting without waiting"), std::string::npos) << d->stderr_text();
+#if defined(FGSR_TEST_ASAN) || defined(FGSR_TEST_TSAN)
+    const double bound_ms = 3000.0; // an instrumented daemon's teardown is slower (the frame is not)
+#else
+    const double bound_ms = 1500.0;
+#endif
+    if (exit_ms < bound_ms) return;
+    // Past the bound: a daemon that waited for the frame, or a loaded machine, which slows the
+    // exit and the frame alike (CI once measured 3345 ms under a build's load). The frame itself,
+    // run to its end on a second daemon now, tells them apart: a daemon that waited took the rest
+    // of the frame (all of it less 300 ms) to exit, one that did not, a small part of it.
+    auto d2 = FgsrdProcess::start();
+    ASSERT_TRUE(d2) << FgsrdProcess::last_error();
+    uint64_t pushed = 0;
+    auto again = push_long_frame(*d2, pushed);
+    ASSERT_TRUE(again);
+    const auto done = again->s->wait_submit(300000);
+    const double frame_ms = double(monotonic_ns() - pushed) * 1e-6;
+    ASSERT_TRUE(!done.empty() && (done.back().flags & FGSR_COMPLETION_LAST) != 0)
+        << "the long frame did not finish on the second daemon";
+    std::printf("[ measured ] exit %.0f ms is past %.0f ms; the frame takes %.0f ms now\n", exit_ms, bound_ms,
+                frame_ms);
+    EXPECT_LT(exit_ms, 0.5 * frame_ms) << "SIGTERM to exit took " << exit_ms << " ms, the frame " << frame_ms
+                                       << " ms: the daemon waited for the frame";
 }
 
 // Fairness: two sessions on the same lane, one with 64 times the pixels of the other, both always

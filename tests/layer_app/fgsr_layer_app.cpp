@@ -5,10 +5,12 @@
 //   fgsr_layer_app [--frames 60] [--width 1280 --height 720] [--fps 0] [--dt 0.0333]
 //                  [--format bgra8|rgba8|bgra8-srgb|rgba8-srgb|rgba16f|a2b10g10r10]
 //                  [--present-mode fifo|mailbox|immediate] [--resize-at K:WxH] [--windows 1|2]
-//                  [--no-destroy] [--one-present] [--flash-on-click]
+//                  [--no-destroy] [--one-present] [--flash-on-click] [--probe-instances N]
 //   fgsr_layer_app --score DIR [--dt 0.0333] [--write-exact]
 //                  (no Vulkan: scores DIR's gen_*.json/.rgba; --write-exact writes gen_*.exact.rgba)
 //
+// --probe-instances N: first create and destroy a Vulkan instance N times, enumerating its devices,
+// as a launcher probing the GPUs does; the loader loads and unloads the layers each time.
 // --flash-on-click (for `fgsr probe --run-command`, docs/PROBE.md): each mouse button or key press
 // in a window turns the next frame white, for a photodiode latency probe to see the click.
 // Prints one JSON line: run: {"frames", "seconds", "fps", "format", "extent", "recreations"}; score:
@@ -50,6 +52,7 @@ struct Options {
     bool one_present = false; // all windows in one vkQueuePresentKHR
     bool write_exact = false; // --score: also write DIR/gen_*.exact.rgba
     bool flash_on_click = false;
+    uint32_t probe_instances = 0;
 };
 
 // --flash-on-click: set by a button or key press, cleared by the frame it turns white.
@@ -228,6 +231,26 @@ int score(const Options& o) {
 
 #include "vk_window.hpp"
 
+namespace fgsr::layer_app {
+
+// --probe-instances: instances created and destroyed before the run.
+void probe_instances(uint32_t count) {
+    for (uint32_t k = 0; k < count; ++k) {
+        VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+        app.pApplicationName = "fgsr_layer_app probe";
+        app.apiVersion = VK_API_VERSION_1_1;
+        VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+        ci.pApplicationInfo = &app;
+        VkInstance instance = VK_NULL_HANDLE;
+        CHECK(vkCreateInstance(&ci, nullptr, &instance));
+        uint32_t n = 0;
+        CHECK(vkEnumeratePhysicalDevices(instance, &n, nullptr));
+        vkDestroyInstance(instance, nullptr);
+    }
+}
+
+} // namespace fgsr::layer_app
+
 int main(int argc, char** argv) {
     using namespace fgsr::layer_app;
     Options o;
@@ -264,6 +287,8 @@ int main(int argc, char** argv) {
             o.write_exact = true;
         else if (a == "--flash-on-click")
             o.flash_on_click = true;
+        else if (a == "--probe-instances")
+            o.probe_instances = uint32_t(std::stoul(next()));
         else if (a == "--score")
             o.score_dir = next();
         else if (a == "--resize-at") {
@@ -278,5 +303,6 @@ int main(int argc, char** argv) {
         }
     }
     if (!o.score_dir.empty()) return score(o);
+    probe_instances(o.probe_instances);
     return run(o);
 }

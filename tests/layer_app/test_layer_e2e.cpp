@@ -581,6 +581,21 @@ TEST_F(LayerE2E, ExitWithoutDestroyingTheSwapchainStillWritesStats) {
     EXPECT_GT(json_number(r.stats, "generated"), 10);
 }
 
+// A launcher that probes the GPUs first (instances created and destroyed) still gets frame
+// generation: the loader loads and unloads the layer with each instance, and each load makes its
+// process-wide state afresh (the unload frees it; an ASan build's leak check at the exit sees
+// every load's).
+TEST_F(LayerE2E, InstancesCreatedAndDestroyedFirstEachLoadTheLayerAfresh) {
+    start_daemon();
+    const AppRun r =
+        run(app() + " --probe-instances 3 --frames 20 --width 192 --height 108 --fps 10", {}, false);
+    ASSERT_EQ(r.status, 0) << r.log;
+    // Each load reads and logs its configuration once: three probes, then the run.
+    EXPECT_EQ(count(r.log, "fgsr layer: configuration ("), 4u) << r.log;
+    EXPECT_EQ(json_number(r.stats, "app_presents"), 20) << r.log;
+    EXPECT_GT(json_number(r.stats, "generated"), 10) << r.log;
+}
+
 TEST_F(LayerE2E, ProfileMatchesTheExecutableAndEnvOverridesIt) {
     start_daemon();
     std::ofstream(dir_ / "fgsr.toml")
