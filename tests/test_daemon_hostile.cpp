@@ -179,11 +179,9 @@ TEST(DaemonHostile, AHeavySessionDoesNotHoldUpHelloOrSmallClients) {
     expect_responsive_and_stoppable(*d);
 }
 
-// SIGTERM while a long frame runs (2048x2048, eight outputs: seconds on lavapipe): clients are
-// disconnected at once and the daemon exits after --shutdown-grace, not after the frame.
-// The long frame of SigtermDoesNotWaitForALongFrame: a 2048x2048 session's second input with 8
-// interpolated frames (several seconds on a CPU device). Returns the session, `frame` pushed at
-// `pushed` (monotonic ns).
+// The long frame of SigtermDoesNotWaitForALongFrame: on a new 2048x2048 session, a first input
+// (waited for), then a second one with 8 interpolated frames (seconds on a CPU device), pushed at
+// `pushed` (monotonic ns) and not waited for. Returns the session.
 std::optional<Conn> push_long_frame(const FgsrdProcess& d, uint64_t& pushed) {
     auto heavy = open_session(d.socket_path(), square_desc(2048));
     if (!heavy) return std::nullopt;
@@ -200,6 +198,8 @@ std::optional<Conn> push_long_frame(const FgsrdProcess& d, uint64_t& pushed) {
     return heavy;
 }
 
+// SIGTERM while a long frame runs (2048x2048, eight outputs: seconds on lavapipe): clients are
+// disconnected at once and the daemon exits after --shutdown-grace, not after the frame.
 TEST(DaemonHostile, SigtermDoesNotWaitForALongFrame) {
     // What is timed is the daemon's exit, not LeakSanitizer's scan of its heap at the exit (the
     // other daemon tests check for leaks): with the scan, an ASan build under load took 2.0 s.

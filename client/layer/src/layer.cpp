@@ -112,10 +112,10 @@ void at_exit() {
 }
 
 // Runs at_exit, then release_globals, at the process's exit, or when the loader unloads the layer
-// (dlclose, at the last vkDestroyInstance) if that comes first. A static's destructor is registered with the
-// layer's own DSO handle (__cxa_atexit), as glibc registers atexit() called from a shared library;
-// std::atexit under ThreadSanitizer lost the handle, and the process's exit then called into the unloaded
-// layer.
+// (dlclose, at the last vkDestroyInstance) if that comes first. A static's destructor is
+// registered with the layer's own DSO handle (__cxa_atexit), as glibc registers atexit() called
+// from a shared library; std::atexit under ThreadSanitizer lost the handle, and the process's exit
+// then called into the unloaded layer.
 struct ExitHook {
     ~ExitHook() {
         at_exit();
