@@ -10,12 +10,12 @@
 // the application's queue.
 #include "config.hpp"
 #include "dispatch.hpp"
+#include "lazy.hpp"
 #include "report.hpp"
 #include "swapchain.hpp"
 
 #include <fgsr/core/clock.hpp>
 
-#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -39,37 +39,25 @@ struct Globals {
     std::unique_ptr<ConfigWatcher> config;
 };
 
-// The process-wide state: made at first use, freed by the exit hook once the application has
-// destroyed everything it made (release_globals), so that a process which loads and unloads the
-// layer repeatedly (an instance created and destroyed in a loop) does not leak it per load.
-std::atomic<Globals*> globals{nullptr};
-std::mutex globals_mutex; // guards making and freeing `globals`, not its contents
+// The process-wide state (lazy.hpp): freed by the exit hook once the application has destroyed
+// everything it made (release_globals).
+Lazy<Globals> globals;
 
 Globals& g() {
-    if (Globals* p = globals.load(std::memory_order_acquire)) return *p;
-    std::lock_guard l(globals_mutex);
-    Globals* p = globals.load(std::memory_order_relaxed);
-    if (!p) {
-        p = new Globals();
-        globals.store(p, std::memory_order_release);
-    }
-    return *p;
+    return globals.get();
 }
 
 // Frees the process-wide state (Globals and the Report) when no instance, device or swapchain of
 // the application's is left: then no layer thread runs and no call can reach them. Otherwise (the
 // process exits with its Vulkan objects alive) they stay, reachable, for the threads still stopping.
 void release_globals() {
-    std::lock_guard l(globals_mutex);
-    Globals* p = globals.load(std::memory_order_relaxed);
-    if (!p) return;
-    {
-        std::lock_guard state(p->mutex);
-        if (!p->instances.empty() || !p->devices.empty() || !p->swapchains.empty()) return;
-    }
-    globals.store(nullptr, std::memory_order_release);
-    delete p;
-    Report::release();
+    bool freed = false;
+    globals.reset_if([&](Globals& s) {
+        std::lock_guard l(s.mutex);
+        freed = s.instances.empty() && s.devices.empty() && s.swapchains.empty();
+        return freed;
+    });
+    if (freed) Report::release();
 }
 
 void log_config(const Result<LayerConfig>& c, const std::string& path, bool reload) {

@@ -1,10 +1,11 @@
 // The layer's counters, present records, dumps and log (report.hpp).
 #include "report.hpp"
 
+#include "lazy.hpp"
+
 #include <fgsr/core/presentmon.hpp>
 #include <fgsr/protocol.h>
 
-#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -35,9 +36,8 @@ struct Report::State {
 };
 
 namespace {
-// Made at first use; freed by release() when the layer frees its process-wide state (layer.cpp).
-std::atomic<Report*> report{nullptr};
-std::mutex report_mutex; // guards making and freeing `report`
+// Freed by release() when the layer frees its process-wide state (layer.cpp).
+Lazy<Report> report;
 } // namespace
 
 Report::Report() : s_(new State) {
@@ -51,19 +51,11 @@ Report::~Report() {
 }
 
 Report& Report::get() {
-    if (Report* r = report.load(std::memory_order_acquire)) return *r;
-    std::lock_guard l(report_mutex);
-    Report* r = report.load(std::memory_order_relaxed);
-    if (!r) {
-        r = new Report();
-        report.store(r, std::memory_order_release);
-    }
-    return *r;
+    return report.get();
 }
 
 void Report::release() {
-    std::lock_guard l(report_mutex);
-    delete report.exchange(nullptr, std::memory_order_acq_rel);
+    report.reset();
 }
 
 void Report::app_present() {

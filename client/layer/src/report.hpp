@@ -72,6 +72,7 @@ class Report {
     void write_files();
 
   private:
+    template <class T> friend class Lazy; // makes and frees the one Report
     Report();
     ~Report();
     Report(const Report&) = delete;
