@@ -123,7 +123,7 @@ struct SrParams {
     uint has_history; // 0: first frame or reset: spatial upsample only
     uint dilate;      // 1: motion vector of the frontmost pixel of the 3x3 neighbourhood
     float clip;       // ISR / ESR: history clipped to mean +- clip * sd of the LR 3x3 (0: off)
-    uint pad1;
+    float disagree;   // sr: history weight falls by disagree x its disagreement (sr.h step 6; 0: off)
     uint pad2;
 };
 

@@ -13,6 +13,14 @@
 //      n only) the equation would darken the image by a * mean(w) + (1 - a) every frame.
 //      Rejected pixels (and pixels no sample reaches, and a = 1 with every weight 0) take the
 //      spatial upsample: Catmull-Rom of the LR frame at p - jitter.
+//   6. Disagreement (p.disagree > 0; the host sets it only for sessions whose input carries no
+//      jitter and measures antialiased, Session::input_aliasing): the history's weight (1 - a) is
+//      multiplied by max(0, 1 - disagree * e), e = |clamped history - the tent-weighted mean of the
+//      new samples| / |colour box| (RGB lengths). On such input a history that disagrees with the
+//      new samples comes from vectors that do not follow the colour (temporally antialiased
+//      colour trailing its geometry), not from aliasing; on aliased input it is the detail the
+//      samples alias, and the rule would cost (docs/ACCURACY.md, "Less SR history where it
+//      disagrees, for antialiased unjittered input").
 //
 // Entry provides:
 //   vec4  load_lr_color(ivec2 lr_pixel), float load_lr_depth(ivec2), vec2 load_lr_mv(ivec2)
@@ -76,9 +84,14 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     if (!on || relative_depth_difference(d_now, d_prev) > p.t_depth) return lr_upsample(pos - jitter, p);
 
     // With a = 1 and every sample weighted 0 (b * d >= 1) Eq. 2 has no term left (0 / 0).
-    float wc = p.a * wsum / n;
-    float norm = wc + (1.0f - p.a);
-    if (!(norm > 0.0f)) return lr_upsample(pos - jitter, p);
     vec4 hist = clamp(resample(h, ivec2(int(p.hr_width), int(p.hr_height)), p.resample), lo, hi);
-    return (p.a * sum / n + (1.0f - p.a) * hist) / norm;
+    float wh = 1.0f - p.a;
+    if (p.disagree > 0.0f && wsum > 0.0f) {
+        float e = length(vec3(hist) - vec3(sum) / wsum) / max(length(vec3(hi) - vec3(lo)), 1.0e-4f);
+        wh *= max(0.0f, 1.0f - p.disagree * e);
+    }
+    float wc = p.a * wsum / n;
+    float norm = wc + wh;
+    if (!(norm > 0.0f)) return lr_upsample(pos - jitter, p);
+    return (p.a * sum / n + wh * hist) / norm;
 }

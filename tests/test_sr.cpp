@@ -6,6 +6,7 @@
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/core/halton.hpp>
+#include <fgsr/engine/color.hpp>
 #include <fgsr/engine/lut.hpp>
 
 #include <cmath>
@@ -507,6 +508,193 @@ TEST(Sr, JointHistoryIsClippedToTheInputNeighbourhood) {
         // LR neighbourhood's centre to the output pixel (0.0025).
         EXPECT_LT(err[1], 0.01);
     }
+}
+
+// The aliasing measure (fgsr/engine/color.hpp) that decides Params::sr_disagree: 1/4 on a ramp of
+// its luma and 4 on white noise by construction; the same in every colour format; below the
+// threshold once the noise is low-passed across pixels (as a 1.5 px reconstruction filter or
+// temporal antialiasing does); nothing measured on a frame too small or of the wrong size.
+TEST(Sr, AliasingMeasureTellsFilteredFromPointSampledInput) {
+    const uint32_t w = 96, h = 64;
+    auto measure = [&](const std::vector<float>& luma, ColorFormat format) {
+        ImageRGBA img;
+        img.width = w;
+        img.height = h;
+        img.rgba.resize(size_t(w) * h * 4);
+        for (size_t i = 0; i < luma.size(); ++i) {
+            const float l = luma[i], y = l * l / (1.f - l * l); // the measure's luma is sqrt(Y / (1 + Y))
+            for (int c = 0; c < 3; ++c) img.rgba[4 * i + size_t(c)] = y;
+            img.rgba[4 * i + 3] = 1.f;
+        }
+        std::vector<std::byte> bytes(size_t(w) * h * bytes_per_pixel(format));
+        encode_output(img, format, bytes.data());
+        const AliasingSums sums = aliasing_sums(w, h, format, bytes, 4);
+        EXPECT_EQ(sums.frames, 1u);
+        return aliasing_ratio(sums);
+    };
+    std::vector<float> ramp(size_t(w) * h), noise(ramp.size()), blurred(ramp.size());
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.2f, 0.6f);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            ramp[size_t(y) * w + x] = 0.2f + 0.004f * float(x) + 0.001f * float(y);
+            noise[size_t(y) * w + x] = u(rng);
+        }
+    // [1 2 1] / 4 in both directions (edges clamped).
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            float sum = 0.f;
+            for (int j = -1; j <= 1; ++j)
+                for (int i = -1; i <= 1; ++i) {
+                    const uint32_t xx = uint32_t(std::clamp(int(x) + i, 0, int(w) - 1));
+                    const uint32_t yy = uint32_t(std::clamp(int(y) + j, 0, int(h) - 1));
+                    sum += float((2 - std::abs(i)) * (2 - std::abs(j))) * noise[size_t(yy) * w + xx];
+                }
+            blurred[size_t(y) * w + x] = sum / 16.f;
+        }
+    // Ramp: adjacent differences g, 2x2 block means 2g apart, in each direction.
+    EXPECT_NEAR(measure(ramp, ColorFormat::rgba32f_linear), 0.25f, 2e-3f);
+    const float white = measure(noise, ColorFormat::rgba32f_linear);
+    EXPECT_NEAR(white, 4.f, 0.5f);
+    EXPECT_NEAR(measure(noise, ColorFormat::rgba16f_linear), white, 0.02f * white);
+    EXPECT_NEAR(measure(noise, ColorFormat::rgba8_srgb), white, 0.05f * white);
+    const float filtered = measure(blurred, ColorFormat::rgba32f_linear);
+    std::printf("[ measured ] aliasing: white noise %.3f, the same low-passed %.3f\n", white, filtered);
+    EXPECT_GT(white, defaults::antialiased_aliasing);
+    EXPECT_LT(filtered, defaults::antialiased_aliasing);
+    EXPECT_GT(filtered, 0.f);
+    // Strips every 16 rows (what a session measures) agree with the whole frame on uniform content.
+    {
+        ImageRGBA img;
+        img.width = w;
+        img.height = h;
+        img.rgba.assign(size_t(w) * h * 4, 0.f);
+        for (size_t i = 0; i < noise.size(); ++i)
+            for (int c = 0; c < 3; ++c) img.rgba[4 * i + size_t(c)] = noise[i];
+        std::vector<std::byte> bytes(size_t(w) * h * 16);
+        encode_output(img, ColorFormat::rgba32f_linear, bytes.data());
+        const float strips = aliasing_ratio(aliasing_sums(w, h, ColorFormat::rgba32f_linear, bytes));
+        EXPECT_NEAR(strips, 4.f, 0.8f);
+        EXPECT_EQ(aliasing_sums(3, h, ColorFormat::rgba32f_linear, std::span(bytes).first(size_t(3) * h * 16))
+                      .frames,
+                  0u);
+        EXPECT_EQ(aliasing_sums(w, h, ColorFormat::rgba32f_linear, std::span(bytes).first(bytes.size() - 16))
+                      .frames,
+                  0u);
+        EXPECT_LT(aliasing_ratio(AliasingSums{}), 0.f);
+    }
+}
+
+// An antialiased (box-filtered) rendering of the moving synthetic scene, w x h, at time t, with
+// vectors that do not follow it (zero: the colour moves, the vectors say it does not) and depth 1.
+RawFrame antialiased_wrong_vectors(const SyntheticScene& hr_scene, uint32_t w, uint32_t h, double t) {
+    const ImageRGBA hr = hr_scene.render_color(t);
+    std::vector<glm::vec4> c(size_t(w) * h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            glm::vec4 sum(0.f);
+            for (uint32_t j = 0; j < 2; ++j)
+                for (uint32_t i = 0; i < 2; ++i) {
+                    const size_t q = (size_t(2 * y + j) * hr.width + 2 * x + i) * 4;
+                    sum += glm::vec4(hr.rgba[q], hr.rgba[q + 1], hr.rgba[q + 2], 1.f);
+                }
+            c[size_t(y) * w + x] = sum * 0.25f;
+        }
+    return make_raw(c, std::vector<float>(c.size(), 1.f), std::vector<glm::vec2>(c.size(), glm::vec2(0.f)));
+}
+
+// Params::sr_disagree (shaders/sr.h step 6): on antialiased input without jitter whose vectors
+// do not follow the colour, less history where it disagrees with the new samples scores closer to
+// the truth; the session applies it only to such input (jittered or aliased input: the frames are
+// bit for bit those without it); and the GPU pass equals its CPU reference with the rule on.
+TEST(Sr, HistoryDisagreementOnlyForUnjitteredAntialiasedInput) {
+    const uint32_t w = 96, h = 64, frames = 8;
+    SyntheticScene scene(hr_options(2 * w, 2 * h, 1.f));
+    struct Run {
+        std::vector<ImageRGBA> out;
+        double psnr = 0; // mean over frames 2..
+        float aliasing = 0;
+    };
+    auto run = [&](float disagree, int kind) { // 0: antialiased, 1: the same jittered, 2: noise
+        Params p;
+        p.scale = 2.f;
+        p.sr_disagree = disagree;
+        auto s = engine().create_session(internal_format(w, h), p);
+        EXPECT_TRUE(s);
+        Run r;
+        for (uint32_t k = 0; k < frames; ++k) {
+            RawFrame f = kind == 2 ? random_frame(w, h, 20 + k, 0.f)
+                                   : antialiased_wrong_vectors(scene, w, h, double(k));
+            if (kind == 2) f.mv.assign(f.mv.size(), std::byte{0});
+            FrameView v = f.view();
+            if (kind == 1) {
+                const glm::vec2 j = halton_jitter(k);
+                v.jitter_x = j.x;
+                v.jitter_y = j.y;
+            }
+            EXPECT_TRUE((*s)->submit(v));
+            auto out = (*s)->super_resolved();
+            EXPECT_TRUE(out);
+            if (k >= 2)
+                r.psnr += *capture::psnr(out->color, scene.render_color(double(k))) / double(frames - 2);
+            r.out.push_back(std::move(out->color));
+        }
+        r.aliasing = (*s)->input_aliasing();
+        return r;
+    };
+    const Run on = run(4.f, 0), off = run(0.f, 0);
+    std::printf(
+        "[ measured ] antialiased input (aliasing %.2f), vectors that do not follow it: rule on %.2f dB, "
+        "off %.2f dB\n",
+        on.aliasing, on.psnr, off.psnr);
+    EXPECT_GE(on.aliasing, 0.f);
+    EXPECT_LT(on.aliasing, defaults::antialiased_aliasing);
+    EXPECT_GT(on.psnr, off.psnr + 0.3) << "on " << on.psnr << " off " << off.psnr;
+    for (int kind : {1, 2}) {
+        const Run a = run(4.f, kind), b = run(0.f, kind);
+        if (kind == 1)
+            EXPECT_LT(a.aliasing, 0.f); // jittered: not measured, the rule off
+        else
+            EXPECT_GT(a.aliasing, defaults::antialiased_aliasing);
+        for (size_t k = 0; k < a.out.size(); ++k)
+            EXPECT_EQ(a.out[k].rgba, b.out[k].rgba) << "kind " << kind << " frame " << k;
+    }
+
+    // The pass against its CPU reference on the last pair of the antialiased run, rule on.
+    Params p;
+    p.scale = 2.f;
+    auto s = engine().create_session(internal_format(w, h), p);
+    ASSERT_TRUE(s);
+    std::optional<ImageRGBA> history;
+    for (uint32_t k = 0; k < 3; ++k) {
+        RawFrame f = antialiased_wrong_vectors(scene, w, h, double(k));
+        ASSERT_TRUE((*s)->submit(f.view()));
+        if (k == 2) break;
+        auto out = (*s)->super_resolved();
+        ASSERT_TRUE(out);
+        history = std::move(out->color);
+    }
+    auto out = (*s)->super_resolved();
+    ASSERT_TRUE(out && history);
+    auto g0 = (*s)->read_frame(0), g1 = (*s)->read_frame(1);
+    ASSERT_TRUE(g0 && g1);
+    const ref::InternalFrame cur = to_internal(*g1, w, h);
+    std::vector<glm::vec4> hist(size_t(4 * w * h));
+    std::memcpy(hist.data(), history->rgba.data(), hist.size() * 16);
+    const Lut lut = default_lut(2.f);
+    auto largest = [&](bool antialiased) {
+        const ref::SrParams sp =
+            params::sr_params(internal_format(w, h), p, 2 * w, 2 * h, 0.f, 0.f, true, antialiased);
+        const auto expect = ref::super_resolve(cur, g0->depth, hist, sp, lut.weights);
+        double err = 0;
+        for (size_t i = 0; i < expect.size(); ++i)
+            for (int c = 0; c < 4; ++c)
+                err = std::max(err, double(std::abs(expect[i][c] - out->color.rgba[4 * i + size_t(c)])));
+        return err;
+    };
+    EXPECT_LT(largest(true), 1e-4);
+    EXPECT_GT(largest(false), 1e-2); // the rule changed the frame
+    expect_no_validation_errors();
 }
 
 } // namespace

@@ -82,6 +82,11 @@ int main(int argc, char** argv) {
                      "ISR, ESR: clip the warped history to mean +- this many standard deviations of the "
                      "input frame's 3x3 neighbourhood (0: no clipping)")
         ->capture_default_str();
+    eval->add_option(
+            "--sr-disagree", eo.params.sr_disagree,
+            "SR: on antialiased input without jitter, lower the history's weight by this factor of its "
+            "disagreement with the new samples (0: off)")
+        ->capture_default_str();
     eval->add_flag("--correct-vectors", eo.params.correct_vectors,
                    "interp, extrap, isr, esr: method fgsr also estimates motion from colour and replaces the "
                    "capture's vector where the colour follows the estimate by far better (moving shadows)");
@@ -251,6 +256,7 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-a")) p.sr_a = eo.params.sr_a;
             if (eval->count("--sr-b")) p.sr_b = eo.params.sr_b;
             if (eval->count("--sr-clip")) p.sr_clip = eo.params.sr_clip;
+            if (eval->count("--sr-disagree")) p.sr_disagree = eo.params.sr_disagree;
             if (eval->count("--correct-vectors")) p.correct_vectors = true;
             if (eval->count("--correct-ratio")) p.correct_ratio = eo.params.correct_ratio;
             if (eval->count("--correct-margin")) p.correct_margin = eo.params.correct_margin;

@@ -18,6 +18,8 @@ Result<void> validate(const Params& p) {
     if (!(p.sr_a >= 0.f && p.sr_a <= 1.f)) return bad("sr_a", p.sr_a, "[0, 1]");
     if (!(std::isfinite(p.sr_b) && p.sr_b >= 0.f)) return bad("sr_b", p.sr_b, "[0, inf)");
     if (!(std::isfinite(p.sr_clip) && p.sr_clip >= 0.f)) return bad("sr_clip", p.sr_clip, "[0, inf)");
+    if (!(std::isfinite(p.sr_disagree) && p.sr_disagree >= 0.f))
+        return bad("sr_disagree", p.sr_disagree, "[0, inf)");
     if (!(p.correct_ratio >= 0.f && p.correct_ratio <= 1.f))
         return bad("correct_ratio", p.correct_ratio, "[0, 1]");
     if (!(std::isfinite(p.correct_margin) && p.correct_margin >= 0.f))
@@ -152,7 +154,7 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
 }
 
 SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width, uint32_t out_height,
-                   float jitter_x, float jitter_y, bool has_history) {
+                   float jitter_x, float jitter_y, bool has_history, bool antialiased) {
     SrParams p{};
     p.lr_width = format.width;
     p.lr_height = format.height;
@@ -168,6 +170,7 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
     p.has_history = has_history ? 1u : 0u;
     p.dilate = params.dilate_mvs ? 1u : 0u;
     p.clip = params.sr_clip;
+    p.disagree = antialiased ? params.sr_disagree : 0.f;
     return p;
 }
 

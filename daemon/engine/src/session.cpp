@@ -118,6 +118,10 @@ uint32_t Session::output_height() const {
 uint64_t Session::frames_submitted() const {
     return impl_->submitted;
 }
+float Session::input_aliasing() const {
+    const auto& h = impl_->sr_history;
+    return impl_->sr() && !h.jittered ? aliasing_ratio(h.aliasing) : -1.f;
+}
 NoiseEstimate Session::last_noise_estimate() const {
     return impl_->denoiser.estimate;
 }
@@ -303,9 +307,16 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     }
     bool sr_tiled = false;
     if (s.sr()) {
+        // The input's aliasing, measured on the host from the client's colour (a few strips of
+        // rows; about a millisecond at 960x540) over the first frames, while no frame had jitter.
+        auto& h = s.sr_history;
+        if (frame.jitter_x != 0.f || frame.jitter_y != 0.f)
+            h.jittered = true;
+        else if (!h.jittered && h.aliasing.frames < defaults::aliasing_frames)
+            h.aliasing += aliasing_sums(s.format.width, s.format.height, s.format.color_format, frame.color);
         const gpu::SrParams sp =
             params::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x, frame.jitter_y,
-                              !restart && s.sr_history.valid && frame_has_mv);
+                              !restart && s.sr_history.valid && frame_has_mv, h.antialiased());
         auto tiled = s.record_sr(sp, f, prev, q);
         if (!tiled) return tiled.error();
         sr_tiled = *tiled;

@@ -5,6 +5,8 @@
 // the Recorder's (recorder.hpp).
 #pragma once
 
+#include <fgsr/engine/color.hpp>
+#include <fgsr/engine/defaults.hpp>
 #include <fgsr/engine/engine.hpp>
 #include <fgsr/engine/reference.hpp>
 
@@ -105,6 +107,15 @@ struct Session::Impl {
         bool valid = false;                        // an output exists (no reset since)
         vk::Buffer lut;                            // kLutSize weights (Resample::lut)
         PassTiming timing = timing_of(PassId::sr); // of the last submit
+        // The input's aliasing measure (fgsr/engine/color.hpp) over its first
+        // defaults::aliasing_frames frames without jitter; jittered once any frame had jitter.
+        AliasingSums aliasing;
+        bool jittered = false;
+        // Params::sr_disagree applies: no jitter so far, and the input measures antialiased.
+        bool antialiased() const {
+            const float r = aliasing_ratio(aliasing);
+            return !jittered && r >= 0.f && r < defaults::antialiased_aliasing;
+        }
     } sr_history;
 
     // Params::denoise (denoise.cpp, shaders/denoise.h).

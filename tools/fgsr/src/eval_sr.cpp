@@ -7,6 +7,7 @@
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/core/halton.hpp>
+#include <fgsr/engine/defaults.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
 
@@ -185,6 +186,22 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
                                         cap.hr_reference[k]));
         FGSR_TRY(score_vectors(cap.inputs[k], reference, sessions, rep));
     }
+    // The input's aliasing measure, which decides Params::sr_disagree (before the stability
+    // stretch, which jitters unjittered captures).
+    if (o.progress)
+        for (const std::string& m : o.methods)
+            if (is_engine_sr(m)) {
+                const float a = sessions[m]->input_aliasing();
+                if (a < 0.f)
+                    std::fprintf(stderr, "[eval] %s sr: input aliasing not measured (jittered input)\n",
+                                 cap.name.c_str());
+                else
+                    std::fprintf(stderr, "[eval] %s sr: input aliasing %.2f (%s)\n", cap.name.c_str(), a,
+                                 a < defaults::antialiased_aliasing
+                                     ? "antialiased: less history where it disagrees"
+                                     : "aliased");
+                break;
+            }
     if (o.static_frames > 0 && frames > 0) FGSR_TRY(measure_stability(o, cap, frames - 1, sessions, rep));
     finish_means(rep);
     if (o.out) FGSR_TRY(write_metrics_json(rep, *o.out));

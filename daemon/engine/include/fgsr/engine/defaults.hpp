@@ -18,6 +18,8 @@
 //   28.571, orbit-sr 19.595 -> 19.615, first 6 frames of each).
 #pragma once
 
+#include <cstdint>
+
 namespace fgsr::defaults {
 
 inline constexpr float t_depth = 0.05f;  // hand-set (relative depth)
@@ -30,6 +32,17 @@ inline constexpr float sr_b = 1.09f;     // calibrated (paper: 0.81), see above
 // 27.71, below bicubic's 27.74; 0.75: 16.95); orbit-sr, foliage-sr, hdr-sr and bunker LR move by
 // -0.05 to +0.09 dB at 0.7 (docs/ACCURACY.md, change 2).
 inline constexpr float sr_clip = 0.7f;
+// Less SR history where it disagrees with the new samples (shaders/sr.h step 6), for sessions whose
+// input carries no jitter and measures antialiased (Session::input_aliasing below
+// antialiased_aliasing). k = 4 chosen on the train captures from 2 / 4 / 8 (bunker LR esr 27.08 /
+// 27.22 / 27.26 dB, hdr-sr-aa esr 24.668 / 24.675 / 24.651; docs/ACCURACY.md).
+inline constexpr float sr_disagree = 4.0f;
+// The aliasing measure (fgsr/engine/color.hpp, aliasing_sums) below which input counts as
+// antialiased: point-sampled renders measure 2.5-3.5, antialiased ones (16 samples) 0.6-1.0,
+// bunker's frames about 1.0 (docs/ACCURACY.md, "No SR accumulation on antialiased input" and
+// change 9). The session measures its first aliasing_frames frames without jitter.
+inline constexpr float antialiased_aliasing = 1.6f;
+inline constexpr uint32_t aliasing_frames = 8;
 // Pre-filter of noisy SR input (shaders/denoise.h, docs/SR.md "Noisy input"): the range in noise
 // sigmas, chosen by sweeps (k = 2..8) on three 1-sample point-sampled Blender captures (orbit-sr
 // and two more rendered with render_scene.py: orbit seed 7, toss seed 3), where PSNR rises with

@@ -76,6 +76,10 @@ struct Params {
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's
     // sessions use the default.
     float sr_clip = defaults::sr_clip;
+    // sr: on input without jitter that measures antialiased (Session::input_aliasing), the
+    // history's weight is lowered where it disagrees with the new samples, by this factor of the
+    // disagreement (shaders/sr.h step 6; 0 turns it off). Not carried by the wire protocol.
+    float sr_disagree = defaults::sr_disagree;
     // Sessions with vectors: estimate motion from colour as colour-only sessions do (luma, match,
     // flow passes) and replace, per pixel, the client's vector by the estimate where the colour
     // follows the estimate by far better (shading that moves on its own: shadows, reflections).
@@ -118,10 +122,11 @@ struct Params {
     uint32_t tile_size = 0;
 };
 
-// Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b and
-// sr_clip finite and >= 0, correct_ratio in [0, 1], correct_margin finite and >= 0, correct_depth
-// >= 0 (correct_vectors only with scale 1), scale finite in [1, 4], lut empty or kLutSize finite
-// weights, denoise_strength in [0, 64], noise_floor finite and >= 0, known enum values.
+// Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b, sr_clip
+// and sr_disagree finite and >= 0, correct_ratio in [0, 1], correct_margin finite and >= 0,
+// correct_depth >= 0 (correct_vectors only with scale 1), scale finite in [1, 4], lut empty or
+// kLutSize finite weights, denoise_strength in [0, 64], noise_floor finite and >= 0, known enum
+// values.
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);
 
@@ -258,6 +263,10 @@ class Session {
     bool last_scene_cut() const;
     // The last submit's noise estimate (Params::denoise; zeros without it).
     NoiseEstimate last_noise_estimate() const;
+    // Super-resolution sessions: the aliasing measure of the input's first frames (fgsr/engine/
+    // color.hpp, aliasing_ratio; below defaults::antialiased_aliasing Params::sr_disagree applies).
+    // Negative without super resolution, once a frame had jitter, or before the first frame.
+    float input_aliasing() const;
     // TILE_* flags of the last submit's super-resolution classification (empty when it was not
     // classified: no history, or Params::skip_tiles off), tiles of tile_side() pixels.
     std::vector<uint32_t> last_sr_tile_flags() const;

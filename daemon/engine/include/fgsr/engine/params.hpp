@@ -28,9 +28,11 @@ gpu::GenParams gen_params(const FrameFormat& format, const Params& params, float
                           bool frame0_has_mv, bool frame1_has_mv);
 
 // The push constants of the `sr` pass for a frame (has_history: a previous output exists and
-// the frame is no reset).
+// the frame is no reset; antialiased: the session's input carries no jitter and measures
+// antialiased, so that Params::sr_disagree applies, shaders/sr.h step 6).
 gpu::SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
-                        uint32_t out_height, float jitter_x, float jitter_y, bool has_history);
+                        uint32_t out_height, float jitter_x, float jitter_y, bool has_history,
+                        bool antialiased = false);
 
 // The push constants of the `denoise` pass (stage left 0) for frames of this format.
 gpu::DenoiseParams denoise_params(const FrameFormat& format, const Params& params);
