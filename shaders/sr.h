@@ -19,8 +19,7 @@
 //      new samples| / |colour box| (RGB lengths). On such input a history that disagrees with the
 //      new samples comes from vectors that do not follow the colour (temporally antialiased
 //      colour trailing its geometry), not from aliasing; on aliased input it is the detail the
-//      samples alias, and the rule would cost (docs/ACCURACY.md, "Less SR history where it
-//      disagrees, for antialiased unjittered input").
+//      samples alias, and the rule would cost (docs/ACCURACY.md, change 9).
 //
 // Entry provides:
 //   vec4  load_lr_color(ivec2 lr_pixel), float load_lr_depth(ivec2), vec2 load_lr_mv(ivec2)
@@ -83,13 +82,14 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     float d_prev = load_prev_depth(clamp_lr(ivec2(floor(pos + mv)), p));
     if (!on || relative_depth_difference(d_now, d_prev) > p.t_depth) return lr_upsample(pos - jitter, p);
 
-    // With a = 1 and every sample weighted 0 (b * d >= 1) Eq. 2 has no term left (0 / 0).
     vec4 hist = clamp(resample(h, ivec2(int(p.hr_width), int(p.hr_height)), p.resample), lo, hi);
-    float wh = 1.0f - p.a;
+    float wh = 1.0f - p.a; // the history's weight (step 6 lowers it)
     if (p.disagree > 0.0f && wsum > 0.0f) {
         float e = length(vec3(hist) - vec3(sum) / wsum) / max(length(vec3(hi) - vec3(lo)), 1.0e-4f);
         wh *= max(0.0f, 1.0f - p.disagree * e);
     }
+    // With a = 1 (or the history's weight 0) and every sample weighted 0 (b * d >= 1) Eq. 2 has
+    // no term left (0 / 0).
     float wc = p.a * wsum / n;
     float norm = wc + wh;
     if (!(norm > 0.0f)) return lr_upsample(pos - jitter, p);
