@@ -516,7 +516,7 @@ TEST(Sr, JointHistoryIsClippedToTheInputNeighbourhood) {
 // temporal antialiasing does); nothing measured on a frame too small or of the wrong size.
 TEST(Sr, AliasingMeasureTellsFilteredFromPointSampledInput) {
     const uint32_t w = 96, h = 64;
-    auto measure = [&](const std::vector<float>& luma, ColorFormat format) {
+    auto encode = [&](const std::vector<float>& luma, ColorFormat format) {
         ImageRGBA img;
         img.width = w;
         img.height = h;
@@ -528,7 +528,11 @@ TEST(Sr, AliasingMeasureTellsFilteredFromPointSampledInput) {
         }
         std::vector<std::byte> bytes(size_t(w) * h * bytes_per_pixel(format));
         encode_output(img, format, bytes.data());
-        const AliasingSums sums = aliasing_sums(w, h, format, bytes, 4);
+        return bytes;
+    };
+    // row_step 4: every row; 16: the strips a session reads.
+    auto measure = [&](const std::vector<float>& luma, ColorFormat format, uint32_t row_step = 4) {
+        const AliasingSums sums = aliasing_sums(w, h, format, encode(luma, format), row_step);
         EXPECT_EQ(sums.frames, 1u);
         return aliasing_ratio(sums);
     };
@@ -564,25 +568,19 @@ TEST(Sr, AliasingMeasureTellsFilteredFromPointSampledInput) {
     EXPECT_LT(filtered, defaults::antialiased_aliasing);
     EXPECT_GT(filtered, 0.f);
     // Strips every 16 rows (what a session measures) agree with the whole frame on uniform content.
-    {
-        ImageRGBA img;
-        img.width = w;
-        img.height = h;
-        img.rgba.assign(size_t(w) * h * 4, 0.f);
-        for (size_t i = 0; i < noise.size(); ++i)
-            for (int c = 0; c < 3; ++c) img.rgba[4 * i + size_t(c)] = noise[i];
-        std::vector<std::byte> bytes(size_t(w) * h * 16);
-        encode_output(img, ColorFormat::rgba32f_linear, bytes.data());
-        const float strips = aliasing_ratio(aliasing_sums(w, h, ColorFormat::rgba32f_linear, bytes));
-        EXPECT_NEAR(strips, 4.f, 0.8f);
-        EXPECT_EQ(aliasing_sums(3, h, ColorFormat::rgba32f_linear, std::span(bytes).first(size_t(3) * h * 16))
-                      .frames,
-                  0u);
-        EXPECT_EQ(aliasing_sums(w, h, ColorFormat::rgba32f_linear, std::span(bytes).first(bytes.size() - 16))
-                      .frames,
-                  0u);
-        EXPECT_LT(aliasing_ratio(AliasingSums{}), 0.f);
-    }
+    EXPECT_NEAR(measure(noise, ColorFormat::rgba32f_linear, 16), white, 0.2f * white);
+    EXPECT_TRUE(measures_antialiased(filtered));
+    EXPECT_FALSE(measures_antialiased(white));
+    EXPECT_FALSE(measures_antialiased(-1.f));
+    // Nothing measured on a frame too narrow or of the wrong size.
+    const std::vector<std::byte> bytes = encode(noise, ColorFormat::rgba32f_linear);
+    EXPECT_EQ(
+        aliasing_sums(3, h, ColorFormat::rgba32f_linear, std::span(bytes).first(size_t(3) * h * 16)).frames,
+        0u);
+    EXPECT_EQ(
+        aliasing_sums(w, h, ColorFormat::rgba32f_linear, std::span(bytes).first(bytes.size() - 16)).frames,
+        0u);
+    EXPECT_LT(aliasing_ratio(AliasingSums{}), 0.f);
 }
 
 // An antialiased (box-filtered) rendering of the moving synthetic scene, w x h, at time t, with

@@ -1,5 +1,6 @@
 // sRGB and the output formats (fgsr/engine/color.hpp).
 #include <fgsr/engine/color.hpp>
+#include <fgsr/engine/defaults.hpp>
 
 #include <glm/gtc/packing.hpp>
 
@@ -120,6 +121,10 @@ float aliasing_ratio(const AliasingSums& s) {
     const double adjacent = 0.5 * (s.adjacent_h / s.n_adjacent_h + s.adjacent_v / s.n_adjacent_v);
     const double blocks = 0.5 * (s.blocks_h / s.n_blocks_h + s.blocks_v / s.n_blocks_v);
     return blocks > 0 ? float(adjacent / blocks) : -1.f;
+}
+
+bool measures_antialiased(float aliasing) {
+    return aliasing >= 0.f && aliasing < defaults::antialiased_aliasing;
 }
 
 void encode_output(const ImageRGBA& image, ColorFormat format, std::byte* dst) {

@@ -112,10 +112,7 @@ struct Session::Impl {
         AliasingSums aliasing;
         bool jittered = false;
         // Params::sr_disagree applies: no jitter so far, and the input measures antialiased.
-        bool antialiased() const {
-            const float r = aliasing_ratio(aliasing);
-            return !jittered && r >= 0.f && r < defaults::antialiased_aliasing;
-        }
+        bool antialiased() const { return !jittered && measures_antialiased(aliasing_ratio(aliasing)); }
     } sr_history;
 
     // Params::denoise (denoise.cpp, shaders/denoise.h).

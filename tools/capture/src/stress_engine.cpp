@@ -5,7 +5,7 @@
 
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/stress_checks.hpp>
-#include <fgsr/engine/defaults.hpp>
+#include <fgsr/engine/color.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/params.hpp>
 #include <fgsr/engine/reference.hpp>
@@ -248,11 +248,9 @@ class Runner {
         }
         if (sr) {
             // The session's measure of its input decides Params::sr_disagree (shaders/sr.h step 6).
-            const float aliasing = s.input_aliasing();
-            const ref::SrParams p =
-                params::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
-                                  !restart && cs_.hr_valid && cur.has_mv,
-                                  aliasing >= 0.f && aliasing < defaults::antialiased_aliasing);
+            const ref::SrParams p = params::sr_params(
+                f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
+                !restart && cs_.hr_valid && cur.has_mv, measures_antialiased(s.input_aliasing()));
             if (cs_.hr_new.empty()) cs_.hr_new.assign(size_t(p.hr_width) * p.hr_height, glm::vec4(0.f));
             const std::vector<float>& prev_depth = cs_.frames > 0 ? cs_.f1.depth : cur.depth;
             std::vector<glm::vec4> out = ref::super_resolve(cur, prev_depth, cs_.hr_new, p, lut);

@@ -7,7 +7,7 @@
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/core/halton.hpp>
-#include <fgsr/engine/defaults.hpp>
+#include <fgsr/engine/color.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/reference.hpp>
 
@@ -197,9 +197,8 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
                                  cap.name.c_str());
                 else
                     std::fprintf(stderr, "[eval] %s sr: input aliasing %.2f (%s)\n", cap.name.c_str(), a,
-                                 a < defaults::antialiased_aliasing
-                                     ? "antialiased: less history where it disagrees"
-                                     : "aliased");
+                                 measures_antialiased(a) ? "antialiased: less history where it disagrees"
+                                                         : "aliased");
                 break;
             }
     if (o.static_frames > 0 && frames > 0) FGSR_TRY(measure_stability(o, cap, frames - 1, sessions, rep));

@@ -41,5 +41,8 @@ AliasingSums aliasing_sums(uint32_t width, uint32_t height, ColorFormat format,
                            std::span<const std::byte> color, uint32_t row_step = 16);
 // The measure of the sums; negative when they hold no frame or no difference at all.
 float aliasing_ratio(const AliasingSums& s);
+// Whether a measure (aliasing_ratio, Session::input_aliasing) says antialiased input: measured and
+// below defaults::antialiased_aliasing.
+bool measures_antialiased(float aliasing);
 
 } // namespace fgsr
