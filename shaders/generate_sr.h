@@ -2,7 +2,9 @@
 // (Ours-ESR) at output resolution. The motion field is reconstructed at input resolution (splat
 // and refine / disocc, as in frame generation) and read at the input pixel under each output
 // pixel; its vectors scale to output pixels. One reprojection serves both: the SR history warp
-// (resample.h, the LUT by default) replaces the plain warp.
+// (resample.h with s.resample = Params::warp_resample, bilinear by default: these positions come
+// from frame generation's motion, and the sharp kernels lost to it, docs/ACCURACY.md change 10)
+// replaces the plain warp.
 //   ESR: the frame at 1 + alpha is the newest SR output (I_1^sr) resampled at q + v1 * scale.
 //   ISR: frame 0 is the previous SR output (I_0^sr) resampled at q + v0 * scale; frame 1 is the
 //        newest low-resolution frame itself (no wait for its SR), read bilinearly at its jittered

@@ -39,7 +39,7 @@ Result<void> validate(const Params& p) {
                           "correct_vectors is for sessions without super resolution (scale 1), not scale " +
                               std::to_string(p.scale));
     if (uint32_t(p.motion) > uint32_t(MotionModel::linear) || uint32_t(p.blend) > uint32_t(BlendMode::mix) ||
-        uint32_t(p.resample) > uint32_t(Resample::lut))
+        uint32_t(p.resample) > uint32_t(Resample::lut) || uint32_t(p.warp_resample) > uint32_t(Resample::lut))
         return make_error(Errc::invalid_argument, "unknown motion model, blend mode or resampling kind");
     if (!p.lut.empty() && p.lut.size() != kLutSize)
         return make_error(Errc::invalid_argument, "LUT has " + std::to_string(p.lut.size()) +
@@ -171,6 +171,13 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
     p.dilate = params.dilate_mvs ? 1u : 0u;
     p.clip = params.sr_clip;
     p.disagree = antialiased ? params.sr_disagree : 0.f;
+    return p;
+}
+
+SrParams generate_sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
+                            uint32_t out_height, float jitter_x, float jitter_y) {
+    SrParams p = sr_params(format, params, out_width, out_height, jitter_x, jitter_y, true);
+    p.resample = uint32_t(params.warp_resample);
     return p;
 }
 

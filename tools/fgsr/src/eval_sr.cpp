@@ -52,13 +52,16 @@ Resample resample_of(const std::string& m, Resample preset = Resample::lut) {
     return preset;
 }
 
-// Sessions of the engine methods: the same pipeline with the method's history resampling.
+// Sessions of the engine methods: the same pipeline with the method's resampling. `fgsr` keeps
+// the options' history and warp kernels; `fgsr-bilinear` / `fgsr-bicubic` use theirs for both
+// (the history of `sr` and ISR / ESR's warps of the SR outputs).
 SessionParams sr_params_for(const EvalOptions& o, float scale) {
     return [&o, scale](const std::string& m) -> std::optional<Params> {
         if (!is_engine_sr(m)) return std::nullopt;
         Params p = o.params;
         p.scale = scale;
         p.resample = resample_of(m, o.params.resample);
+        p.warp_resample = resample_of(m, o.params.warp_resample);
         return p;
     };
 }

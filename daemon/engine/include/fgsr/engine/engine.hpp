@@ -66,7 +66,12 @@ struct Params {
     // Super resolution (paper 3.5). scale > 1 makes the session upscale every submitted frame to
     // round(size * scale) (fixed at session creation); 1 disables it.
     float scale = 1.f;
-    Resample resample = Resample::lut; // history resampling
+    Resample resample = Resample::lut; // history resampling (the `sr` pass)
+    // ISR / ESR (shaders/generate_sr.h): resampling of the SR outputs at the generated instant.
+    // Bilinear: there the positions come from frame generation's motion, not from rendered
+    // vectors, and on the train captures the LUT lost 0.01-0.35 dB to it (docs/ACCURACY.md,
+    // change 10). Not carried by the wire protocol.
+    Resample warp_resample = Resample::bilinear;
     std::vector<float> lut;            // kLutSize weights; empty: fgsr::default_lut(scale)
     float sr_a = defaults::sr_a;       // Eq. 2: weight of the current samples
     float sr_b = defaults::sr_b;       // Eq. 2: weight fall-off with sample distance (LR pixels)

@@ -34,6 +34,11 @@ gpu::SrParams sr_params(const FrameFormat& format, const Params& params, uint32_
                         uint32_t out_height, float jitter_x, float jitter_y, bool has_history,
                         bool antialiased = false);
 
+// The SR half of the `generate_sr` push constants (ISR / ESR): sr_params with history, and
+// Params::warp_resample as the resampling of the SR outputs.
+gpu::SrParams generate_sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
+                                 uint32_t out_height, float jitter_x, float jitter_y);
+
 // The push constants of the `denoise` pass (stage left 0) for frames of this format.
 gpu::DenoiseParams denoise_params(const FrameFormat& format, const Params& params);
 
