@@ -120,12 +120,18 @@ int main(int argc, char** argv) {
     eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")
         ->capture_default_str();
     std::string blend = "mix";
-    std::string warp_resample = "bilinear";
+    std::string resample = "lut", warp_resample = "bilinear";
     bool no_gaps = false, no_holes = false, quiet = false, separate = false;
     eval->add_option("--blend", blend,
                      "Where both warped frames agree: 'mix' (alpha-weighted) or 'select' (the "
                      "temporally closer, paper Eq. 1)")
         ->check(CLI::IsMember({"mix", "select"}))
+        ->capture_default_str();
+    eval->add_option(
+            "--resample", resample,
+            "SR: resampling of the sr pass's history (bilinear, catmull_rom or lut; methods fgsr and "
+            "fgsr-colour)")
+        ->check(CLI::IsMember({"bilinear", "catmull_rom", "lut"}))
         ->capture_default_str();
     eval->add_option("--warp-resample", warp_resample,
                      "ISR, ESR: resampling of the SR outputs at the generated instant (bilinear, "
@@ -276,10 +282,13 @@ int main(int argc, char** argv) {
         if (no_denoise) eo.params.denoise = false;
         if (preset.empty() || eval->count("--blend"))
             eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;
-        if (preset.empty() || eval->count("--warp-resample"))
-            eo.params.warp_resample = warp_resample == "lut"           ? fgsr::Resample::lut
-                                      : warp_resample == "catmull_rom" ? fgsr::Resample::catmull_rom
-                                                                       : fgsr::Resample::bilinear;
+        auto kernel = [](const std::string& k) {
+            return k == "lut"           ? fgsr::Resample::lut
+                   : k == "catmull_rom" ? fgsr::Resample::catmull_rom
+                                        : fgsr::Resample::bilinear;
+        };
+        if (preset.empty() || eval->count("--resample")) eo.params.resample = kernel(resample);
+        if (preset.empty() || eval->count("--warp-resample")) eo.params.warp_resample = kernel(warp_resample);
         if (preset.empty() || no_gaps) eo.params.fill_gaps = !no_gaps;
         if (preset.empty() || no_holes) eo.params.fill_holes = !no_holes;
         if (preset.empty() || separate) eo.params.separate_passes = separate;
