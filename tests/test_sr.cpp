@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <optional>
 #include <random>
 
@@ -345,6 +346,18 @@ TEST(Sr, JitterInVectorsIsCompensated) {
 // Joint modes on the analytic scene: ISR and ESR at output resolution against the exact frame at the
 // generated instant, compared with frame generation at input resolution followed by a bicubic
 // upscale of the same inputs.
+// Submits frame k of `scene` point-sampled at 160x90 with the Halton jitter (frame 0 without
+// vectors) to every session given.
+void submit_jittered(const SyntheticScene& scene, int k, std::initializer_list<Session*> sessions) {
+    const glm::vec2 j = halton_jitter(uint32_t(k));
+    RawFrame f = point_sampled(scene, 160, 90, k, k - 1, j);
+    FrameView v = f.view();
+    if (k == 0) v.mv = {};
+    v.jitter_x = j.x;
+    v.jitter_y = j.y;
+    for (Session* s : sessions) EXPECT_TRUE(s->submit(v)) << "frame " << k;
+}
+
 TEST(Sr, JointModesBeatUpscaledFrameGeneration) {
     SyntheticScene scene(hr_options(320, 180, 0.5f));
     for (bool extrap : {false, true}) {
@@ -356,14 +369,7 @@ TEST(Sr, JointModesBeatUpscaledFrameGeneration) {
         double psnr_joint = 0, psnr_low = 0;
         int count = 0;
         for (int k = 0; k < 10; ++k) {
-            const glm::vec2 j = halton_jitter(uint32_t(k));
-            RawFrame f = point_sampled(scene, 160, 90, k, k - 1, j);
-            FrameView v = f.view();
-            if (k == 0) v.mv = {};
-            v.jitter_x = j.x;
-            v.jitter_y = j.y;
-            ASSERT_TRUE((*joint)->submit(v));
-            ASSERT_TRUE((*low)->submit(v));
+            submit_jittered(scene, k, {joint->get(), low->get()});
             if (k < 4) continue;
             const float a[] = {0.5f};
             auto hi = extrap ? (*joint)->extrapolate(a) : (*joint)->interpolate(a);
@@ -413,13 +419,7 @@ TEST(Sr, JointWarpOfGeneratedPositions) {
             ASSERT_TRUE(s);
             int count = 0;
             for (int k = 0; k < 10; ++k) {
-                const glm::vec2 j = halton_jitter(uint32_t(k));
-                RawFrame f = point_sampled(scene, 160, 90, k, k - 1, j);
-                FrameView v = f.view();
-                if (k == 0) v.mv = {};
-                v.jitter_x = j.x;
-                v.jitter_y = j.y;
-                ASSERT_TRUE((*s)->submit(v));
+                submit_jittered(scene, k, {s->get()});
                 if (k < 4) continue;
                 const float a[] = {0.5f};
                 auto out = extrap ? (*s)->extrapolate(a) : (*s)->interpolate(a);
