@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     eval->add_option("--warp-resample", warp_resample,
                      "ISR, ESR: resampling of the SR outputs at the generated instant (bilinear, "
-                     "catmull_rom or lut; method fgsr)")
+                     "catmull_rom or lut; methods fgsr and fgsr-colour)")
         ->check(CLI::IsMember({"bilinear", "catmull_rom", "lut"}))
         ->capture_default_str();
     eval->add_flag("--no-gap-fill", no_gaps, "Disable refinement of splatting gaps");

@@ -69,8 +69,8 @@ struct Params {
     Resample resample = Resample::lut; // history resampling (the `sr` pass)
     // ISR / ESR (shaders/generate_sr.h): resampling of the SR outputs at the generated instant.
     // Bilinear: there the positions come from frame generation's motion, not from rendered
-    // vectors, and on the train captures the LUT lost 0.01-0.35 dB to it (docs/ACCURACY.md,
-    // change 10). Not carried by the wire protocol.
+    // vectors, and the LUT lost to it on 15 of 16 train figures, by up to 0.35 dB
+    // (docs/ACCURACY.md, change 10). Not carried by the wire protocol.
     Resample warp_resample = Resample::bilinear;
     std::vector<float> lut;            // kLutSize weights; empty: fgsr::default_lut(scale)
     float sr_a = defaults::sr_a;       // Eq. 2: weight of the current samples
