@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -176,6 +177,25 @@ TEST(Presets, SwitchesApplyAndToggle) {
                 EXPECT_EQ(fgsr::switch_value(x, s.key), fgsr::switch_value(base, s.key))
                     << t << " changed " << s.key;
     }
+}
+
+// The kernels' names: one per kernel, read back to the same kernel, the "resample" switch's values;
+// other names (the method names of fgsr eval, case variants) are none.
+TEST(Presets, ResampleNamesRoundTrip) {
+    const fgsr::SwitchInfo* info = nullptr;
+    for (const fgsr::SwitchInfo& s : fgsr::kSwitches)
+        if (s.key == "resample") info = &s;
+    ASSERT_NE(info, nullptr);
+    std::set<std::string_view> names;
+    for (fgsr::Resample r : {fgsr::Resample::bilinear, fgsr::Resample::catmull_rom, fgsr::Resample::lut}) {
+        const std::string_view name = fgsr::resample_name(r);
+        names.insert(name);
+        EXPECT_EQ(fgsr::resample_from_name(name), r) << name;
+        EXPECT_NE(std::find(info->values.begin(), info->values.end(), name), info->values.end()) << name;
+    }
+    EXPECT_EQ(names.size(), 3u);
+    for (const char* other : {"", "bicubic", "fgsr-bilinear", "LUT", "lut "})
+        EXPECT_FALSE(fgsr::resample_from_name(other)) << other;
 }
 
 std::vector<std::map<std::string, std::string>> read_csv(const std::filesystem::path& p) {

@@ -282,11 +282,8 @@ int main(int argc, char** argv) {
         if (no_denoise) eo.params.denoise = false;
         if (preset.empty() || eval->count("--blend"))
             eo.params.blend = blend == "select" ? fgsr::BlendMode::select : fgsr::BlendMode::mix;
-        auto kernel = [](const std::string& k) {
-            return k == "lut"           ? fgsr::Resample::lut
-                   : k == "catmull_rom" ? fgsr::Resample::catmull_rom
-                                        : fgsr::Resample::bilinear;
-        };
+        // The names were checked against the kernels' (CLI::IsMember above).
+        auto kernel = [](const std::string& k) { return fgsr::resample_from_name(k).value(); };
         if (preset.empty() || eval->count("--resample")) eo.params.resample = kernel(resample);
         if (preset.empty() || eval->count("--warp-resample")) eo.params.warp_resample = kernel(warp_resample);
         if (preset.empty() || no_gaps) eo.params.fill_gaps = !no_gaps;

@@ -27,6 +27,7 @@
 #include <fgsr/engine/engine.hpp>
 
 #include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -78,6 +79,18 @@ inline Result<Params> preset_params(std::string_view name) {
                       "unknown preset '" + std::string(name) + "' (presets: performance, balanced, quality)");
 }
 
+// The names of the resampling kernels (Params::resample, Params::warp_resample) as the "resample"
+// switch below and `fgsr eval --resample / --warp-resample` spell them.
+inline std::string_view resample_name(Resample r) {
+    return r == Resample::bilinear ? "bilinear" : r == Resample::catmull_rom ? "catmull_rom" : "lut";
+}
+// The kernel a name (resample_name) stands for; nullopt for any other name.
+inline std::optional<Resample> resample_from_name(std::string_view name) {
+    for (Resample r : {Resample::bilinear, Resample::catmull_rom, Resample::lut})
+        if (resample_name(r) == name) return r;
+    return std::nullopt;
+}
+
 // One named switch: a Params field and the values it can take.
 struct SwitchInfo {
     std::string_view key;
@@ -102,10 +115,7 @@ inline constexpr std::array<SwitchInfo, 10> kSwitches{{
 inline std::string_view switch_value(const Params& p, std::string_view key) {
     auto onoff = [](bool b) { return b ? std::string_view("on") : std::string_view("off"); };
     if (key == "motion") return p.motion == MotionModel::linear ? "linear" : "quadratic";
-    if (key == "resample")
-        return p.resample == Resample::bilinear      ? "bilinear"
-               : p.resample == Resample::catmull_rom ? "catmull_rom"
-                                                     : "lut";
+    if (key == "resample") return resample_name(p.resample);
     if (key == "fill_gaps") return onoff(p.fill_gaps);
     if (key == "fill_holes") return onoff(p.fill_holes);
     if (key == "blend") return p.blend == BlendMode::select ? "select" : "mix";
@@ -142,10 +152,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     }
     const bool on = value == "on";
     if (key == "motion") p.motion = value == "linear" ? MotionModel::linear : MotionModel::quadratic;
-    if (key == "resample")
-        p.resample = value == "bilinear" ? Resample::bilinear
-                     : value == "lut"    ? Resample::lut
-                                         : Resample::catmull_rom;
+    if (key == "resample") p.resample = *resample_from_name(value); // a known value, checked above
     if (key == "fill_gaps") p.fill_gaps = on;
     if (key == "fill_holes") p.fill_holes = on;
     if (key == "blend") p.blend = value == "select" ? BlendMode::select : BlendMode::mix;
