@@ -343,9 +343,6 @@ TEST(Sr, JitterInVectorsIsCompensated) {
     EXPECT_NEAR(g->mv[1], true_mv.y, 1e-6f);
 }
 
-// Joint modes on the analytic scene: ISR and ESR at output resolution against the exact frame at the
-// generated instant, compared with frame generation at input resolution followed by a bicubic
-// upscale of the same inputs.
 // Submits frame k of `scene` point-sampled at 160x90 with the Halton jitter (frame 0 without
 // vectors) to every session given.
 void submit_jittered(const SyntheticScene& scene, int k, std::initializer_list<Session*> sessions) {
@@ -358,6 +355,9 @@ void submit_jittered(const SyntheticScene& scene, int k, std::initializer_list<S
     for (Session* s : sessions) EXPECT_TRUE(s->submit(v)) << "frame " << k;
 }
 
+// Joint modes on the analytic scene: ISR and ESR at output resolution against the exact frame at the
+// generated instant, compared with frame generation at input resolution followed by a bicubic
+// upscale of the same inputs.
 TEST(Sr, JointModesBeatUpscaledFrameGeneration) {
     SyntheticScene scene(hr_options(320, 180, 0.5f));
     for (bool extrap : {false, true}) {

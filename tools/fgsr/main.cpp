@@ -121,6 +121,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     std::string blend = "mix";
     std::string resample = "lut", warp_resample = "bilinear";
+    const std::vector<std::string> kernel_names(fgsr::kResampleNames.begin(), fgsr::kResampleNames.end());
     bool no_gaps = false, no_holes = false, quiet = false, separate = false;
     eval->add_option("--blend", blend,
                      "Where both warped frames agree: 'mix' (alpha-weighted) or 'select' (the "
@@ -131,12 +132,12 @@ int main(int argc, char** argv) {
             "--resample", resample,
             "SR: resampling of the sr pass's history (bilinear, catmull_rom or lut; methods fgsr and "
             "fgsr-colour)")
-        ->check(CLI::IsMember({"bilinear", "catmull_rom", "lut"}))
+        ->check(CLI::IsMember(kernel_names))
         ->capture_default_str();
     eval->add_option("--warp-resample", warp_resample,
                      "ISR, ESR: resampling of the SR outputs at the generated instant (bilinear, "
                      "catmull_rom or lut; methods fgsr and fgsr-colour)")
-        ->check(CLI::IsMember({"bilinear", "catmull_rom", "lut"}))
+        ->check(CLI::IsMember(kernel_names))
         ->capture_default_str();
     eval->add_flag("--no-gap-fill", no_gaps, "Disable refinement of splatting gaps");
     eval->add_flag("--no-hole-fill", no_holes, "Disable disocclusion filling");

@@ -79,15 +79,17 @@ inline Result<Params> preset_params(std::string_view name) {
                       "unknown preset '" + std::string(name) + "' (presets: performance, balanced, quality)");
 }
 
-// The names of the resampling kernels (Params::resample, Params::warp_resample) as the "resample"
-// switch below and `fgsr eval --resample / --warp-resample` spell them.
+// The names of the resampling kernels (Params::resample, Params::warp_resample), indexed by
+// Resample's value, as the "resample" switch below and `fgsr eval --resample / --warp-resample`
+// spell them.
+inline constexpr std::array<std::string_view, 3> kResampleNames{"bilinear", "catmull_rom", "lut"};
 inline std::string_view resample_name(Resample r) {
-    return r == Resample::bilinear ? "bilinear" : r == Resample::catmull_rom ? "catmull_rom" : "lut";
+    return uint32_t(r) < kResampleNames.size() ? kResampleNames[uint32_t(r)] : kResampleNames.back();
 }
 // The kernel a name (resample_name) stands for; nullopt for any other name.
 inline std::optional<Resample> resample_from_name(std::string_view name) {
-    for (Resample r : {Resample::bilinear, Resample::catmull_rom, Resample::lut})
-        if (resample_name(r) == name) return r;
+    for (uint32_t i = 0; i < kResampleNames.size(); ++i)
+        if (kResampleNames[i] == name) return Resample(i);
     return std::nullopt;
 }
 
@@ -100,7 +102,7 @@ struct SwitchInfo {
 
 inline constexpr std::array<SwitchInfo, 10> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
-    {"resample", {"bilinear", "catmull_rom", "lut"}, "SR history resampling"},
+    {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
     {"fill_holes", {"on", "off", ""}, "disocc: give disocclusion holes a vector"},
     {"blend", {"select", "mix", ""}, "where both warped frames agree: closer frame or alpha mix"},
