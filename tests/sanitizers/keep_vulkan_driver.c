@@ -1,5 +1,6 @@
 /* AddressSanitizer builds only (FGSR_SANITIZE contains address; linked into everything that links
- * the engine): keeps Mesa's lavapipe driver loaded for the whole process.
+ * the engine, and into the layer's test application): keeps Mesa's lavapipe driver loaded for the
+ * whole process.
  *
  * Why: lavapipe allocates 128 bytes in a pthread_once initialisation during
  * vkEnumeratePhysicalDevices and keeps the pointer in its own globals. The Vulkan loader dlcloses
