@@ -9,7 +9,8 @@
 #define INGEST_COLOR 3
 #define INGEST_DEPTH 4
 #define INGEST_MV 5
-#define INGEST_COUNT 6
+#define INGEST_BRIGHT 6 // per 16x16 tile: over-white content within 1 pixel (stage dilate)
+#define INGEST_COUNT 7
 
 // splat, refine, disocc and generate share the bindings of the frames and keys they read.
 #define GEN_MV1 0

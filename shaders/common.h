@@ -51,6 +51,8 @@ namespace fgsr::gpu {
 // ---- push-constant blocks (std430 scalars only; layout identical in GLSL and C++) ----
 
 // ingest: client formats -> internal convention
+#define FGSR_BRIGHT_TILE_SHIFT 4u // the dilate stage's over-white flags: per 16x16 tile (shaders/dilate.h)
+
 struct IngestParams {
     uint width;
     uint height;
@@ -65,6 +67,11 @@ struct IngestParams {
     float mv_offset_x;
     float mv_offset_y;
     uint has_depth; // 0: no depth plane (colour-only session): depth 1 until the motion passes set it
+    // Stage dilate (shaders/dilate.h): luminance above which a pixel counts as over-white (0: no
+    // flags, no stage), the relative depth by which it must lie in front, the flag tiles per row.
+    float bright;
+    float bright_depth;
+    uint bright_tiles_x;
 };
 
 // splat, refine, disocc, warp and blend share one parameter block per generated frame.
@@ -301,7 +308,7 @@ FGSR_INLINE uint udiv(uint a, uint b) {
 }
 
 #ifdef __cplusplus
-static_assert(sizeof(IngestParams) == 52 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
+static_assert(sizeof(IngestParams) == 64 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");

@@ -12,6 +12,7 @@ layout(std430, binding = INGEST_MV_RAW) readonly buffer MvRaw { uint mv_raw[]; }
 layout(std430, binding = INGEST_COLOR) writeonly buffer Color { uint64_t color[]; }; // pack_color (uvec2)
 layout(std430, binding = INGEST_DEPTH) writeonly buffer Depth { float depth[]; };
 layout(std430, binding = INGEST_MV) writeonly buffer Mv { uint64_t mv[]; }; // vec2
+layout(std430, binding = INGEST_BRIGHT) buffer Bright { uint bright[]; };
 #include "load64.h"
 
 uint load_color_word(uint w) { return color_raw[w]; }
@@ -34,6 +35,28 @@ void store_frame(uint i, uvec2 c, float d, vec2 m) {
 #ifndef FGSR_INGEST_COLOUR_ONLY
     depth[i] = d;
     mv[i] = as_u64(floatBitsToUint(m));
+#endif
+}
+
+// The dilate stage's tile flags (shaders/dilate.h): note_bright remembers whether a pixel of the
+// invocation's row segment is over-white, flag_bright then flags the 16x16 tiles of the segment's
+// 3x3 neighbourhood, once per invocation (a conditional store per pixel cost lavapipe about 0.5 ms
+// of 3 at 480x270 with no pixel over white; docs/ACCURACY.md, change 11). All stores write 1. sRGB colour is never over
+// white: the fixed sRGB builds fold the test away; the colour-only builds have no dilate stage.
+bool any_bright = false;
+void note_bright(uvec2 pix, vec4 c, IngestParams p) {
+#ifndef FGSR_INGEST_COLOUR_ONLY
+    any_bright = any_bright || (p.color_format != 0u && p.bright > 0.0f &&
+                                0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z > p.bright);
+#endif
+}
+void flag_bright(uvec2 first, uint count, IngestParams p) {
+#ifndef FGSR_INGEST_COLOUR_ONLY
+    if (!any_bright) return;
+    uvec2 lo = (max(first, uvec2(1u)) - 1u) >> FGSR_BRIGHT_TILE_SHIFT;
+    uvec2 hi = min(first + uvec2(count, 1u), uvec2(p.width, p.height) - 1u) >> FGSR_BRIGHT_TILE_SHIFT;
+    for (uint ty = lo.y; ty <= hi.y; ++ty)
+        for (uint tx = lo.x; tx <= hi.x; ++tx) bright[ty * p.bright_tiles_x + tx] = 1u;
 #endif
 }
 
@@ -68,7 +91,12 @@ void main() {
     for (uint k = 0u; k < FGSR_INGEST_SPAN_CPU; ++k)
         ingest_pixel(uvec2(gl_GlobalInvocationID.x * FGSR_INGEST_SPAN_CPU + k, gl_GlobalInvocationID.y),
                      fixed_formats(pc.p));
+    flag_bright(uvec2(gl_GlobalInvocationID.x * FGSR_INGEST_SPAN_CPU, gl_GlobalInvocationID.y), FGSR_INGEST_SPAN_CPU,
+                fixed_formats(pc.p));
 }
 #else
-void main() { ingest_pixel(gl_GlobalInvocationID.xy, fixed_formats(pc.p)); }
+void main() {
+    ingest_pixel(gl_GlobalInvocationID.xy, fixed_formats(pc.p));
+    flag_bright(gl_GlobalInvocationID.xy, 1u, fixed_formats(pc.p));
+}
 #endif

@@ -9,6 +9,8 @@
 //   uint  load_mv_word(uint word)         raw vector plane as 32-bit words
 //   uvec2 load_mv_pair(uint pair)         its words 2 pair and 2 pair + 1
 //   void  store_frame(uint pixel, uvec2 color, float depth, vec2 mv)   colour packed by pack_color
+//   void  note_bright(uvec2 pixel, vec4 color, IngestParams p)  the dilate stage's tile flags
+//                                         (shaders/dilate.h); a no-op where the stage does not run
 
 FGSR_INLINE bool is_finite(float v) { return !(isnan(v) || isinf(v)); }
 
@@ -64,5 +66,7 @@ FGSR_INLINE void ingest_pixel(uvec2 pix, IngestParams p) {
     if (pix.x >= p.width || pix.y >= p.height) return;
     uint i = pix.y * p.width + pix.x;
     float z = p.has_depth != 0u ? linear_depth(uintBitsToFloat(load_depth_word(i)), p) : 1.0f;
-    store_frame(i, pack_color(decode_color(i, p)), z, decode_mv(i, p));
+    vec4 c = decode_color(i, p);
+    note_bright(pix, c, p);
+    store_frame(i, pack_color(c), z, decode_mv(i, p));
 }

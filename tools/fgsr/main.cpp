@@ -87,6 +87,10 @@ int main(int argc, char** argv) {
             "SR: on antialiased input without jitter, lower the history's weight by this factor of its "
             "disagreement with the new samples (0: off)")
         ->capture_default_str();
+    eval->add_option("--dilate-bright", eo.params.dilate_bright,
+                     "With vectors and depth in linear colour: pixels next to over-white ones (luminance "
+                     "above this) take their depth and vector when those lie in front (0: off)")
+        ->capture_default_str();
     eval->add_flag("--correct-vectors", eo.params.correct_vectors,
                    "interp, extrap, isr, esr: method fgsr also estimates motion from colour and replaces the "
                    "capture's vector where the colour follows the estimate by far better (moving shadows)");
@@ -270,6 +274,7 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-b")) p.sr_b = eo.params.sr_b;
             if (eval->count("--sr-clip")) p.sr_clip = eo.params.sr_clip;
             if (eval->count("--sr-disagree")) p.sr_disagree = eo.params.sr_disagree;
+            if (eval->count("--dilate-bright")) p.dilate_bright = eo.params.dilate_bright;
             if (eval->count("--correct-vectors")) p.correct_vectors = true;
             if (eval->count("--correct-ratio")) p.correct_ratio = eo.params.correct_ratio;
             if (eval->count("--correct-margin")) p.correct_margin = eo.params.correct_margin;

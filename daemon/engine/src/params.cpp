@@ -20,6 +20,8 @@ Result<void> validate(const Params& p) {
     if (!(std::isfinite(p.sr_clip) && p.sr_clip >= 0.f)) return bad("sr_clip", p.sr_clip, "[0, inf)");
     if (!(std::isfinite(p.sr_disagree) && p.sr_disagree >= 0.f))
         return bad("sr_disagree", p.sr_disagree, "[0, inf)");
+    if (!(std::isfinite(p.dilate_bright) && p.dilate_bright >= 0.f))
+        return bad("dilate_bright", p.dilate_bright, "[0, inf)");
     if (!(p.correct_ratio >= 0.f && p.correct_ratio <= 1.f))
         return bad("correct_ratio", p.correct_ratio, "[0, 1]");
     if (!(std::isfinite(p.correct_margin) && p.correct_margin >= 0.f))
@@ -129,7 +131,16 @@ IngestParams ingest_params(const FrameFormat& f, bool has_mv) {
     p.has_depth = f.has_depth ? 1u : 0u;
     p.mv_scale_x = sx;
     p.mv_scale_y = sy;
+    p.bright_tiles_x = (f.width + (1u << FGSR_BRIGHT_TILE_SHIFT) - 1) >> FGSR_BRIGHT_TILE_SHIFT;
     return p;
+}
+
+void set_dilate(IngestParams& p, const FrameFormat& f, const Params& params) {
+    // Not when correcting vectors: the correction replaces them after ingest (flow.h step 4).
+    const bool on = params.dilate_bright > 0.f && f.has_vectors && f.has_depth && p.has_mv != 0u &&
+                    !params.correct_vectors && f.color_format != ColorFormat::rgba8_srgb;
+    p.bright = on ? params.dilate_bright : 0.f;
+    p.bright_depth = params.t_depth;
 }
 
 GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,

@@ -39,6 +39,21 @@ struct IngestCpu {
         out->mv[i] = m;
     }
 #include "ingest.h"
+    void note_bright(uvec2, vec4, IngestParams) {} // tile flags: the reference dilates every pixel
+};
+
+// Ingest's dilate stage: reads the ingested frame (a copy), writes f.
+struct DilateCpu {
+    const ref::InternalFrame* src;
+    ref::InternalFrame* f;
+    vec4 load_frame_color(uint i) const { return src->color[i]; }
+    float load_source_depth(uint i) const { return src->depth[i]; }
+    vec2 load_source_mv(uint i) const { return src->mv[i]; }
+    void store_frame_depth_mv(uint i, float d, vec2 m) {
+        f->depth[i] = d;
+        f->mv[i] = m;
+    }
+#include "dilate.h"
 };
 
 // Loads shared by the generation passes.
@@ -190,6 +205,13 @@ InternalFrame ingest(const FrameFormat& f, const FrameView& frame, glm::vec2 mv_
     p.mv_offset_y = mv_offset.y;
     for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.ingest_pixel(glm::uvec2(q), p); });
     return out;
+}
+
+void dilate_bright(InternalFrame& f, const IngestParams& p) {
+    if (!(p.bright > 0.f)) return;
+    const InternalFrame src = f;
+    gpu::DilateCpu cpu{&src, &f};
+    for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.dilate_pixel(glm::uvec2(q), p); });
 }
 
 std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame& f1, const Splat& sp,

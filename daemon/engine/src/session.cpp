@@ -30,6 +30,8 @@ Result<void> Session::Impl::init() {
     FGSR_TRY(make(color_raw, px * bytes_per_pixel(format.color_format), true));
     FGSR_TRY(make(depth_raw, px * 4, true));
     FGSR_TRY(make(mv_raw, px * bytes_per_pixel(format.mv_format), true));
+    const VkDeviceSize tile = 1u << FGSR_BRIGHT_TILE_SHIFT;
+    FGSR_TRY(make(bright, (format.width + tile - 1) / tile * ((format.height + tile - 1) / tile) * 4, false));
     for (GpuFrame& f : frames) {
         FGSR_TRY(make(f.color, px * 8, false)); // pack_color: 4 halves
         FGSR_TRY(make(f.depth, px * 4, false));
@@ -203,11 +205,19 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     }
     const auto b = make_slots<PassId::ingest>(at<INGEST_COLOR_RAW>(color_in), at<INGEST_DEPTH_RAW>(depth_in),
                                               at<INGEST_MV_RAW>(mv_in), at<INGEST_COLOR>(f.color),
-                                              at<INGEST_DEPTH>(f.depth), at<INGEST_MV>(f.mv));
+                                              at<INGEST_DEPTH>(f.depth), at<INGEST_MV>(f.mv),
+                                              at<INGEST_BRIGHT>(s.bright));
+    // The dilate stage (shaders/dilate.h): with the client's vectors and depth, uncorrected.
+    params::set_dilate(p, s.format, s.params);
     FGSR_TRY(s.rec.begin());
-    // Timestamps: 0, after ingest, [after denoise], [after classify], after sr.
+    // Timestamps: 0, after ingest (and its dilate stage), [after denoise], [after classify], after sr.
     uint32_t q = 0;
     s.rec.timestamp(q++);
+    if (p.bright > 0.f && !s.bright_clear) {
+        vkCmdFillBuffer(s.rec.cmd(), s.bright.handle(), 0, VK_WHOLE_SIZE, 0u);
+        s.rec.barrier();
+        s.bright_clear = true;
+    }
     const bool denoise = s.denoise();
     // The build for the session's formats (shaders/ingest.comp); the generic ingest serves the same.
     constexpr std::array<std::array<Variant, 2>, 3> kIngestFormats = {{
@@ -227,6 +237,13 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     const uint32_t span = fixed && s.rec.group() == 32 ? FGSR_INGEST_SPAN_CPU : 1u;
     FGSR_TRY(s.rec.dispatch_pixels(ingest, b, &p, groups(s.format.width, span), s.format.height));
     s.rec.barrier();
+    if (p.bright > 0.f) {
+        // One invocation per flag tile (shaders/dilate.comp).
+        const uint32_t side = 1u << FGSR_BRIGHT_TILE_SHIFT;
+        FGSR_TRY(s.rec.dispatch_pixels(Variant::ingest_dilate, b, &p, (s.format.width + side - 1) / side,
+                                       (s.format.height + side - 1) / side));
+        s.rec.barrier();
+    }
     s.rec.timestamp(q++);
     // Without vectors (motion.cpp): the pyramid, then against the previous frame matching in a
     // first command buffer, the host's summary (dominant motion, scene cut), and the per-pixel

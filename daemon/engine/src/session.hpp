@@ -88,6 +88,8 @@ struct Session::Impl {
 
     // Frames (session.cpp): client planes are copied here, then ingested.
     vk::Buffer color_raw, depth_raw, mv_raw;
+    vk::Buffer bright;         // ingest's over-white flags per 16x16 tile (shaders/dilate.h)
+    bool bright_clear = false; // cleared once; then the dilate stage clears what it reads
     struct GpuFrame {
         vk::Buffer color, depth, mv;
         bool has_mv = false;

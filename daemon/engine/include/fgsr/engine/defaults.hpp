@@ -37,6 +37,11 @@ inline constexpr float sr_clip = 0.7f;
 // antialiased_aliasing). k = 4 chosen on the train captures from 2 / 4 / 8 (bunker LR esr 27.08 /
 // 27.22 / 27.26 dB, hdr-sr-aa esr 24.668 / 24.675 / 24.651; docs/ACCURACY.md).
 inline constexpr float sr_disagree = 4.0f;
+// Ingest's dilate stage (shaders/dilate.h): luminance (linear, 1 = display white) above which a
+// pixel's light dominates its antialiased neighbours, so that they take its depth and vector.
+// Chosen on the train captures (docs/ACCURACY.md, change 11): 1 and 2 gave hdr-fg the same gain,
+// at 1 a white surface lit a little above 1 already counts.
+inline constexpr float dilate_bright = 2.0f;
 // The aliasing measure (fgsr/engine/color.hpp, aliasing_sums) below which input counts as
 // antialiased: point-sampled renders measure 2.5-3.5, antialiased ones (16 samples) 0.6-1.0,
 // bunker's frames about 1.0 (docs/ACCURACY.md, "No SR accumulation on antialiased input" and

@@ -76,6 +76,12 @@ struct Params {
     float sr_a = defaults::sr_a;       // Eq. 2: weight of the current samples
     float sr_b = defaults::sr_b;       // Eq. 2: weight fall-off with sample distance (LR pixels)
     bool dilate_mvs = false;           // vector of the frontmost 3x3 neighbour (QRISP 4.1)
+    // Sessions with vectors and depth in a linear colour format: a pixel that is not over-white
+    // takes the depth and vector of the nearest over-white pixel of its 3x3 neighbourhood in front of
+    // it (luminance above dilate_bright; ingest's dilate stage, shaders/dilate.h), so that the
+    // antialiased light around lamps and glints moves with them. 0 turns it off. Not carried by
+    // the wire protocol: fgsrd's sessions use the default.
+    float dilate_bright = defaults::dilate_bright;
     // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
     // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's

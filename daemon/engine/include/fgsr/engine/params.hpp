@@ -22,6 +22,10 @@ Result<void> validate(const FrameFormat& format, const FrameView& frame);
 
 // The push constants the engine uses for `ingest` of a frame of this format.
 gpu::IngestParams ingest_params(const FrameFormat& format, bool has_mv);
+// ... with its dilate stage's switches (shaders/dilate.h): on (bright = Params::dilate_bright) for
+// frames with the client's vectors and depth in a linear colour format, not corrected by colour
+// (Params::correct_vectors); else off (bright 0).
+void set_dilate(gpu::IngestParams& p, const FrameFormat& format, const Params& params);
 
 // The push constants the engine uses for one generated frame.
 gpu::GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
