@@ -7,13 +7,14 @@
 // 20 is white: its colour is the lamp's, and where it moves with the surface behind (its own
 // vector) the generated frame leaves a white halo behind the lamp and a dark rim in front of it.
 // So a pixel takes the depth and vector of the nearest over-white pixel of its 3x3 neighbourhood
-// that lies in front of it (nearer by more than the relative tolerance), as the authors' per-input
-// dilation does for every edge. The ring around a lamp is often over-white itself (a tenth of
-// strength 30 is 3): it counts as a source only with its own, undilated depth. Here only behind
-// over-white content: dilating every edge (the frontmost of 3x3, as QRISP and Mob-FGSR do) gained
-// 0.6 dB on alpha-tested foliage but lost 1.9 dB on the point-sampled synthetic scene and 0.1-0.3
-// dB on toss-fg's thin wires over a checker floor, whose rings carry mostly the floor's colour
-// (docs/ACCURACY.md, change 11).
+// that lies in front of it (nearer by more than the relative tolerance). The ring around a lamp is
+// often over-white itself (a tenth of strength 30 is 3): it counts as a source only with its own,
+// undilated depth. Only behind over-white content: dilating every edge (the frontmost of 3x3, in
+// the manner of QRISP's depth-informed dilation; the Mob-FGSR authors' code also dilates every
+// input) gained 0.6 dB on alpha-tested foliage but lost 1.9 dB on the point-sampled synthetic
+// scene and 0.1-0.3 dB on toss-fg's thin wires over a checker floor, whose rings carry mostly the
+// floor's colour (docs/ACCURACY.md, change 11; QRISP's Table 3 also has PSNR fall with its
+// dilation).
 //
 // Without races: depths and vectors are read as ingest stored them (the GPU build decodes them
 // again from the client's planes, the CPU reference reads a copy), the results written over
