@@ -291,6 +291,9 @@ FGSR_INLINE uvec2 pack_color(vec4 c) {
 }
 FGSR_INLINE vec4 unpack_color(uvec2 p) { return vec4(unpackHalf2x16(p.x), unpackHalf2x16(p.y)); }
 
+// Rec. 709 luminance of linear colour, unclamped (1 = display white; the dilate stage's over-white test).
+FGSR_INLINE float linear_luminance(vec4 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
 FGSR_INLINE bool inside(ivec2 q, GenParams g) {
     return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);
 }

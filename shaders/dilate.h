@@ -11,8 +11,8 @@
 // often over-white itself (a tenth of strength 30 is 3): it counts as a source only with its own,
 // undilated depth. Only behind over-white content: dilating every edge (the frontmost of 3x3, in
 // the manner of QRISP's depth-informed dilation; the Mob-FGSR authors' code also dilates every
-// input) gained 0.6 dB on alpha-tested foliage but lost 1.9 dB on the point-sampled synthetic
-// scene and 0.1-0.3 dB on toss-fg's thin wires over a checker floor, whose rings carry mostly the
+// input) gained 0.6 dB on alpha-tested foliage but lost 1.9-2.9 dB on the point-sampled
+// synthetic scene and 0.1-0.3 dB on toss-fg's thin wires over a checker floor, whose rings carry mostly the
 // floor's colour (docs/ACCURACY.md, change 11; QRISP's Table 3 also has PSNR fall with its
 // dilation).
 //
@@ -21,15 +21,14 @@
 // ingest's. The ingest stage flags every 16x16 tile with an over-white pixel in its 3x3
 // (ingest.comp, note_bright): only pixels of flagged tiles can change, and the GPU build runs one
 // invocation per tile, which returns after reading the flag or goes over its pixels (dilate.comp;
-// one per pixel cost ingest 1-2 ms more at 480x270 on lavapipe, with no pixel over white).
+// the first form, one invocation per pixel and a store per pixel in ingest, cost ingest 1-2 ms
+// more at 480x270 on lavapipe with no pixel over white; docs/ACCURACY.md, change 11).
 //
 // Entry provides:
 //   vec4  load_frame_color(uint pixel) the ingested colour (linear)
 //   float load_source_depth(uint pixel) depth and vector as ingest stored them (before this stage)
 //   vec2  load_source_mv(uint pixel)
 //   void  store_frame_depth_mv(uint pixel, float depth, vec2 mv)
-
-FGSR_INLINE float bright_luminance(vec4 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 FGSR_INLINE void dilate_pixel(uvec2 pix, IngestParams p) {
     if (pix.x >= p.width || pix.y >= p.height) return;
@@ -41,7 +40,7 @@ FGSR_INLINE void dilate_pixel(uvec2 pix, IngestParams p) {
         ivec2 q = ivec2(pix) + ivec2(k % 3 - 1, k / 3 - 1);
         if (k == 4 || q.x < 0 || q.y < 0 || q.x >= int(p.width) || q.y >= int(p.height)) continue;
         uint j = uint(q.y) * p.width + uint(q.x);
-        if (bright_luminance(load_frame_color(j)) <= p.bright) continue;
+        if (linear_luminance(load_frame_color(j)) <= p.bright) continue;
         float dj = load_source_depth(j);
         if (dj < nearest && d - dj > p.bright_depth * dj) {
             nearest = dj;

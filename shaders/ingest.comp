@@ -46,8 +46,7 @@ void store_frame(uint i, uvec2 c, float d, vec2 m) {
 bool any_bright = false;
 void note_bright(uvec2 pix, vec4 c, IngestParams p) {
 #ifndef FGSR_INGEST_COLOUR_ONLY
-    any_bright = any_bright || (p.color_format != 0u && p.bright > 0.0f &&
-                                0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z > p.bright);
+    any_bright = any_bright || (p.color_format != 0u && p.bright > 0.0f && linear_luminance(c) > p.bright);
 #endif
 }
 void flag_bright(uvec2 first, uint count, IngestParams p) {

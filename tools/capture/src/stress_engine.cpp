@@ -235,9 +235,7 @@ class Runner {
                                      : glm::vec2(0.f);
         ref::InternalFrame cur = ref::ingest(f, fr.view(), offset);
         gpu::IngestParams ip = params::ingest_params(f, cur.has_mv);
-        ip.mv_offset_x = offset.x;
-        ip.mv_offset_y = offset.y;
-        params::set_dilate(ip, f, c_.params);
+        params::set_dilate(ip, f, c_.params); // the stage reads `cur` (offset applied), not the raw planes
         ref::dilate_bright(cur, ip);
         if (sr && c_.params.denoise) {
             // The pre-filter with the GPU's range; its estimate must agree with the CPU's up to a
