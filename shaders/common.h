@@ -68,10 +68,13 @@ struct IngestParams {
     float mv_offset_y;
     uint has_depth; // 0: no depth plane (colour-only session): depth 1 until the motion passes set it
     // Stage dilate (shaders/dilate.h): luminance above which a pixel counts as over-white (0: no
-    // flags, no stage), the relative depth by which it must lie in front, the flag tiles per row.
+    // flags, no over-white rule), the relative depth by which a source must lie in front (both
+    // rules), the flag tiles per row; the edge rule's cost ratio (0: no edge rule, as for a frame
+    // without a previous one).
     float bright;
-    float bright_depth;
+    float dilate_depth;
     uint bright_tiles_x;
+    float edge_ratio;
 };
 
 // splat, refine, disocc, warp and blend share one parameter block per generated frame.
@@ -311,7 +314,7 @@ FGSR_INLINE uint udiv(uint a, uint b) {
 }
 
 #ifdef __cplusplus
-static_assert(sizeof(IngestParams) == 64 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
+static_assert(sizeof(IngestParams) == 68 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");

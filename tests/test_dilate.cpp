@@ -1,14 +1,19 @@
-// Ingest's dilate stage (shaders/dilate.h): the antialiased ring around over-white content takes
-// that content's depth and vector. An analytic scene: a small disc of strength 20 (a lamp) moving
-// over a textured, still background; colour supersampled (8x8 samples a pixel, so the ring holds a
-// part of the lamp's light), depth and vectors point-sampled at the pixel centres, as the Blender
-// renders and games hand them over. The ground truth is the same rendering at the generated instant.
+// Ingest's dilate stage (shaders/dilate.h): the antialiased ring around a moving object takes the
+// object's depth and vector, around over-white content always (the over-white rule), elsewhere
+// where the previous frame's colour says the ring's light moved with the object (the edge rule).
+// An analytic scene: a small disc (a lamp of strength 20, or a grey disc) moving over a textured,
+// still background; colour supersampled (8x8 samples a pixel, so the ring holds a part of the
+// disc's light) or point-sampled (one sample at the pixel centre), depth and vectors point-sampled
+// at the pixel centres, as the Blender renders and games hand them over. The ground truth is the
+// same rendering at the generated instant.
 #include "engine_fixture.hpp"
 
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/engine/params.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 namespace fgsr::test {
 namespace {
@@ -19,6 +24,7 @@ constexpr float kRadius = 4.5f;
 struct Lamp {
     float strength;     // the disc's colour (all channels)
     glm::vec2 at0, vel; // centre at t = 0 and per frame
+    int samples = 8;    // colour samples per pixel side: 8 antialiased, 1 point-sampled (the centre)
 
     glm::vec2 centre(double t) const { return at0 + vel * float(t); }
     glm::vec3 background(float x, float y) const {
@@ -31,12 +37,15 @@ struct Lamp {
         for (uint32_t y = 0; y < kH; ++y)
             for (uint32_t x = 0; x < kW; ++x) {
                 glm::vec3 sum(0.f);
-                for (int k = 0; k < 64; ++k) {
-                    const glm::vec2 s(float(x) + (float(k % 8) + 0.5f) / 8.f, float(y) + (float(k / 8) + 0.5f) / 8.f);
+                const int n = samples;
+                for (int k = 0; k < n * n; ++k) {
+                    const glm::vec2 s(float(x) + (float(k % n) + 0.5f) / float(n),
+                                      float(y) + (float(k / n) + 0.5f) / float(n));
                     sum += glm::length(s - c) < kRadius ? glm::vec3(strength) : background(s.x, s.y);
                 }
+                sum /= float(n * n);
                 float* px = &img.rgba[(size_t(y) * kW + x) * 4];
-                px[0] = sum.x / 64.f, px[1] = sum.y / 64.f, px[2] = sum.z / 64.f, px[3] = 1.f;
+                px[0] = sum.x, px[1] = sum.y, px[2] = sum.z, px[3] = 1.f;
             }
         return img;
     }
@@ -61,9 +70,10 @@ struct Lamp {
 
 // Interpolates halfway between inputs 1 and 2 (frame 0 gives the acceleration nothing to go on:
 // uniform velocity, the lamp's motion) and scores against the rendering at t = 1.5.
-double interpolated_psnr(const Lamp& lamp, float dilate_bright, ImageRGBA* out = nullptr) {
+double interpolated_psnr(const Lamp& lamp, float dilate_bright, float dilate_edges, ImageRGBA* out = nullptr) {
     Params p;
     p.dilate_bright = dilate_bright;
+    p.dilate_edges = dilate_edges;
     auto s = engine().create_session(internal_format(kW, kH), p);
     EXPECT_TRUE(s) << s.error().message;
     for (int t = 0; t < 3; ++t) EXPECT_TRUE((*s)->submit(lamp.frame(t).view()));
@@ -88,12 +98,14 @@ TEST(Dilate, GpuStageMatchesTheCpuReferenceAndChangesOnlyTheRing) {
     auto gpu = (*s)->read_frame(1);
     ASSERT_TRUE(gpu) << gpu.error().message;
 
+    const ref::InternalFrame prev = ref::ingest(fmt, f0.view());
     const ref::InternalFrame plain = ref::ingest(fmt, f1.view());
     ref::InternalFrame dilated = plain;
     gpu::IngestParams ip = params::ingest_params(fmt, true);
-    params::set_dilate(ip, fmt, params);
+    params::set_dilate(ip, fmt, params, true);
     ASSERT_EQ(ip.bright, defaults::dilate_bright);
-    ref::dilate_bright(dilated, ip);
+    ASSERT_EQ(ip.edge_ratio, defaults::dilate_edges); // on, but it leaves over-white rings alone
+    ref::dilate(dilated, &prev, ip);
 
     size_t changed = 0, mismatched = 0;
     const glm::vec2 c = lamp.centre(1);
@@ -122,8 +134,8 @@ TEST(Dilate, TheLampKeepsItsHaloWhereItMoves) {
     // Measured: 36.07 dB dilated, 29.11 without (lavapipe): without, the ring's light stays
     // where the lamp was (a white halo behind it) and is missing where it is.
     const Lamp lamp{20.f, glm::vec2(20.f, 24.f), glm::vec2(5.f, 2.f)};
-    const double with = interpolated_psnr(lamp, defaults::dilate_bright);
-    const double without = interpolated_psnr(lamp, 0.f);
+    const double with = interpolated_psnr(lamp, defaults::dilate_bright, 0.f);
+    const double without = interpolated_psnr(lamp, 0.f, 0.f);
     EXPECT_GT(with, without + 3.0) << "dilated " << with << " dB, without " << without;
 }
 
@@ -131,8 +143,8 @@ TEST(Dilate, ContentThatIsNotOverWhiteIsLeftAlone) {
     // The same scene with the disc at 0.9 (below white): the stage changes nothing, bit for bit.
     const Lamp lamp{0.9f, glm::vec2(20.f, 24.f), glm::vec2(5.f, 2.f)};
     ImageRGBA a, b;
-    interpolated_psnr(lamp, defaults::dilate_bright, &a);
-    interpolated_psnr(lamp, 0.f, &b);
+    interpolated_psnr(lamp, defaults::dilate_bright, defaults::dilate_edges, &a);
+    interpolated_psnr(lamp, 0.f, defaults::dilate_edges, &b);
     EXPECT_EQ(a.rgba, b.rgba);
 }
 
@@ -144,7 +156,63 @@ TEST(Dilate, ParamsRejectANegativeOrNonFiniteThreshold) {
     EXPECT_FALSE(validate(p));
     p.dilate_bright = 0.f;
     EXPECT_TRUE(validate(p));
+    p.dilate_edges = -0.5f;
+    EXPECT_FALSE(validate(p));
+    p.dilate_edges = std::numeric_limits<float>::infinity();
+    EXPECT_FALSE(validate(p));
+    p.dilate_edges = 0.f;
+    EXPECT_TRUE(validate(p));
 }
+
+// The edge rule, GPU against the CPU reference on the same inputs: a grey disc (not over white)
+// moving over the background, antialiased and point-sampled; frames 1 and 2, each against the one
+// before. Every changed pixel lies next to the disc and takes the disc's depth and vector.
+TEST(Dilate, EdgeRuleMatchesTheCpuReference) {
+    for (int samples : {8, 1}) {
+        SCOPED_TRACE(samples);
+        const Lamp disc{0.9f, glm::vec2(28.f, 13.f), glm::vec2(4.f, 3.f), samples};
+        Params params;
+        const FrameFormat fmt = internal_format(kW, kH);
+        auto s = engine().create_session(fmt, params);
+        ASSERT_TRUE(s) << s.error().message;
+        ref::InternalFrame prev = ref::ingest(fmt, disc.frame(0).view());
+        ASSERT_TRUE((*s)->submit(disc.frame(0).view()));
+        size_t changed = 0;
+        for (int t = 1; t < 3; ++t) {
+            const RawFrame f = disc.frame(t);
+            ASSERT_TRUE((*s)->submit(f.view()));
+            auto gpu = (*s)->read_frame(1);
+            ASSERT_TRUE(gpu) << gpu.error().message;
+            const ref::InternalFrame plain = ref::ingest(fmt, f.view());
+            ref::InternalFrame dilated = plain;
+            gpu::IngestParams ip = params::ingest_params(fmt, true);
+            params::set_dilate(ip, fmt, params, true);
+            ref::dilate(dilated, &prev, ip);
+            size_t mismatched = 0;
+            const glm::vec2 c = disc.centre(t);
+            for (uint32_t y = 0; y < kH; ++y)
+                for (uint32_t x = 0; x < kW; ++x) {
+                    const size_t i = size_t(y) * kW + x;
+                    mismatched += gpu->depth[i] != dilated.depth[i] || gpu->mv[2 * i] != dilated.mv[i].x ||
+                                  gpu->mv[2 * i + 1] != dilated.mv[i].y;
+                    if (dilated.depth[i] == plain.depth[i]) continue;
+                    ++changed;
+                    const float r = glm::length(glm::vec2(float(x) + 0.5f, float(y) + 0.5f) - c);
+                    EXPECT_GE(r, kRadius) << x << "," << y;
+                    EXPECT_LT(r, kRadius + 1.5f) << x << "," << y;
+                    EXPECT_EQ(dilated.depth[i], 2.f);
+                    EXPECT_EQ(dilated.mv[i], -disc.vel);
+                }
+            EXPECT_EQ(mismatched, 0u) << "frame " << t << ": the GPU stage and the CPU reference differ";
+            prev = plain;
+        }
+        if (samples == 8) EXPECT_GT(changed, 10u) << "the antialiased ring is dilated";
+        std::printf("[ Dilate ] edge rule, %d x %d samples a pixel: %zu ring pixels changed in 2 frames\n",
+                    samples, samples, changed);
+    }
+    expect_no_validation_errors();
+}
+
 
 } // namespace
 } // namespace fgsr::test

@@ -91,6 +91,11 @@ int main(int argc, char** argv) {
                      "With vectors and depth in linear colour: pixels next to over-white ones (luminance "
                      "above this) take their depth and vector when those lie in front (0: off)")
         ->capture_default_str();
+    eval->add_option("--dilate-edges", eo.params.dilate_edges,
+                     "With vectors and depth: the pixel behind a depth edge takes the front's depth and vector "
+                     "where the previous frame's colour differs by less than this ratio times under its own "
+                     "vector (0: off)")
+        ->capture_default_str();
     eval->add_flag("--correct-vectors", eo.params.correct_vectors,
                    "interp, extrap, isr, esr: method fgsr also estimates motion from colour and replaces the "
                    "capture's vector where the colour follows the estimate by far better (moving shadows)");
@@ -275,6 +280,7 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-clip")) p.sr_clip = eo.params.sr_clip;
             if (eval->count("--sr-disagree")) p.sr_disagree = eo.params.sr_disagree;
             if (eval->count("--dilate-bright")) p.dilate_bright = eo.params.dilate_bright;
+            if (eval->count("--dilate-edges")) p.dilate_edges = eo.params.dilate_edges;
             if (eval->count("--correct-vectors")) p.correct_vectors = true;
             if (eval->count("--correct-ratio")) p.correct_ratio = eo.params.correct_ratio;
             if (eval->count("--correct-margin")) p.correct_margin = eo.params.correct_margin;

@@ -22,6 +22,8 @@ Result<void> validate(const Params& p) {
         return bad("sr_disagree", p.sr_disagree, "[0, inf)");
     if (!(std::isfinite(p.dilate_bright) && p.dilate_bright >= 0.f))
         return bad("dilate_bright", p.dilate_bright, "[0, inf)");
+    if (!(std::isfinite(p.dilate_edges) && p.dilate_edges >= 0.f))
+        return bad("dilate_edges", p.dilate_edges, "[0, inf)");
     if (!(p.correct_ratio >= 0.f && p.correct_ratio <= 1.f))
         return bad("correct_ratio", p.correct_ratio, "[0, 1]");
     if (!(std::isfinite(p.correct_margin) && p.correct_margin >= 0.f))
@@ -135,12 +137,13 @@ IngestParams ingest_params(const FrameFormat& f, bool has_mv) {
     return p;
 }
 
-void set_dilate(IngestParams& p, const FrameFormat& f, const Params& params) {
+void set_dilate(IngestParams& p, const FrameFormat& f, const Params& params, bool has_previous) {
     // Not when correcting vectors: the correction replaces them after ingest (flow.h step 4).
-    const bool on = params.dilate_bright > 0.f && f.has_vectors && f.has_depth && p.has_mv != 0u &&
-                    !params.correct_vectors && f.color_format != ColorFormat::rgba8_srgb;
+    const bool given = f.has_vectors && f.has_depth && p.has_mv != 0u && !params.correct_vectors;
+    const bool on = given && params.dilate_bright > 0.f && f.color_format != ColorFormat::rgba8_srgb;
     p.bright = on ? params.dilate_bright : 0.f;
-    p.bright_depth = params.t_depth;
+    p.edge_ratio = given && has_previous ? params.dilate_edges : 0.f;
+    p.dilate_depth = params.t_depth;
 }
 
 GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,

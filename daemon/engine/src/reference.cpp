@@ -46,7 +46,9 @@ struct IngestCpu {
 struct DilateCpu {
     const ref::InternalFrame* src;
     ref::InternalFrame* f;
+    const ref::InternalFrame* prev; // the edge rule's previous frame (null: the rule is off)
     vec4 load_frame_color(uint i) const { return src->color[i]; }
+    vec4 load_prev_color(uint i) const { return prev->color[i]; }
     float load_source_depth(uint i) const { return src->depth[i]; }
     vec2 load_source_mv(uint i) const { return src->mv[i]; }
     void store_frame_depth_mv(uint i, float d, vec2 m) {
@@ -207,11 +209,14 @@ InternalFrame ingest(const FrameFormat& f, const FrameView& frame, glm::vec2 mv_
     return out;
 }
 
-void dilate_bright(InternalFrame& f, const IngestParams& p) {
-    if (!(p.bright > 0.f)) return;
+void dilate(InternalFrame& f, const InternalFrame* prev, const IngestParams& p) {
+    const bool edges = p.edge_ratio > 0.f && prev != nullptr;
+    if (!(p.bright > 0.f) && !edges) return;
     const InternalFrame src = f;
-    gpu::DilateCpu cpu{&src, &f};
-    for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.dilate_pixel(glm::uvec2(q), p); });
+    gpu::DilateCpu cpu{&src, &f, prev};
+    // The edge rule first: the over-white rule's writes take precedence (as the GPU dispatches).
+    if (edges) for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.dilate_edge_pixel(glm::uvec2(q), p); });
+    if (p.bright > 0.f) for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.dilate_pixel(glm::uvec2(q), p); });
 }
 
 std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame& f1, const Splat& sp,

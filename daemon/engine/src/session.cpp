@@ -206,9 +206,10 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     const auto b = make_slots<PassId::ingest>(at<INGEST_COLOR_RAW>(color_in), at<INGEST_DEPTH_RAW>(depth_in),
                                               at<INGEST_MV_RAW>(mv_in), at<INGEST_COLOR>(f.color),
                                               at<INGEST_DEPTH>(f.depth), at<INGEST_MV>(f.mv),
-                                              at<INGEST_BRIGHT>(s.bright));
-    // The dilate stage (shaders/dilate.h): with the client's vectors and depth, uncorrected.
-    params::set_dilate(p, s.format, s.params);
+                                              at<INGEST_BRIGHT>(s.bright), at<INGEST_PREV_COLOR>(prev.color));
+    // The dilate stage (shaders/dilate.h): with the client's vectors and depth, uncorrected; its
+    // edge rule reads the previous frame's colour.
+    params::set_dilate(p, s.format, s.params, !restart);
     FGSR_TRY(s.rec.begin());
     // Timestamps: 0, after ingest (and its dilate stage), [after denoise], [after classify], after sr.
     uint32_t q = 0;
@@ -237,10 +238,13 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     const uint32_t span = fixed && s.rec.group() == 32 ? FGSR_INGEST_SPAN_CPU : 1u;
     FGSR_TRY(s.rec.dispatch_pixels(ingest, b, &p, groups(s.format.width, span), s.format.height));
     s.rec.barrier();
-    if (p.bright > 0.f) {
-        // One invocation per flag tile (shaders/dilate.comp).
+    if (p.bright > 0.f || p.edge_ratio > 0.f) {
+        // One invocation per 16x16 tile (shaders/dilate.comp): the edge rule's build runs both rules.
         const uint32_t side = 1u << FGSR_BRIGHT_TILE_SHIFT;
-        FGSR_TRY(s.rec.dispatch_pixels(Variant::ingest_dilate, b, &p, (s.format.width + side - 1) / side,
+        const Variant v = !(p.edge_ratio > 0.f) ? Variant::ingest_dilate
+                          : p.depth_kind == uint32_t(DepthKind::linear) ? Variant::ingest_dilate_edges_linear
+                                                                        : Variant::ingest_dilate_edges;
+        FGSR_TRY(s.rec.dispatch_pixels(v, b, &p, (s.format.width + side - 1) / side,
                                        (s.format.height + side - 1) / side));
         s.rec.barrier();
     }

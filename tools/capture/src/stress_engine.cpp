@@ -235,8 +235,10 @@ class Runner {
                                      : glm::vec2(0.f);
         ref::InternalFrame cur = ref::ingest(f, fr.view(), offset);
         gpu::IngestParams ip = params::ingest_params(f, cur.has_mv);
-        params::set_dilate(ip, f, c_.params); // the stage reads `cur` (offset applied), not the raw planes
-        ref::dilate_bright(cur, ip);
+        // The stage reads `cur` (offset applied), not the raw planes; the edge rule the previous
+        // frame as the session keeps it (denoised in SR sessions).
+        params::set_dilate(ip, f, c_.params, !restart);
+        ref::dilate(cur, restart ? nullptr : &cs_.f1, ip);
         if (sr && c_.params.denoise) {
             // The pre-filter with the GPU's range; its estimate must agree with the CPU's up to a
             // histogram bin (log2 rounding at bin edges).

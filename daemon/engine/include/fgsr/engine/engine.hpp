@@ -82,6 +82,12 @@ struct Params {
     // antialiased light around lamps and glints moves with them. 0 turns it off. Not carried by
     // the wire protocol: fgsrd's sessions use the default.
     float dilate_bright = defaults::dilate_bright;
+    // Sessions with vectors and depth (any colour format): at every depth edge, the pixel behind
+    // takes the depth and vector of its front neighbour where, in the previous frame, the colour
+    // it holds follows the front's motion: its colour difference there is below dilate_edges times
+    // the one under its own vector (ingest's dilate stage, edge rule, shaders/dilate.h). 0 turns
+    // it off. Not carried by the wire protocol: fgsrd's sessions use the default.
+    float dilate_edges = defaults::dilate_edges;
     // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
     // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's

@@ -22,10 +22,12 @@ Result<void> validate(const FrameFormat& format, const FrameView& frame);
 
 // The push constants the engine uses for `ingest` of a frame of this format.
 gpu::IngestParams ingest_params(const FrameFormat& format, bool has_mv);
-// ... with its dilate stage's switches (shaders/dilate.h): on (bright = Params::dilate_bright) for
-// frames with the client's vectors and depth in a linear colour format, not corrected by colour
-// (Params::correct_vectors); else off (bright 0).
-void set_dilate(gpu::IngestParams& p, const FrameFormat& format, const Params& params);
+// ... with its dilate stage's switches (shaders/dilate.h), for frames with the client's vectors and
+// depth, not corrected by colour (Params::correct_vectors): the over-white rule (bright =
+// Params::dilate_bright) in a linear colour format; the edge rule (edge_ratio =
+// Params::dilate_edges) when the frame has a previous one (`has_previous`: not the session's first
+// frame, no scene cut). Otherwise off (0).
+void set_dilate(gpu::IngestParams& p, const FrameFormat& format, const Params& params, bool has_previous);
 
 // The push constants the engine uses for one generated frame.
 gpu::GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,

@@ -6,9 +6,11 @@
 //                the paper's select blend, bilinear SR history resampling, fused passes; without
 //                vectors, fast motion estimation (no refinement of the estimated vectors).
 //   balanced     uniform-acceleration motion, gap and hole filling, mix blend, bilinear SR history
-//                resampling (on orbit-sr as good as the LUT and cheaper), fused passes.
+//                resampling (on orbit-sr as good as the LUT and cheaper), fused passes; no edge
+//                rule of ingest's dilate stage (on CPU devices about half of ingest's time again).
 //   quality      everything on: uniform acceleration, gap and hole filling, mix blend, the learned
-//                LUT for SR history, depth-informed vector dilation, fused passes (the separate
+//                LUT for SR history, depth-informed vector dilation, the dilate stage's edge rule
+//                (as the default Params), fused passes (the separate
 //                passes give the same frames, only slower). Not the correction of given vectors by
 //                colour (switch correct_vectors): it gains where shading moves on its own and
 //                loses up to 0.25 dB elsewhere (docs/ACCURACY.md, change 4), at several times the
@@ -50,6 +52,7 @@ inline Params preset_params(Preset preset) {
         p.blend = BlendMode::select;
         p.resample = Resample::bilinear;
         p.dilate_mvs = false;
+        p.dilate_edges = 0.f;
         break;
     case Preset::balanced:
         p.motion = MotionModel::quadratic;
@@ -58,6 +61,7 @@ inline Params preset_params(Preset preset) {
         p.blend = BlendMode::mix;
         p.resample = Resample::bilinear;
         p.dilate_mvs = false;
+        p.dilate_edges = 0.f;
         break;
     case Preset::quality:
         p.motion = MotionModel::quadratic;
@@ -66,6 +70,7 @@ inline Params preset_params(Preset preset) {
         p.blend = BlendMode::mix;
         p.resample = Resample::lut;
         p.dilate_mvs = true;
+        p.dilate_edges = defaults::dilate_edges;
         break;
     }
     return p;
@@ -100,7 +105,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 10> kSwitches{{
+inline constexpr std::array<SwitchInfo, 11> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -111,6 +116,7 @@ inline constexpr std::array<SwitchInfo, 10> kSwitches{{
     {"passes", {"fused", "separate", ""}, "one fused generate pass or refine/disocc/warp/blend"},
     {"correct_vectors", {"on", "off", ""}, "given vectors corrected where shading moves (shadows)"},
     {"fast_motion", {"on", "off", ""}, "without vectors: no refinement of the estimated vectors"},
+    {"dilate_edges", {"on", "off", ""}, "ingest: edge pixels take the front's vector where colour follows it"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
@@ -126,6 +132,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "passes") return p.separate_passes ? "separate" : "fused";
     if (key == "correct_vectors") return onoff(p.correct_vectors);
     if (key == "fast_motion") return onoff(p.fast_motion);
+    if (key == "dilate_edges") return onoff(p.dilate_edges > 0.f);
     return "";
 }
 
@@ -142,7 +149,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
-                "correct_vectors, fast_motion)");
+                "correct_vectors, fast_motion, dilate_edges)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -163,6 +170,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "passes") p.separate_passes = value == "separate";
     if (key == "correct_vectors") p.correct_vectors = on;
     if (key == "fast_motion") p.fast_motion = on;
+    if (key == "dilate_edges") p.dilate_edges = on ? defaults::dilate_edges : 0.f;
     return {};
 }
 

@@ -68,9 +68,10 @@ struct Warped {
 // jitter(previous) - jitter(current), pixels); zero when the vectors contain no jitter.
 InternalFrame ingest(const FrameFormat& format, const FrameView& frame, glm::vec2 mv_offset = glm::vec2(0.f));
 
-// Ingest's dilate stage on an ingested frame (shaders/dilate.h): with p.bright > 0
-// (params::set_dilate), pixels around over-white content take its depth and vector.
-void dilate_bright(InternalFrame& f, const IngestParams& p);
+// Ingest's dilate stage on an ingested frame (shaders/dilate.h): with p.edge_ratio > 0 and a
+// previous frame (its ingested colour), the edge rule; then with p.bright > 0, the over-white rule
+// (params::set_dilate). Both read f as it was before the stage.
+void dilate(InternalFrame& f, const InternalFrame* prev, const IngestParams& p);
 
 // The `denoise` pass's noise estimate of one ingested frame (stages histogram and level).
 NoiseEstimate noise_level(const InternalFrame& f, const DenoiseParams& p);
