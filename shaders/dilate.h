@@ -1,5 +1,7 @@
 // Stage `dilate` of pass ingest (after the ingest stage, sessions with the client's vectors and
-// depth in a linear colour format): the pixels around over-white content take its depth and vector.
+// depth): pixels just behind a silhouette take the depth and vector of the surface in front. Two
+// rules: around over-white content always (this first part; linear colour formats), and at every
+// depth edge where the previous frame's colour says so (the edge rule, below).
 //
 // Why: the client's depth and vectors are point-sampled (one surface per pixel), its colour is
 // antialiased, so the pixels just outside a bright object's silhouette hold part of its light. In
@@ -69,10 +71,11 @@ FGSR_INLINE void dilate_pixel(uvec2 pix, IngestParams p) {
 // colour clamped to white): neither the pixel nor its front neighbour may be over-white while that
 // rule is on. Measured on the train captures and chosen there (docs/ACCURACY.md, change 12).
 //
-// Where: the GPU build runs the rule inside the ingest stage (ingest.comp: it reads the client's
-// planes, so sources are undilated there too, and a dispatch of its own cost lavapipe about 3.5 ms
-// at 480x270 before any work); the over-white rule's stage runs after it and its writes take
-// precedence. The CPU reference runs it on a copy of the ingested frame, before the other rule.
+// Where: the GPU build of the stage with the rule (dilate.comp, FGSR_DILATE_EDGES) runs it per
+// 16x16 tile, a depth test of every pixel that lists the edge pixels and then the colour test of
+// the list (cheaper on CPU devices than a branch, docs/PERFORMANCE.md), before the over-white rule
+// in the same invocation, whose writes take precedence. The CPU reference runs it on a copy of the
+// ingested frame, before the other rule.
 //
 // Entry provides, besides the above:
 //   vec4  load_prev_color(uint pixel) the previous frame's ingested colour (linear)
