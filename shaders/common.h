@@ -52,6 +52,11 @@ namespace fgsr::gpu {
 
 // ingest: client formats -> internal convention
 #define FGSR_BRIGHT_TILE_SHIFT 4u // the dilate stage's over-white flags: per 16x16 tile (shaders/dilate.h)
+// The workgroup of the dilate stage's edge-rule build (one invocation per 16x16 tile): small, so
+// that a small frame's few hundred tiles still spread over every CPU thread of lavapipe (one
+// workgroup of FGSR_GROUP x FGSR_GROUP tiles would run a 480x270 frame's 510 on one).
+#define FGSR_DILATE_EDGES_GROUP_X 8
+#define FGSR_DILATE_EDGES_GROUP_Y 4
 
 struct IngestParams {
     uint width;

@@ -5,7 +5,11 @@
 // Stage dilate of pass ingest (shaders/dilate.h), after ingest, with its bindings and push
 // constants: depths and vectors decoded again from the client's planes (ingest.h, the same values
 // ingest stored), the results written over the frame's.
+#if defined(FGSR_DILATE_EDGES)
+layout(local_size_x = FGSR_DILATE_EDGES_GROUP_X, local_size_y = FGSR_DILATE_EDGES_GROUP_Y) in; // per 16x16 tile
+#else
 layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in; // one invocation per 16x16 tile
+#endif
 layout(push_constant) uniform Push { IngestParams p; } pc;
 layout(std430, binding = INGEST_COLOR_RAW) readonly buffer ColorRaw { uint color_raw[]; };
 layout(std430, binding = INGEST_DEPTH_RAW) readonly buffer DepthRaw { uint depth_raw[]; };

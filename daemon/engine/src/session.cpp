@@ -241,11 +241,15 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (p.bright > 0.f || p.edge_ratio > 0.f) {
         // One invocation per 16x16 tile (shaders/dilate.comp): the edge rule's build runs both rules.
         const uint32_t side = 1u << FGSR_BRIGHT_TILE_SHIFT;
-        const Variant v = !(p.edge_ratio > 0.f) ? Variant::ingest_dilate
-                          : p.depth_kind == uint32_t(DepthKind::linear) ? Variant::ingest_dilate_edges_linear
-                                                                        : Variant::ingest_dilate_edges;
-        FGSR_TRY(s.rec.dispatch_pixels(v, b, &p, (s.format.width + side - 1) / side,
-                                       (s.format.height + side - 1) / side));
+        const uint32_t tiles_x = (s.format.width + side - 1) / side, tiles_y = (s.format.height + side - 1) / side;
+        if (!(p.edge_ratio > 0.f)) {
+            FGSR_TRY(s.rec.dispatch_pixels(Variant::ingest_dilate, b, &p, tiles_x, tiles_y));
+        } else {
+            const Variant v = p.depth_kind == uint32_t(DepthKind::linear) ? Variant::ingest_dilate_edges_linear
+                                                                          : Variant::ingest_dilate_edges;
+            FGSR_TRY(s.rec.dispatch(v, b, &p, (tiles_x + FGSR_DILATE_EDGES_GROUP_X - 1) / FGSR_DILATE_EDGES_GROUP_X,
+                                    (tiles_y + FGSR_DILATE_EDGES_GROUP_Y - 1) / FGSR_DILATE_EDGES_GROUP_Y));
+        }
         s.rec.barrier();
     }
     s.rec.timestamp(q++);
