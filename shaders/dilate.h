@@ -88,10 +88,10 @@ FGSR_INLINE vec3 dilate_tap(ivec2 q, IngestParams p) {
     return dilate_display(load_prev_color(uint(q.y) * p.width + uint(q.x)));
 }
 
-FGSR_INLINE vec3 dilate_bilinear(vec3 c00, vec3 c10, vec3 c01, vec3 c11, vec2 f) {
-    vec3 top = c00 * (1.0f - f.x) + c10 * f.x;
-    vec3 bottom = c01 * (1.0f - f.x) + c11 * f.x;
-    return top * (1.0f - f.y) + bottom * f.y;
+FGSR_INLINE vec3 dilate_bilinear(vec3 c00, vec3 c10, vec3 c01, vec3 c11, vec2 frac) {
+    vec3 top = c00 * (1.0f - frac.x) + c10 * frac.x;
+    vec3 bottom = c01 * (1.0f - frac.x) + c11 * frac.x;
+    return top * (1.0f - frac.y) + bottom * frac.y;
 }
 
 // Colour difference between the cross window around pix (display colours: centre, left, right,
@@ -100,29 +100,27 @@ FGSR_INLINE vec3 dilate_bilinear(vec3 c00, vec3 c10, vec3 c01, vec3 c11, vec2 f)
 FGSR_INLINE float dilate_cost(vec3 c, vec3 l, vec3 r, vec3 u, vec3 d, uvec2 pix, vec2 o, IngestParams p) {
     vec2 at = vec2(pix) + o;
     ivec2 b = ivec2(floor(at));
-    vec2 f = at - vec2(b);
+    vec2 frac = at - vec2(b);
     vec3 t00 = dilate_tap(b, p);
     vec3 t10 = dilate_tap(b + ivec2(1, 0), p);
     vec3 t01 = dilate_tap(b + ivec2(0, 1), p);
     vec3 t11 = dilate_tap(b + ivec2(1, 1), p);
-    vec3 e = abs(c - dilate_bilinear(t00, t10, t01, t11, f));
+    vec3 e = abs(c - dilate_bilinear(t00, t10, t01, t11, frac));
     vec3 ta = dilate_tap(b + ivec2(-1, 0), p);
     vec3 tb = dilate_tap(b + ivec2(-1, 1), p);
-    e += abs(l - dilate_bilinear(ta, t00, tb, t01, f));
+    e += abs(l - dilate_bilinear(ta, t00, tb, t01, frac));
     ta = dilate_tap(b + ivec2(2, 0), p);
     tb = dilate_tap(b + ivec2(2, 1), p);
-    e += abs(r - dilate_bilinear(t10, ta, t11, tb, f));
+    e += abs(r - dilate_bilinear(t10, ta, t11, tb, frac));
     ta = dilate_tap(b + ivec2(0, -1), p);
     tb = dilate_tap(b + ivec2(1, -1), p);
-    e += abs(u - dilate_bilinear(ta, tb, t00, t10, f));
+    e += abs(u - dilate_bilinear(ta, tb, t00, t10, frac));
     ta = dilate_tap(b + ivec2(0, 2), p);
     tb = dilate_tap(b + ivec2(1, 2), p);
-    e += abs(d - dilate_bilinear(t01, t11, ta, tb, f));
+    e += abs(d - dilate_bilinear(t01, t11, ta, tb, frac));
     return e.x + e.y + e.z;
 }
 
-// The edge rule for the pixel at pix with (undilated) depth d and vector own: (depth, vector) it
-// takes, its own where the rule does not apply.
 #define DILATE_NO_FRONT 0xffffffffu
 
 // The front neighbour of the pixel at pix with depth d: the nearest of its 4 edge neighbours that

@@ -205,7 +205,9 @@ TEST(Dilate, EdgeRuleMatchesTheCpuReference) {
             EXPECT_EQ(n.mismatched, 0u) << "frame " << t << ": the GPU stage and the CPU reference differ";
             prev = plain;
         }
-        if (samples == 8) EXPECT_GT(changed, 10u) << "the antialiased ring is dilated";
+        if (samples == 8) {
+            EXPECT_GT(changed, 10u) << "the antialiased ring is dilated";
+        }
         std::printf("[ Dilate ] edge rule, %d x %d samples a pixel: %zu ring pixels changed in 2 frames\n",
                     samples, samples, changed);
     }
