@@ -217,9 +217,9 @@ TEST(Dilate, EdgeRuleMatchesTheCpuReference) {
 // The edge rule's point, on the analytic scene: with antialiased colour the grey disc's ring moves
 // with it and interpolation gains; with point-sampled colour there is no ring to move, and the rule
 // must not cost. Measured (lavapipe): antialiased 44.38 dB with the rule, 37.34 without;
-// point-sampled 38.39 and 37.08, a gain there too (the pixels it changes lie on the disc's
-// trailing side, where the background the disc uncovers matches neither motion); this test asserts
-// only that nothing is lost there.
+// point-sampled 38.39 and 37.08, a gain there too (the rule changes about as many pixels on the
+// disc's leading as on its trailing side: the cross window holds the front neighbour itself, which
+// matches only under the front's motion); this test asserts only that nothing is lost there.
 TEST(Dilate, EdgeRuleMovesTheAntialiasedRingWithTheDisc) {
     const Lamp aa{0.9f, glm::vec2(20.f, 24.f), glm::vec2(5.f, 2.f), 8};
     const double with = interpolated_psnr(aa, defaults::dilate_bright, defaults::dilate_edges);
