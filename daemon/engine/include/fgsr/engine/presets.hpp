@@ -7,7 +7,7 @@
 //                vectors, fast motion estimation (no refinement of the estimated vectors).
 //   balanced     uniform-acceleration motion, gap and hole filling, mix blend, bilinear SR history
 //                resampling (on orbit-sr as good as the LUT and cheaper), fused passes; no edge
-//                rule of ingest's dilate stage (on CPU devices about half of ingest's time again).
+//                rule of ingest's dilate stage (on CPU devices a third to all of ingest's time again).
 //   quality      everything on: uniform acceleration, gap and hole filling, mix blend, the learned
 //                LUT for SR history, depth-informed vector dilation, the dilate stage's edge rule
 //                (as the default Params), fused passes (the separate
