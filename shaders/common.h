@@ -88,7 +88,8 @@ struct GenParams {
     uint height;
     float alpha;      // interpolation: (0,1); extrapolation: the a of 1+a, (0,1]
     uint extrapolate; // 0: interpolate between frame 0 and 1; 1: extrapolate after frame 1
-    uint quadratic;   // 1: uniform acceleration (needs frame 0 vectors); 0: uniform velocity
+    uint quadratic;   // 1: uniform acceleration (needs frame 0 vectors), 2: the same with
+                      // extrapolation's search for m0 (motion.h); 0: uniform velocity
     uint frame0_has_mv;
     uint frame1_has_mv;
     float t_depth;  // T_D: relative depth difference (|d0-d1| / min(d0,d1)) that means disocclusion

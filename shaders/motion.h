@@ -8,7 +8,9 @@
 // hidden then, or sits on an edge) its vector would describe the occluder. So m0 is read from the
 // pixel under p0 if its frame-0 depth agrees with the point's frame-1 depth within 4 T_D
 // (relative), else from the one of its 4 edge neighbours whose depth is closest and agrees;
-// otherwise the motion falls back to uniform velocity for that pixel. (A full 3x3 search was
+// otherwise the motion falls back to uniform velocity for that pixel. In extrapolation, where that
+// vector implies an acceleration, the edge neighbours of the same surface are searched for the
+// smallest one (below, at the search). (A full 3x3 search was
 // measured on lavapipe: ~25% more splat time, where SIMD groups with any miss pay for it, for no
 // PSNR gain beyond 0.01 dB on the captures.)
 //
@@ -36,6 +38,7 @@
 #endif
 #define MOTION_ACCEL_PX 2.0f // chosen on the train captures (docs/ACCURACY.md, "Changes", 3)
 #define MOTION_ACCEL_RATIO 1.0f
+#define MOTION_M0_SEARCH_PX 0.25f // chosen on the train captures (docs/ACCURACY.md, "Changes", 13)
 // The motion of the point: vec4(m1, m0), m0 = m1 for uniform velocity. d1: load_depth1(p1) (splat
 // reads it once for this and for its key).
 FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
@@ -66,6 +69,32 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
             }
         }
         if (found) m0 = -load_mv0(from);
+        // Extrapolation weights the acceleration 3x more than interpolation (0.375 against 0.125
+        // of m1 - m0 at alpha 0.5), so there an m0 read from a neighbouring surface at a similar
+        // depth costs most: the ground beside a slow mover's edge (zero motion, a false
+        // deceleration), another leaf of a canopy. Where the chosen vector implies a change of
+        // more than MOTION_M0_SEARCH_PX, the 4 edge neighbours of the same surface (depth within
+        // the tolerance) are searched too and the vector of the smallest acceleration wins. In
+        // interpolation it lost as much as it gained on train (docs/ACCURACY.md, change 13). The
+        // branch is uniform in interpolation; in extrapolation a SIMD group pays for the search
+        // when any of its pixels needs it (splat about 1.5x on lavapipe), so it is a switch:
+        // Params::accel_search, GenParams::quadratic 2.
+        if (g.quadratic == 2u && g.extrapolate != 0u && found && length(m1 - m0) > MOTION_M0_SEARCH_PX) {
+            float best = length(m1 - m0);
+            vec2 chosen = m0;
+            for (int k = 0; k < 4; ++k) {
+                ivec2 qq = q + (k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5));
+                if (inside(qq, g) && relative_depth_difference(load_depth0(qq), d1) < tolerance) {
+                    vec2 c = -load_mv0(qq);
+                    float e = length(m1 - c);
+                    if (e < best) {
+                        best = e;
+                        chosen = c;
+                    }
+                }
+            }
+            m0 = chosen;
+        }
     }
     // An acceleration the model cannot follow (the motion changing by more than MOTION_ACCEL_PX
     // plus MOTION_ACCEL_RATIO times the newer speed in one frame): a camera cut between frames -1

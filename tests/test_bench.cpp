@@ -152,6 +152,9 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_EQ(p.dilate_edges, 0.f); // balanced leaves the edge rule out
     ASSERT_TRUE(fgsr::apply_switch(p, "dilate_edges=on"));
     EXPECT_EQ(p.dilate_edges, fgsr::defaults::dilate_edges);
+    EXPECT_FALSE(p.accel_search); // balanced leaves extrapolation's search out
+    ASSERT_TRUE(fgsr::apply_switch(p, "accel_search=on"));
+    EXPECT_TRUE(p.accel_search);
     const fgsr::Params before = p;
     auto e = fgsr::apply_switch(p, "motion=cubic");
     ASSERT_FALSE(e);
@@ -167,7 +170,8 @@ TEST(Presets, SwitchesApplyAndToggle) {
     const std::set<std::string> expected{"motion=linear",      "resample=catmull_rom", "resample=lut",
                                          "fill_gaps=off",      "fill_holes=off",       "blend=select",
                                          "dilate_mvs=on",      "denoise=off",          "passes=separate",
-                                         "correct_vectors=on", "fast_motion=on",       "dilate_edges=on"};
+                                         "correct_vectors=on", "fast_motion=on",       "dilate_edges=on",
+                                         "accel_search=on"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

@@ -171,6 +171,56 @@ TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
         }
 }
 
+// The extrapolation search of shaders/motion.h (docs/ACCURACY.md, change 13): the edge pixel of a
+// uniformly sliding object whose frame-0 position lands on the still ground beside it (zero vector,
+// a depth within the tolerance: a false deceleration). In extrapolation the edge neighbour of the
+// same surface with the smallest acceleration wins, so the object moves uniformly; a neighbour of
+// another depth is not taken; interpolation, and Params::accel_search off (the balanced and
+// performance presets), keep the pixel under p0.
+TEST(Scenes, ExtrapolationTakesTheSmallestAccelerationOfTheSameSurface) {
+    const uint32_t w = 32, h = 16;
+    const glm::vec2 m1(2.f, 0.f); // frame 0 -> 1; frame -1 -> 0 the same (uniform sliding)
+    const glm::ivec2 px(16, 8);
+    const glm::vec2 c1 = glm::vec2(px) + 0.5f, p0 = c1 - m1;
+    const glm::ivec2 under(glm::floor(p0)), beside = under + glm::ivec2(1, 0); // ground, object
+    for (bool search : {true, false})
+        for (bool same_depth : {true, false})
+            for (bool extrap : {false, true}) {
+                ref::InternalFrame f0, f1;
+                for (ref::InternalFrame* f : {&f0, &f1}) {
+                    f->width = w;
+                    f->height = h;
+                    f->color.assign(size_t(w) * h, glm::vec4(0.5f));
+                    f->depth.assign(size_t(w) * h, 1.f);
+                    f->has_mv = true;
+                }
+                f1.mv.assign(size_t(w) * h, -m1);
+                f0.mv.assign(size_t(w) * h, glm::vec2(0.f)); // the ground
+                const size_t b = size_t(beside.y) * w + size_t(beside.x);
+                f0.mv[b] = -m1;                     // the object's frame-0 motion
+                if (!same_depth) f0.depth[b] = 2.f; // another surface: not a candidate
+                Params p;
+                p.accel_search = search;
+                const float a = 0.5f;
+                const ref::GenParams g = params::gen_params(internal_format(w, h), p, a, extrap, true, true);
+                const ref::Splat sp = ref::splat(f0, f1, g);
+                const size_t i = size_t(px.y) * w + size_t(px.x);
+                const glm::vec4 v = ref::source_field_vectors(f0, f1, sp, uint32_t(i), g);
+                const glm::vec2 pt = c1 - glm::vec2(v.z, v.w);
+                const glm::vec2 m0_ground(0.f);
+                const glm::vec2 accel = 0.5f * a * a * (m1 - m0_ground);
+                const glm::vec2 decelerated = extrap ? c1 + 0.5f * a * (3.f * m1 - m0_ground) + accel
+                                                     : p0 + 0.5f * a * (m1 + m0_ground) + accel;
+                const glm::vec2 uniform = extrap ? c1 + a * m1 : p0 + a * m1;
+                ASSERT_GT(glm::length(decelerated - uniform), 0.1f); // the case tells the two apart
+                const glm::vec2 want = search && extrap && same_depth ? uniform : decelerated;
+                EXPECT_LT(glm::length(pt - want), 1e-4f)
+                    << (extrap ? "extrapolation" : "interpolation")
+                    << (same_depth ? ", same depth" : ", other depth") << (search ? "" : ", no search")
+                    << ": at (" << pt.x << ", " << pt.y << ")";
+            }
+}
+
 // Pixels at time t whose visible surface point, followed along its layer's path, is visible
 // (or hidden) at time `other`; eroded by one pixel so that edges do not count.
 std::vector<uint8_t> visibility_mask(const SyntheticScene& scene, double t, double other, bool want_visible) {

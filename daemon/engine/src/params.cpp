@@ -156,7 +156,7 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     // Vectors estimated from colour give no usable acceleration (the difference of two estimates
     // is mostly their error): uniform velocity, which measured better on every capture
     // (docs/MOTION.md).
-    g.quadratic = params.motion == MotionModel::quadratic && format.has_vectors ? 1u : 0u;
+    g.quadratic = params.motion == MotionModel::quadratic && format.has_vectors ? (params.accel_search ? 2u : 1u) : 0u;
     g.frame0_has_mv = frame0_has_mv ? 1u : 0u;
     g.frame1_has_mv = frame1_has_mv ? 1u : 0u;
     g.t_depth = params.t_depth;

@@ -88,6 +88,12 @@ struct Params {
     // the one under its own vector (ingest's dilate stage, edge rule, shaders/dilate.h). 0 turns
     // it off. Not carried by the wire protocol: fgsrd's sessions use the default.
     float dilate_edges = defaults::dilate_edges;
+    // Extrapolation with uniform acceleration (shaders/motion.h): where the frame-0 vector read
+    // for a pixel implies an acceleration, its edge neighbours of the same surface are searched
+    // for the smallest one (a slow mover's edge otherwise reads the still ground beside it).
+    // About half again splat's time in extrapolation on CPU devices; off in the balanced and
+    // performance presets. Not carried by the wire protocol: fgsrd's sessions use the default.
+    bool accel_search = true;
     // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
     // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's

@@ -53,6 +53,7 @@ inline Params preset_params(Preset preset) {
         p.resample = Resample::bilinear;
         p.dilate_mvs = false;
         p.dilate_edges = 0.f;
+        p.accel_search = false;
         break;
     case Preset::balanced:
         p.motion = MotionModel::quadratic;
@@ -62,6 +63,7 @@ inline Params preset_params(Preset preset) {
         p.resample = Resample::bilinear;
         p.dilate_mvs = false;
         p.dilate_edges = 0.f;
+        p.accel_search = false;
         break;
     case Preset::quality:
         p.motion = MotionModel::quadratic;
@@ -71,6 +73,7 @@ inline Params preset_params(Preset preset) {
         p.resample = Resample::lut;
         p.dilate_mvs = true;
         p.dilate_edges = defaults::dilate_edges;
+        p.accel_search = true;
         break;
     }
     return p;
@@ -105,7 +108,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 11> kSwitches{{
+inline constexpr std::array<SwitchInfo, 12> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -117,6 +120,7 @@ inline constexpr std::array<SwitchInfo, 11> kSwitches{{
     {"correct_vectors", {"on", "off", ""}, "given vectors corrected where shading moves (shadows)"},
     {"fast_motion", {"on", "off", ""}, "without vectors: no refinement of the estimated vectors"},
     {"dilate_edges", {"on", "off", ""}, "ingest: edge pixels take the front's vector where colour follows it"},
+    {"accel_search", {"on", "off", ""}, "extrapolation: frame-0 vector of the smallest acceleration among same-surface neighbours"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
@@ -133,6 +137,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "correct_vectors") return onoff(p.correct_vectors);
     if (key == "fast_motion") return onoff(p.fast_motion);
     if (key == "dilate_edges") return onoff(p.dilate_edges > 0.f);
+    if (key == "accel_search") return onoff(p.accel_search);
     return "";
 }
 
@@ -149,7 +154,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
-                "correct_vectors, fast_motion, dilate_edges)");
+                "correct_vectors, fast_motion, dilate_edges, accel_search)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -171,6 +176,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "correct_vectors") p.correct_vectors = on;
     if (key == "fast_motion") p.fast_motion = on;
     if (key == "dilate_edges") p.dilate_edges = on ? defaults::dilate_edges : 0.f;
+    if (key == "accel_search") p.accel_search = on;
     return {};
 }
 
