@@ -117,6 +117,17 @@ TEST(Scenes, ImplausibleAccelerationFallsBackToUniformVelocity) {
     }
 }
 
+// A w x h frame of one grey surface at depth 1 with vectors (set by the caller).
+ref::InternalFrame flat_frame(uint32_t w, uint32_t h) {
+    ref::InternalFrame f;
+    f.width = w;
+    f.height = h;
+    f.color.assign(size_t(w) * h, glm::vec4(0.5f));
+    f.depth.assign(size_t(w) * h, 1.f);
+    f.has_mv = true;
+    return f;
+}
+
 // The plausibility bound of shaders/motion.h on the CPU reference: a surface whose motion changes
 // by less than MOTION_ACCEL_PX + MOTION_ACCEL_RATIO |m1| (2 px + |m1|) between frames follows the
 // parabola (supplement Eqs. 1, 2); one that turns back, or changes by more, moves uniformly.
@@ -135,14 +146,7 @@ TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
     };
     for (const Case& c : cases)
         for (bool extrap : {false, true}) {
-            ref::InternalFrame f0, f1;
-            for (ref::InternalFrame* f : {&f0, &f1}) {
-                f->width = w;
-                f->height = h;
-                f->color.assign(size_t(w) * h, glm::vec4(0.5f));
-                f->depth.assign(size_t(w) * h, 1.f);
-                f->has_mv = true;
-            }
+            ref::InternalFrame f0 = flat_frame(w, h), f1 = flat_frame(w, h);
             f1.mv.assign(size_t(w) * h, -c.m1); // internal vectors point to the previous frame
             f0.mv.assign(size_t(w) * h, -c.m0);
             Params p;
@@ -186,14 +190,7 @@ TEST(Scenes, ExtrapolationTakesTheSmallestAccelerationOfTheSameSurface) {
     for (bool search : {true, false})
         for (bool same_depth : {true, false})
             for (bool extrap : {false, true}) {
-                ref::InternalFrame f0, f1;
-                for (ref::InternalFrame* f : {&f0, &f1}) {
-                    f->width = w;
-                    f->height = h;
-                    f->color.assign(size_t(w) * h, glm::vec4(0.5f));
-                    f->depth.assign(size_t(w) * h, 1.f);
-                    f->has_mv = true;
-                }
+                ref::InternalFrame f0 = flat_frame(w, h), f1 = flat_frame(w, h);
                 f1.mv.assign(size_t(w) * h, -m1);
                 f0.mv.assign(size_t(w) * h, glm::vec2(0.f)); // the ground
                 const size_t b = size_t(beside.y) * w + size_t(beside.x);
