@@ -50,7 +50,7 @@ FGSR_INLINE uint static_source_own(vec2 m1, float d0, float d1, vec2 m0, GenPara
 }
 FGSR_INLINE bool static_source_neighbours(ivec2 p, GenParams g) {
     for (int k = 0; k < 4; ++k) {
-        ivec2 q = p + (k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5));
+        ivec2 q = p + edge_neighbour_offset(k);
         if (inside(q, g) && load_mv0(q) != vec2(0.0f)) return false;
     }
     return true;

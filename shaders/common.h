@@ -307,6 +307,10 @@ FGSR_INLINE bool inside(ivec2 q, GenParams g) {
     return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);
 }
 
+// Edge neighbour k (0..3: left, right, up, down) of a pixel, as an offset: the frame-0 lookup of
+// motion.h and classify.h's mirror of it search these.
+FGSR_INLINE ivec2 edge_neighbour_offset(int k) { return k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5); }
+
 // |a - b| relative to the nearer of the two (depths are positive).
 FGSR_INLINE float relative_depth_difference(float a, float b) { return abs(a - b) / max(min(a, b), 1.0e-20f); }
 

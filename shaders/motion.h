@@ -57,7 +57,7 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
             // The centre missed: the 4 edge neighbours, closest depth wins (first on ties).
             float best = tolerance;
             for (int k = 0; k < 4; ++k) {
-                ivec2 qq = q + (k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5));
+                ivec2 qq = q + edge_neighbour_offset(k);
                 if (inside(qq, g)) {
                     float rel = relative_depth_difference(load_depth0(qq), d1);
                     if (rel < best) {
@@ -83,7 +83,7 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
             float best = length(m1 - m0);
             vec2 chosen = m0;
             for (int k = 0; k < 4; ++k) {
-                ivec2 qq = q + (k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5));
+                ivec2 qq = q + edge_neighbour_offset(k);
                 if (inside(qq, g) && relative_depth_difference(load_depth0(qq), d1) < tolerance) {
                     vec2 c = -load_mv0(qq);
                     float e = length(m1 - c);
