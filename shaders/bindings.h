@@ -31,7 +31,8 @@
 #define DISOCC_FIELD 6
 #define DISOCC_FIELD_DEPTH 7
 #define DISOCC_FIELD_STATE 8
-#define DISOCC_COUNT 9
+#define DISOCC_COLOR1 9 // pack_color (uvec2): frame 1, for the edge cover's over-white test
+#define DISOCC_COUNT 10
 
 #define GENERATE_COLOR0 6
 #define GENERATE_COLOR1 7

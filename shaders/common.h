@@ -96,8 +96,11 @@ struct GenParams {
     float t_bright; // T_B: luma difference (display-referred, [0,1]) that means a shading change
     uint blend_mode; // 0: paper Eq. 1 (pick temporally closer), 1: weighted blend when similar
     uint fill_gaps;  // 1: refine fills grid-like gaps; 0: every empty pixel is a hole
-    uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector
+    uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector;
+                     // FGSR_FILL_HOLES_COVER: the same, and a hole pixel that the footprint of
+                     // a surface in front overlaps takes that surface's vectors (disocc.h)
 };
+#define FGSR_FILL_HOLES_COVER 2u
 
 // `g` with the mode of a build that fixes it (FGSR_GENERATE_EXTRAPOLATE 0u or 1u: the CPU builds of
 // generate and generate_sr per mode, variants.def), so that the other mode's branch is compiled

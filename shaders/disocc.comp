@@ -13,11 +13,13 @@ layout(std430, binding = GEN_MOTION) readonly buffer Motion { vec4 motion[]; }; 
 layout(std430, binding = DISOCC_FIELD) buffer Field { vec4 field[]; };
 layout(std430, binding = DISOCC_FIELD_DEPTH) buffer FieldDepth { float field_depth[]; };
 layout(std430, binding = DISOCC_FIELD_STATE) buffer FieldState { uint field_state[]; };
+layout(std430, binding = DISOCC_COLOR1) readonly buffer Color1 { uvec2 color1[]; }; // pack_color
 
 vec2 load_mv1(ivec2 q) { return mv1[q.y * int(pc.g.width) + q.x]; }
 vec2 load_mv0(ivec2 q) { return mv0[q.y * int(pc.g.width) + q.x]; }
 float load_depth1(ivec2 q) { return depth1[q.y * int(pc.g.width) + q.x]; }
 float load_depth0(ivec2 q) { return depth0[q.y * int(pc.g.width) + q.x]; }
+vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
 uint64_t load_key(ivec2 q) { return keys[q.y * int(pc.g.width) + q.x]; }
 vec4 load_source_motion(uint i) { return motion[i]; }
 #include "motion.h"
@@ -32,6 +34,6 @@ void store_field(uint i, vec4 f, float d, uint s) { field[i] = f; field_depth[i]
 void main() {
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
     if (!inside(t, pc.g) || load_field_state(t) != FIELD_HOLE) return;
-    FieldSample f = fill_hole(t, pc.g);
+    FieldSample f = fill_hole_covered(t, pc.g);
     store_field(uint(t.y) * pc.g.width + uint(t.x), f.v, f.depth, f.state);
 }

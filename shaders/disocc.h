@@ -31,3 +31,57 @@ FGSR_INLINE FieldSample fill_hole(ivec2 t, GenParams g) {
     if (farthest > 0.0f) return field_sample(load_motion(best), farthest, FIELD_HOLE_FILLED);
     return field_sample(vec4(0.0f), FGSR_FAR_DEPTH, FIELD_HOLE_FILLED);
 }
+
+// Edge cover (GenParams::fill_holes == FGSR_FILL_HOLES_COVER; docs/ACCURACY.md, change 14).
+// Splatting writes a source to the one pixel under its centre, so the pixel beside a moving edge
+// is a hole (its fill: the background, or in extrapolation what the surface uncovered) even where
+// the surface's footprint, the pixel square around where its source landed, overlaps it; which side
+// of a pixel border the edge's centre falls on then turns on a fraction of a pixel of motion (pan
+// seed 2's leading edge, docs/ACCURACY.md). Such a hole takes the field of its nearest edge
+// neighbour that lies in front of its fill (nearer by more than T_D) and whose footprint overlaps
+// it. Warped with the front's vectors, the pixel then samples frame 1 just beyond the front's edge
+// there, whose antialiased colour holds the part of the front that covers it: the edge keeps its
+// sub-pixel profile instead of being cut at the pixel border. Not where frame 1 is over white in
+// the 2x2 that the pixel would sample (hdr's lamps, whose rings the dilate stage already moves with
+// them: there the cover drew a second ring). Edge neighbours only: the diagonals measured no better
+// on train. Returns the edge neighbour (edge_neighbour_offset) + 1, 0 for none.
+FGSR_INLINE uint hole_cover(ivec2 t, float hole_depth, GenParams g) {
+    vec2 centre = vec2(t) + vec2(0.5f);
+    float front = FGSR_FAR_DEPTH;
+    int nearest = -1;
+    vec2 front_v1 = vec2(0.0f);
+    for (int n = 0; n < 4; ++n) {
+        ivec2 q = t + edge_neighbour_offset(n);
+        if (!inside(q, g)) continue;
+        uint64_t k = load_key(q);
+        if (key_empty(k)) continue;
+        float dq = key_depth(k);
+        if (!(hole_depth - dq > g.t_depth * dq) || !(dq < front)) continue;
+        uint src = key_source(k);
+        uint sy = udiv(src, g.width);
+        vec4 v = load_motion(src);
+        vec2 landed = vec2(float(src - sy * g.width), float(sy)) + vec2(0.5f) - vec2(v.z, v.w);
+        vec2 d = abs(landed - centre);
+        if (!(d.x < 1.0f && d.y < 1.0f)) continue; // the footprints do not overlap
+        front = dq;
+        nearest = n;
+        front_v1 = vec2(v.z, v.w);
+    }
+    if (nearest < 0) return 0u;
+    ivec2 base = ivec2(floor(centre + front_v1 - vec2(0.5f)));
+    for (int j = 0; j < 4; ++j) {
+        ivec2 s = clamp(base + ivec2(j & 1, j >> 1), ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
+        if (linear_luminance(load_color1(s)) > 1.0f) return 0u;
+    }
+    return uint(nearest + 1);
+}
+
+// fill_hole, then the edge cover where the parameters ask for it.
+FGSR_INLINE FieldSample fill_hole_covered(ivec2 t, GenParams g) {
+    FieldSample f = fill_hole(t, g);
+    if (g.fill_holes != FGSR_FILL_HOLES_COVER) return f;
+    uint n = hole_cover(t, f.depth, g);
+    if (n == 0u) return f;
+    uint64_t k = load_key(t + edge_neighbour_offset(int(n) - 1));
+    return field_sample(load_motion(key_source(k)), key_depth(k), FIELD_SPLATTED);
+}

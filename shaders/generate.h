@@ -22,7 +22,7 @@ FGSR_INLINE void generate_finish(ivec2 t, FieldSample f, GenParams g) {
 FGSR_INLINE void generate_pixel(ivec2 t, GenParams g) {
     if (!inside(t, g)) return;
     FieldSample f = refine_field(t, g);
-    if (f.state == FIELD_HOLE && g.fill_holes != 0u) f = fill_hole(t, g);
+    if (f.state == FIELD_HOLE && g.fill_holes != 0u) f = fill_hole_covered(t, g);
     generate_finish(t, f, g);
 }
 

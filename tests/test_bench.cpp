@@ -155,6 +155,9 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_FALSE(p.accel_search); // balanced leaves extrapolation's search out
     ASSERT_TRUE(fgsr::apply_switch(p, "accel_search=on"));
     EXPECT_TRUE(p.accel_search);
+    EXPECT_TRUE(p.cover_edges); // balanced has the edge cover
+    ASSERT_TRUE(fgsr::apply_switch(p, "cover_edges=off"));
+    EXPECT_FALSE(p.cover_edges);
     const fgsr::Params before = p;
     auto e = fgsr::apply_switch(p, "motion=cubic");
     ASSERT_FALSE(e);
@@ -171,7 +174,7 @@ TEST(Presets, SwitchesApplyAndToggle) {
                                          "fill_gaps=off",      "fill_holes=off",       "blend=select",
                                          "dilate_mvs=on",      "denoise=off",          "passes=separate",
                                          "correct_vectors=on", "fast_motion=on",       "dilate_edges=on",
-                                         "accel_search=on"};
+                                         "accel_search=on",    "cover_edges=off"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

@@ -5,6 +5,7 @@
 
 #include "session.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -53,9 +54,10 @@ Result<void> Session::Impl::record_refine(uint32_t slice, const gpu::GenParams& 
 }
 
 Result<void> Session::Impl::record_disocc(uint32_t slice, const gpu::GenParams& g) {
-    const auto b =
-        make_slots<PassId::disocc>(generated_frames(slice), at<DISOCC_FIELD>(field),
-                                   at<DISOCC_FIELD_DEPTH>(field_depth), at<DISOCC_FIELD_STATE>(field_state));
+    const auto b = make_slots<PassId::disocc>(generated_frames(slice), at<DISOCC_FIELD>(field),
+                                              at<DISOCC_FIELD_DEPTH>(field_depth),
+                                              at<DISOCC_FIELD_STATE>(field_state),
+                                              at<DISOCC_COLOR1>(frames[size_t(newest)].color));
     FGSR_TRY(rec.dispatch_pixels(Variant::disocc, b, &g, format.width, format.height));
     rec.barrier();
     return {};
@@ -114,8 +116,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     std::vector<std::vector<PassId>> timings(alphas.size()); // passes timed per generated frame, in order
     FGSR_TRY(rec.begin());
     for (size_t k = 0; k < alphas.size(); ++k) {
-        const gpu::GenParams g =
-            params::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv);
+        gpu::GenParams g = params::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv);
+        if (sr()) g.fill_holes = std::min(g.fill_holes, 1u); // generate_sr has no edge cover (disocc.h)
         const uint32_t q0 = uint32_t(k) * kQueriesPerFrame;
         uint32_t q = q0;
         const vk::Buffer& out = outputs[k];

@@ -163,7 +163,7 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     g.t_bright = params.t_bright;
     g.blend_mode = uint32_t(params.blend);
     g.fill_gaps = params.fill_gaps ? 1u : 0u;
-    g.fill_holes = params.fill_holes ? 1u : 0u;
+    g.fill_holes = params.fill_holes ? (params.cover_edges ? FGSR_FILL_HOLES_COVER : 1u) : 0u;
     return g;
 }
 

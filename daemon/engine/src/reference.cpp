@@ -296,7 +296,7 @@ void disocc(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat
     for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
         const size_t i = cpu.at(q);
         if (field.state[i] != kFieldHole) return;
-        auto f = cpu.fill_hole(q, g);
+        auto f = cpu.fill_hole_covered(q, g);
         field.v[i] = f.v;
         field.depth[i] = f.depth;
         field.state[i] = f.state;

@@ -58,6 +58,11 @@ struct Params {
     float t_bright = defaults::t_bright;
     bool fill_gaps = true;  // refine: fill the grid-like gaps of splatting
     bool fill_holes = true; // disocc: give holes a vector (skipped pass when false)
+    // disocc: a hole pixel that the footprint of a splatted surface in front overlaps takes that
+    // surface's vectors, so a moving edge keeps its sub-pixel profile (shaders/disocc.h,
+    // hole_cover; docs/ACCURACY.md, change 14). Frame generation at input resolution only (not
+    // ISR / ESR); with fill_holes.
+    bool cover_edges = true;
     // false: splat, then one fused pass (refine, disocc, warp, blend per pixel; the default, and on
     // CPU devices several times faster). true: each pass on its own, with per-pass timings and
     // intermediates kept for read_intermediates(). Both give the same frames.

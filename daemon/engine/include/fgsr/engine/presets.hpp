@@ -54,6 +54,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_mvs = false;
         p.dilate_edges = 0.f;
         p.accel_search = false;
+        p.cover_edges = false;
         break;
     case Preset::balanced:
         p.motion = MotionModel::quadratic;
@@ -64,6 +65,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_mvs = false;
         p.dilate_edges = 0.f;
         p.accel_search = false;
+        p.cover_edges = true;
         break;
     case Preset::quality:
         p.motion = MotionModel::quadratic;
@@ -74,6 +76,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_mvs = true;
         p.dilate_edges = defaults::dilate_edges;
         p.accel_search = true;
+        p.cover_edges = true;
         break;
     }
     return p;
@@ -108,7 +111,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 12> kSwitches{{
+inline constexpr std::array<SwitchInfo, 13> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -121,6 +124,7 @@ inline constexpr std::array<SwitchInfo, 12> kSwitches{{
     {"fast_motion", {"on", "off", ""}, "without vectors: no refinement of the estimated vectors"},
     {"dilate_edges", {"on", "off", ""}, "ingest: edge pixels take the front's vector where colour follows it"},
     {"accel_search", {"on", "off", ""}, "extrapolation: frame-0 vector of the smallest acceleration among same-surface neighbours"},
+    {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
@@ -138,6 +142,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "fast_motion") return onoff(p.fast_motion);
     if (key == "dilate_edges") return onoff(p.dilate_edges > 0.f);
     if (key == "accel_search") return onoff(p.accel_search);
+    if (key == "cover_edges") return onoff(p.cover_edges);
     return "";
 }
 
@@ -154,7 +159,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
-                "correct_vectors, fast_motion, dilate_edges, accel_search)");
+                "correct_vectors, fast_motion, dilate_edges, accel_search, cover_edges)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -177,6 +182,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "fast_motion") p.fast_motion = on;
     if (key == "dilate_edges") p.dilate_edges = on ? defaults::dilate_edges : 0.f;
     if (key == "accel_search") p.accel_search = on;
+    if (key == "cover_edges") p.cover_edges = on;
     return {};
 }
 
