@@ -539,10 +539,13 @@ TEST_F(LayerE2E, DaemonStartedLaterIsConnectedTo) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1500));
         late = FgsrdProcess::spawn({FGSR_BIN_DIR "/fgsrd", "--socket", socket}, (dir_ / "late.log").string());
     });
+    // The layer retries every 2 s. An fgsrd started at 1.5 s on a loaded machine can miss the retry
+    // at 4 s (a CI run with evals beside it got "generated": 0 from 60 frames), so the app runs
+    // long enough for at least two retries after the start.
 #if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
-    const std::string frames = "120"; // an instrumented fgsrd takes seconds more to start
+    const std::string frames = "150"; // an instrumented fgsrd takes seconds more to start
 #else
-    const std::string frames = "60";
+    const std::string frames = "90";
 #endif
     const AppRun r =
         run(app() + " --frames " + frames + " --width 192 --height 108 --fps 10", {"FGSR_SOCKET=" + socket});
