@@ -44,12 +44,13 @@ FGSR_INLINE FieldSample fill_hole(ivec2 t, GenParams g) {
 // sub-pixel profile instead of being cut at the pixel border. Not where frame 1 is over white in
 // the 2x2 that the pixel would sample (hdr's lamps, whose rings the dilate stage already moves with
 // them: there the cover drew a second ring). Edge neighbours only: the diagonals measured no better
-// on train. Returns the edge neighbour (edge_neighbour_offset) + 1, 0 for none.
-FGSR_INLINE uint hole_cover(ivec2 t, float hole_depth, GenParams g) {
+// on train. Returns the chosen neighbour's field, or f (the hole's fill) where none is.
+FGSR_INLINE FieldSample hole_cover(ivec2 t, FieldSample f, GenParams g) {
+    float hole_depth = f.depth;
     vec2 centre = vec2(t) + vec2(0.5f);
     float front = FGSR_FAR_DEPTH;
     int nearest = -1;
-    vec2 front_v1 = vec2(0.0f);
+    vec4 front_v = vec4(0.0f);
     for (int n = 0; n < 4; ++n) {
         ivec2 q = t + edge_neighbour_offset(n);
         if (!inside(q, g)) continue;
@@ -65,23 +66,19 @@ FGSR_INLINE uint hole_cover(ivec2 t, float hole_depth, GenParams g) {
         if (!(d.x < 1.0f && d.y < 1.0f)) continue; // the footprints do not overlap
         front = dq;
         nearest = n;
-        front_v1 = vec2(v.z, v.w);
+        front_v = v;
     }
-    if (nearest < 0) return 0u;
-    ivec2 base = ivec2(floor(centre + front_v1 - vec2(0.5f)));
+    if (nearest < 0) return f;
+    ivec2 base = ivec2(floor(centre + vec2(front_v.z, front_v.w) - vec2(0.5f)));
     for (int j = 0; j < 4; ++j) {
         ivec2 s = clamp(base + ivec2(j & 1, j >> 1), ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
-        if (linear_luminance(load_color1(s)) > 1.0f) return 0u;
+        if (linear_luminance(load_color1(s)) > 1.0f) return f;
     }
-    return uint(nearest + 1);
+    return field_sample(front_v, front, FIELD_SPLATTED);
 }
 
 // fill_hole, then the edge cover where the parameters ask for it.
 FGSR_INLINE FieldSample fill_hole_covered(ivec2 t, GenParams g) {
     FieldSample f = fill_hole(t, g);
-    if (g.fill_holes != FGSR_FILL_HOLES_COVER) return f;
-    uint n = hole_cover(t, f.depth, g);
-    if (n == 0u) return f;
-    uint64_t k = load_key(t + edge_neighbour_offset(int(n) - 1));
-    return field_sample(load_motion(key_source(k)), key_depth(k), FIELD_SPLATTED);
+    return g.fill_holes == FGSR_FILL_HOLES_COVER ? hole_cover(t, f, g) : f;
 }
