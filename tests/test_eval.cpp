@@ -65,6 +65,23 @@ TEST(Eval, RejectsBadArguments) {
     EXPECT_NE(run_fgsr("eval --quiet --mode sideways 2>/dev/null").status, 0);
 }
 
+// --switch sets a switch for the fgsr methods after everything else: motion=linear makes `fgsr` the
+// same computation as the `linear` method (eval sets that switch on its own copy of the
+// parameters), so the two score the same to the last digit; without it they differ.
+TEST(Eval, SwitchOptionAppliesToTheFgsrMethod) {
+    nlohmann::json plain = eval_json("--capture builtin --frames 3 --methods fgsr,linear");
+    nlohmann::json lin = eval_json("--capture builtin --frames 3 --methods fgsr,linear --switch motion=linear");
+    ASSERT_FALSE(plain.is_discarded());
+    ASSERT_FALSE(lin.is_discarded());
+    EXPECT_NE(psnr(plain, "fgsr"), psnr(plain, "linear"));
+    EXPECT_EQ(psnr(lin, "fgsr"), psnr(lin, "linear"));
+    EXPECT_EQ(psnr(lin, "linear"), psnr(plain, "linear"));
+    fgsr::test::ProcessRun bad = run_fgsr("eval --quiet --capture builtin --switch cover_edges=sideways 2>&1");
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.out.find("cover_edges"), std::string::npos) << bad.out;
+    EXPECT_NE(run_fgsr("eval --quiet --capture builtin --switch nosuch=on 2>/dev/null").status, 0);
+}
+
 TEST(Eval, TossFgInterpolationBeatsTheAuthorsAndBaselines) {
     const std::string dir = capture_dir("blender/toss-fg");
     if (dir.empty())

@@ -163,6 +163,10 @@ int main(int argc, char** argv) {
                      "Start from a quality preset (performance, balanced, quality; "
                      "fgsr/engine/presets.hpp); the other options given override it")
         ->check(CLI::IsMember({"performance", "balanced", "quality"}));
+    std::vector<std::string> eval_switches;
+    eval->add_option("--switch", eval_switches,
+                     "A switch as `fgsr bench` names it, e.g. cover_edges=off or motion=linear (repeatable; "
+                     "applied after the preset and the other options)");
     std::string eval_socket;
     eval->add_option(
         "--socket", eval_socket,
@@ -301,6 +305,8 @@ int main(int argc, char** argv) {
         if (preset.empty() || no_gaps) eo.params.fill_gaps = !no_gaps;
         if (preset.empty() || no_holes) eo.params.fill_holes = !no_holes;
         if (preset.empty() || separate) eo.params.separate_passes = separate;
+        for (const std::string& sw : eval_switches)
+            if (auto r = fgsr::apply_switch(eo.params, sw); !r) return fail(r.error());
         eo.progress = !quiet;
         if (!lut_file.empty()) {
             auto l = fgsr::load_lut(lut_file);
