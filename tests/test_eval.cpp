@@ -76,10 +76,19 @@ TEST(Eval, SwitchOptionAppliesToTheFgsrMethod) {
     EXPECT_NE(psnr(plain, "fgsr"), psnr(plain, "linear"));
     EXPECT_EQ(psnr(lin, "fgsr"), psnr(lin, "linear"));
     EXPECT_EQ(psnr(lin, "linear"), psnr(plain, "linear"));
+    // The errors are apply_switch's and eval's own, not the option parser's.
     fgsr::test::ProcessRun bad = run_fgsr("eval --quiet --capture builtin --switch cover_edges=sideways 2>&1");
     EXPECT_NE(bad.status, 0);
-    EXPECT_NE(bad.out.find("cover_edges"), std::string::npos) << bad.out;
-    EXPECT_NE(run_fgsr("eval --quiet --capture builtin --switch nosuch=on 2>/dev/null").status, 0);
+    EXPECT_NE(bad.out.find("switch cover_edges has no value 'sideways'"), std::string::npos) << bad.out;
+    fgsr::test::ProcessRun unknown = run_fgsr("eval --quiet --capture builtin --switch nosuch=on 2>&1");
+    EXPECT_NE(unknown.status, 0);
+    EXPECT_NE(unknown.out.find("unknown switch 'nosuch'"), std::string::npos) << unknown.out;
+    // Through fgsrd a switch the session description does not carry is refused before connecting
+    // (the socket does not exist), not dropped.
+    fgsr::test::ProcessRun socket =
+        run_fgsr("eval --quiet --capture builtin --socket /nonexistent/fgsrd.sock --switch cover_edges=off 2>&1");
+    EXPECT_NE(socket.status, 0);
+    EXPECT_NE(socket.out.find("does not reach fgsrd"), std::string::npos) << socket.out;
 }
 
 TEST(Eval, TossFgInterpolationBeatsTheAuthorsAndBaselines) {

@@ -314,6 +314,17 @@ int main(int argc, char** argv) {
             eo.params.lut = std::move(l->weights);
         }
         if (!eval_socket.empty()) {
+            // fgsrd's session description carries only these switches (capture/session_desc.hpp);
+            // any other would be dropped on the way and the A/B would compare nothing.
+            for (const std::string& sw : eval_switches) {
+                const std::string key = sw.substr(0, sw.find('='));
+                if (key != "motion" && key != "dilate_mvs" && key != "denoise" && key != "correct_vectors" &&
+                    key != "fast_motion")
+                    return fail(fgsr::make_error(
+                        fgsr::Errc::invalid_argument,
+                        "--switch " + key + " does not reach fgsrd (--socket): the session description carries "
+                        "motion, dilate_mvs, denoise, correct_vectors and fast_motion only"));
+            }
             fgsr::cli::ReplayOptions o;
             o.capture = eo.capture;
             o.mode = eo.mode;
