@@ -126,6 +126,10 @@ struct SplatParams {
     float alpha3;
 };
 
+// SrParams::flags
+#define SR_DEPTH_MOTION 1u   // sr.h step 2: the depth test expects the depth change the motion implies
+#define SR_SMOOTH_SPATIAL 2u // sr.h step 5: the spatial upsample is the cubic B-spline (aliased input)
+
 // super resolution of one rendered frame (sr.h) and the joint ISR / ESR pass (generate_sr.h)
 struct SrParams {
     uint lr_width;
@@ -143,7 +147,7 @@ struct SrParams {
     uint dilate;      // 1: motion vector of the frontmost pixel of the 3x3 neighbourhood
     float clip;       // ISR / ESR: history clipped to mean +- clip * sd of the LR 3x3 (0: off)
     float disagree;   // sr: history weight falls by disagree x its disagreement (sr.h step 6; 0: off)
-    uint pad2;
+    uint flags;       // SR_*
 };
 
 // classify (classify.h): per-tile work classification. Tile lists are uint buffers: [0..2]

@@ -29,6 +29,15 @@ FGSR_INLINE vec4 catmull_rom_weights(float t) {
     return vec4(-0.5f * t3 + t2 - 0.5f * t, 1.5f * t3 - 2.5f * t2 + 1.0f, -1.5f * t3 + 2.0f * t2 + 0.5f * t, 0.5f * t3 - 0.5f * t2);
 }
 
+// The cubic B-spline's weights of the 4 taps around t in [0, 1): smooth, not interpolating (a
+// low-pass the Catmull-Rom weights are not).
+FGSR_INLINE vec4 bspline_weights(float t) {
+    float t2 = t * t;
+    float t3 = t2 * t;
+    float u = 1.0f - t;
+    return vec4(u * u * u, 3.0f * t3 - 6.0f * t2 + 4.0f, -3.0f * t3 + 3.0f * t2 + 3.0f * t + 1.0f, t3) / 6.0f;
+}
+
 FGSR_INLINE vec4 resample(vec2 pos, ivec2 src_size, uint kind) {
     vec2 x = pos - vec2(0.5f);
     vec2 b = floor(x);

@@ -4,6 +4,16 @@
 //      neighbourhood, QRISP 4.1), scaled to HR: the history position is h = qc + mv * scale.
 //   2. Rejection: no history (first frame, reset), h off screen, or a disocclusion: the previous
 //      frame's depth at p + mv differs from the current depth at t by more than T_D (relative).
+//      With SR_DEPTH_MOTION the test first expects the depth change the motion implies: a surface
+//      the camera approaches was farther in the previous frame, by the factor s = 1 / sqrt(det J)
+//      for a patch facing the camera, J = I + grad(mv) the local map from current to previous
+//      positions (central differences of t's vectors over the neighbours on t's surface, depth
+//      within T_D; s clamped to [1/2, 2]). A patch seen at a slant changes its depth by less (a
+//      ground plane by about s^(2/3)), so the previous depth is accepted anywhere between
+//      d_now and d_now * s, widened by T_D either way; with s = 1 this is the plain test. A
+//      disocclusion still fails: the occluder in front was nearer than d_now / (1 + T_D) while
+//      the background's own vectors expand or shrink nothing. Evaluated only where the plain test
+//      rejects (docs/ACCURACY.md, change 15).
 //   3. History: resampled at h (bilinear, Catmull-Rom or the learned LUT, resample.h), then
 //      clamped to the colour box (min/max) of the current 3x3 LR neighbourhood (shading changes).
 //   4. Current samples: LR pixel (i, j) sampled the scene at (i + 0.5 + jitter) LR pixels; the
@@ -12,7 +22,10 @@
 //      (a * sum(w) / n + (1 - a)), n the number of samples in reach; read literally (dividing by
 //      n only) the equation would darken the image by a * mean(w) + (1 - a) every frame.
 //      Rejected pixels (and pixels no sample reaches, and a = 1 with every weight 0) take the
-//      spatial upsample: Catmull-Rom of the LR frame at p - jitter.
+//      spatial upsample: Catmull-Rom of the LR frame at p - jitter, or with SR_SMOOTH_SPATIAL (the
+//      host sets it for aliased input: jittered, or measuring aliased) the cubic B-spline, which
+//      does not interpolate the point samples' aliasing but low-passes it (docs/ACCURACY.md,
+//      change 16).
 //   6. Disagreement (p.disagree > 0; the host sets it only for sessions whose input carries no
 //      jitter and measures antialiased, Session::input_aliasing): the history's weight (1 - a) is
 //      multiplied by max(0, 1 - disagree * e), e = |clamped history - the tent-weighted mean of the
@@ -30,17 +43,49 @@
 
 FGSR_INLINE ivec2 clamp_lr(ivec2 q, SrParams p) { return clamp(q, ivec2(0), ivec2(int(p.lr_width) - 1, int(p.lr_height) - 1)); }
 
-// Catmull-Rom of the LR frame at an LR position (the spatial upsample).
+// The spatial upsample: Catmull-Rom of the LR frame at an LR position, or with SR_SMOOTH_SPATIAL
+// the cubic B-spline (step 5).
 FGSR_INLINE vec4 lr_upsample(vec2 pos, SrParams p) {
     vec2 x = pos - vec2(0.5f);
     vec2 b = floor(x);
     vec2 f = x - b;
     ivec2 base = ivec2(b);
-    vec4 wx = catmull_rom_weights(f.x), wy = catmull_rom_weights(f.y);
+    bool low_pass = (p.flags & SR_SMOOTH_SPATIAL) != 0u;
+    vec4 wx = low_pass ? bspline_weights(f.x) : catmull_rom_weights(f.x);
+    vec4 wy = low_pass ? bspline_weights(f.y) : catmull_rom_weights(f.y);
     vec4 sum = vec4(0.0f);
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) sum += wx[i] * wy[j] * load_lr_color(clamp_lr(base + ivec2(i - 1, j - 1), p));
     return max(sum, vec4(0.0f));
+}
+
+// s of step 2: the factor by which the depth of t's surface patch was larger in the previous frame,
+// if it faces the camera, from the area ratio of the local map from current to previous positions.
+FGSR_INLINE float motion_depth_scale(ivec2 t, float d_now, SrParams p) {
+    vec2 m0 = load_lr_mv(t);
+    vec2 g[2];
+    for (int axis = 0; axis < 2; ++axis) {
+        ivec2 step = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        int lim = axis == 0 ? int(p.lr_width) - 1 : int(p.lr_height) - 1;
+        int c = axis == 0 ? t.x : t.y;
+        ivec2 lo_q = t - step, hi_q = t + step;
+        bool lo_ok = c > 0 && relative_depth_difference(load_lr_depth(lo_q), d_now) <= p.t_depth;
+        bool hi_ok = c < lim && relative_depth_difference(load_lr_depth(hi_q), d_now) <= p.t_depth;
+        vec2 m_lo = lo_ok ? load_lr_mv(lo_q) : m0, m_hi = hi_ok ? load_lr_mv(hi_q) : m0;
+        float span = float(int(lo_ok) + int(hi_ok));
+        g[axis] = span > 0.0f ? (m_hi - m_lo) / span : vec2(0.0f);
+    }
+    // J's columns: the previous position's derivatives along x and y, step + d(mv).
+    float det = (1.0f + g[0].x) * (1.0f + g[1].y) - g[1].x * g[0].y;
+    return inversesqrt(clamp(det, 0.25f, 4.0f));
+}
+
+// Step 2's depth test: does the previous depth at the history's position belong to t's surface?
+FGSR_INLINE bool history_depth_matches(ivec2 t, float d_now, float d_prev, SrParams p) {
+    if (relative_depth_difference(d_now, d_prev) <= p.t_depth) return true;
+    if ((p.flags & SR_DEPTH_MOTION) == 0u) return false;
+    float moved = d_now * motion_depth_scale(t, d_now, p);
+    return d_prev >= min(d_now, moved) / (1.0f + p.t_depth) && d_prev <= max(d_now, moved) * (1.0f + p.t_depth);
 }
 
 FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
@@ -80,7 +125,7 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     bool on = h.x >= 0.0f && h.y >= 0.0f && h.x <= float(p.hr_width) && h.y <= float(p.hr_height);
     float d_now = load_lr_depth(t);
     float d_prev = load_prev_depth(clamp_lr(ivec2(floor(pos + mv)), p));
-    if (!on || relative_depth_difference(d_now, d_prev) > p.t_depth) return lr_upsample(pos - jitter, p);
+    if (!on || !history_depth_matches(t, d_now, d_prev, p)) return lr_upsample(pos - jitter, p);
 
     vec4 hist = clamp(resample(h, ivec2(int(p.hr_width), int(p.hr_height)), p.resample), lo, hi);
     float wh = 1.0f - p.a; // the history's weight (step 6 lowers it)

@@ -87,6 +87,10 @@ int main(int argc, char** argv) {
             "SR: on antialiased input without jitter, lower the history's weight by this factor of its "
             "disagreement with the new samples (0: off)")
         ->capture_default_str();
+    eval->add_option("--sr-depth-motion", eo.params.sr_depth_motion,
+                     "SR: the history's depth test expects the depth change the local motion implies "
+                     "(false: the plain relative test)")
+        ->capture_default_str();
     eval->add_option("--dilate-bright", eo.params.dilate_bright,
                      "With vectors and depth in linear colour: pixels next to over-white ones (luminance "
                      "above this) take their depth and vector when those lie in front (0: off)")
@@ -147,6 +151,12 @@ int main(int argc, char** argv) {
                      "ISR, ESR: resampling of the SR outputs at the generated instant (bilinear, "
                      "catmull_rom or lut; methods fgsr and fgsr-colour)")
         ->check(CLI::IsMember(kernel_names))
+        ->capture_default_str();
+    std::string sr_spatial = "auto";
+    eval->add_option("--sr-spatial", sr_spatial,
+                     "SR: kernel of the spatial upsample (rejected history, first frame): auto (the "
+                     "B-spline on aliased input, Catmull-Rom on antialiased), catmull_rom or bspline")
+        ->check(CLI::IsMember({"auto", "catmull_rom", "bspline"}))
         ->capture_default_str();
     eval->add_flag("--no-gap-fill", no_gaps, "Disable refinement of splatting gaps");
     eval->add_flag("--no-hole-fill", no_holes, "Disable disocclusion filling");
@@ -283,6 +293,7 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-b")) p.sr_b = eo.params.sr_b;
             if (eval->count("--sr-clip")) p.sr_clip = eo.params.sr_clip;
             if (eval->count("--sr-disagree")) p.sr_disagree = eo.params.sr_disagree;
+            if (eval->count("--sr-depth-motion")) p.sr_depth_motion = eo.params.sr_depth_motion;
             if (eval->count("--dilate-bright")) p.dilate_bright = eo.params.dilate_bright;
             if (eval->count("--dilate-edges")) p.dilate_edges = eo.params.dilate_edges;
             if (eval->count("--correct-vectors")) p.correct_vectors = true;
@@ -302,6 +313,10 @@ int main(int argc, char** argv) {
         auto kernel = [](const std::string& k) { return fgsr::resample_from_name(k).value(); };
         if (preset.empty() || eval->count("--resample")) eo.params.resample = kernel(resample);
         if (preset.empty() || eval->count("--warp-resample")) eo.params.warp_resample = kernel(warp_resample);
+        if (preset.empty() || eval->count("--sr-spatial"))
+            eo.params.sr_spatial = sr_spatial == "catmull_rom" ? fgsr::SrSpatial::catmull_rom
+                                   : sr_spatial == "bspline"   ? fgsr::SrSpatial::bspline
+                                                               : fgsr::SrSpatial::automatic;
         if (preset.empty() || no_gaps) eo.params.fill_gaps = !no_gaps;
         if (preset.empty() || no_holes) eo.params.fill_holes = !no_holes;
         if (preset.empty() || separate) eo.params.separate_passes = separate;

@@ -1,5 +1,6 @@
 // Parameter building (fgsr/engine/params.hpp): the checks of Params and of a frame against its
 // format, and the push constants of the passes, for the GPU path and the CPU reference alike.
+#include <fgsr/engine/color.hpp>
 #include <fgsr/engine/lut.hpp>
 #include <fgsr/engine/params.hpp>
 
@@ -43,8 +44,9 @@ Result<void> validate(const Params& p) {
                           "correct_vectors is for sessions without super resolution (scale 1), not scale " +
                               std::to_string(p.scale));
     if (uint32_t(p.motion) > uint32_t(MotionModel::linear) || uint32_t(p.blend) > uint32_t(BlendMode::mix) ||
-        uint32_t(p.resample) > uint32_t(Resample::lut) || uint32_t(p.warp_resample) > uint32_t(Resample::lut))
-        return make_error(Errc::invalid_argument, "unknown motion model, blend mode or resampling kind");
+        uint32_t(p.resample) > uint32_t(Resample::lut) || uint32_t(p.warp_resample) > uint32_t(Resample::lut) ||
+        uint32_t(p.sr_spatial) > uint32_t(SrSpatial::bspline))
+        return make_error(Errc::invalid_argument, "unknown motion model, blend mode, resampling kind or sr spatial kernel");
     if (!p.lut.empty() && p.lut.size() != kLutSize)
         return make_error(Errc::invalid_argument, "LUT has " + std::to_string(p.lut.size()) +
                                                       " weights, expected " + std::to_string(kLutSize));
@@ -168,7 +170,7 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
 }
 
 SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width, uint32_t out_height,
-                   float jitter_x, float jitter_y, bool has_history, bool antialiased) {
+                   float jitter_x, float jitter_y, bool has_history, InputMeasure input) {
     SrParams p{};
     p.lr_width = format.width;
     p.lr_height = format.height;
@@ -184,7 +186,11 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
     p.has_history = has_history ? 1u : 0u;
     p.dilate = params.dilate_mvs ? 1u : 0u;
     p.clip = params.sr_clip;
-    p.disagree = antialiased ? params.sr_disagree : 0.f;
+    const bool measured = input.aliasing >= 0.f;
+    p.disagree = measured && !input.jittered && measures_antialiased(input.aliasing) ? params.sr_disagree : 0.f;
+    const bool smooth = params.sr_spatial == SrSpatial::bspline ||
+                        (params.sr_spatial == SrSpatial::automatic && measured && !measures_antialiased(input.aliasing));
+    p.flags = (params.sr_depth_motion ? SR_DEPTH_MOTION : 0u) | (smooth ? SR_SMOOTH_SPATIAL : 0u);
     return p;
 }
 

@@ -122,7 +122,10 @@ uint64_t Session::frames_submitted() const {
 }
 float Session::input_aliasing() const {
     const auto& h = impl_->sr_history;
-    return impl_->sr() && !h.jittered ? aliasing_ratio(h.aliasing) : -1.f;
+    return impl_->sr() ? aliasing_ratio(h.aliasing) : -1.f;
+}
+bool Session::input_jittered() const {
+    return impl_->sr_history.jittered;
 }
 NoiseEstimate Session::last_noise_estimate() const {
     return impl_->denoiser.estimate;
@@ -338,12 +341,13 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         auto& h = s.sr_history;
         if (frame.jitter_x != 0.f || frame.jitter_y != 0.f)
             h.jittered = true;
-        else if (!h.jittered && h.aliasing.frames < defaults::aliasing_frames)
+        if (h.aliasing.frames < defaults::aliasing_frames)
             h.aliasing += aliasing_sums(s.format.width, s.format.height, s.format.color_format, frame.color,
                                         std::max(16u, (s.format.height / 32u) & ~3u));
         const gpu::SrParams sp =
             params::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x, frame.jitter_y,
-                              !restart && s.sr_history.valid && frame_has_mv, h.antialiased());
+                              !restart && s.sr_history.valid && frame_has_mv,
+                              params::InputMeasure{aliasing_ratio(h.aliasing), h.jittered});
         auto tiled = s.record_sr(sp, f, prev, q);
         if (!tiled) return tiled.error();
         sr_tiled = *tiled;

@@ -110,11 +110,10 @@ struct Session::Impl {
         vk::Buffer lut;                            // kLutSize weights (Resample::lut)
         PassTiming timing = timing_of(PassId::sr); // of the last submit
         // The input's aliasing measure (fgsr/engine/color.hpp) over its first
-        // defaults::aliasing_frames frames without jitter; jittered once any frame had jitter.
+        // defaults::aliasing_frames frames; jittered once any frame had jitter. Together they
+        // decide Params::sr_disagree and the spatial upsample's kernel (params::sr_params).
         AliasingSums aliasing;
         bool jittered = false;
-        // Params::sr_disagree applies: no jitter so far, and the input measures antialiased.
-        bool antialiased() const { return !jittered && measures_antialiased(aliasing_ratio(aliasing)); }
     } sr_history;
 
     // Params::denoise (denoise.cpp, shaders/denoise.h).

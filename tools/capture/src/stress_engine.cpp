@@ -252,10 +252,11 @@ class Runner {
             cur.color = ref::denoise(cur, dp, gpu.range);
         }
         if (sr) {
-            // The session's measure of its input decides Params::sr_disagree (shaders/sr.h step 6).
+            // The session's measure of its input decides Params::sr_disagree and the spatial
+            // upsample's kernel (shaders/sr.h steps 5, 6).
             const ref::SrParams p = params::sr_params(
                 f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
-                !restart && cs_.hr_valid && cur.has_mv, measures_antialiased(s.input_aliasing()));
+                !restart && cs_.hr_valid && cur.has_mv, params::InputMeasure{s.input_aliasing(), s.input_jittered()});
             if (cs_.hr_new.empty()) cs_.hr_new.assign(size_t(p.hr_width) * p.hr_height, glm::vec4(0.f));
             const std::vector<float>& prev_depth = cs_.frames > 0 ? cs_.f1.depth : cur.depth;
             std::vector<glm::vec4> out = ref::super_resolve(cur, prev_depth, cs_.hr_new, p, lut);

@@ -189,19 +189,21 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
                                         cap.hr_reference[k]));
         FGSR_TRY(score_vectors(cap.inputs[k], reference, sessions, rep));
     }
-    // The input's aliasing measure, which decides Params::sr_disagree (before the stability
-    // stretch, which jitters unjittered captures).
+    // The input's aliasing measure, which decides Params::sr_disagree and the spatial upsample's
+    // kernel (before the stability stretch, which jitters unjittered captures).
     if (o.progress)
         for (const std::string& m : o.methods)
             if (is_engine_sr(m)) {
-                const float a = sessions[m]->input_aliasing();
+                const Session& s = *sessions[m];
+                const float a = s.input_aliasing();
                 if (a < 0.f)
-                    std::fprintf(stderr, "[eval] %s sr: input aliasing not measured (jittered input)\n",
-                                 cap.name.c_str());
+                    std::fprintf(stderr, "[eval] %s sr: input aliasing not measured\n", cap.name.c_str());
+                else if (!measures_antialiased(a))
+                    std::fprintf(stderr, "[eval] %s sr: input aliasing %.2f (aliased: B-spline spatial upsample)\n",
+                                 cap.name.c_str(), a);
                 else
-                    std::fprintf(stderr, "[eval] %s sr: input aliasing %.2f (%s)\n", cap.name.c_str(), a,
-                                 measures_antialiased(a) ? "antialiased: less history where it disagrees"
-                                                         : "aliased");
+                    std::fprintf(stderr, "[eval] %s sr: input aliasing %.2f (antialiased%s)\n", cap.name.c_str(), a,
+                                 s.input_jittered() ? ", jittered" : ": less history where it disagrees");
                 break;
             }
     if (o.static_frames > 0 && frames > 0) FGSR_TRY(measure_stability(o, cap, frames - 1, sessions, rep));

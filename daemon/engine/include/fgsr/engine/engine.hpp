@@ -49,6 +49,13 @@ enum class Resample : uint32_t {
     lut = 2,         // learned 32x32x16 table (fgsr/engine/lut.hpp)
 };
 
+// sr's spatial upsample (shaders/sr.h step 5): where the history is rejected, and on the first frame.
+enum class SrSpatial : uint32_t {
+    automatic = 0,   // B-spline on aliased input (jittered, or measuring aliased), else Catmull-Rom
+    catmull_rom = 1, // interpolating
+    bspline = 2,     // cubic B-spline: smooth, low-passes the point samples' aliasing
+};
+
 // Algorithm parameters. Depth threshold is relative (|d0 - d1| / min(d0, d1)), so it holds for
 // any linear depth unit; brightness threshold is on display-referred luma in [0, 1].
 struct Params {
@@ -108,6 +115,13 @@ struct Params {
     // history's weight is lowered where it disagrees with the new samples, by this factor of the
     // disagreement (shaders/sr.h step 6; 0 turns it off). Not carried by the wire protocol.
     float sr_disagree = defaults::sr_disagree;
+    // sr: the history's depth test expects the depth change the local motion implies (a surface the
+    // camera approaches was farther before; shaders/sr.h step 2); false: the plain relative test.
+    // Not carried by the wire protocol.
+    bool sr_depth_motion = true;
+    // sr: the kernel of the spatial upsample (rejected history, first frame). Not carried by the
+    // wire protocol.
+    SrSpatial sr_spatial = SrSpatial::automatic;
     // Sessions with vectors: estimate motion from colour as colour-only sessions do (luma, match,
     // flow passes) and replace, per pixel, the client's vector by the estimate where the colour
     // follows the estimate by far better (shading that moves on its own: shadows, reflections).
@@ -292,9 +306,12 @@ class Session {
     // The last submit's noise estimate (Params::denoise; zeros without it).
     NoiseEstimate last_noise_estimate() const;
     // Super-resolution sessions: the aliasing measure of the input's first frames (fgsr/engine/
-    // color.hpp, aliasing_ratio; below defaults::antialiased_aliasing Params::sr_disagree applies).
-    // Negative without super resolution, once a frame had jitter, or before the first frame.
+    // color.hpp, aliasing_ratio): below defaults::antialiased_aliasing and without jitter
+    // Params::sr_disagree applies; at or above it SrSpatial::automatic takes the B-spline.
+    // Negative without super resolution or before the first frame.
     float input_aliasing() const;
+    // Whether some frame so far carried jitter (super-resolution sessions).
+    bool input_jittered() const;
     // TILE_* flags of the last submit's super-resolution classification (empty when it was not
     // classified: no history, or Params::skip_tiles off), tiles of tile_side() pixels.
     std::vector<uint32_t> last_sr_tile_flags() const;

@@ -33,12 +33,19 @@ void set_dilate(gpu::IngestParams& p, const FrameFormat& format, const Params& p
 gpu::GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
                           bool frame0_has_mv, bool frame1_has_mv);
 
+// What a session measured of its input (Session::input_aliasing, Session::input_jittered).
+struct InputMeasure {
+    float aliasing = -1.f; // aliasing_ratio of the first frames; negative: not measured
+    bool jittered = false; // some frame so far carried jitter
+};
+
 // The push constants of the `sr` pass for a frame (has_history: a previous output exists and
-// the frame is no reset; antialiased: the session's input carries no jitter and measures
-// antialiased, so that Params::sr_disagree applies, shaders/sr.h step 6).
+// the frame is no reset). The input measure decides Params::sr_disagree (only without jitter and
+// measuring antialiased, shaders/sr.h step 6) and SrSpatial::automatic (the B-spline where the
+// input measures aliased, jittered or not, step 5).
 gpu::SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
                         uint32_t out_height, float jitter_x, float jitter_y, bool has_history,
-                        bool antialiased = false);
+                        InputMeasure input = {});
 
 // The SR half of the `generate_sr` push constants (ISR / ESR): sr_params with history, and
 // Params::warp_resample as the resampling of the SR outputs.
