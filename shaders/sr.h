@@ -23,9 +23,9 @@
 //      n only) the equation would darken the image by a * mean(w) + (1 - a) every frame.
 //      Rejected pixels (and pixels no sample reaches, and a = 1 with every weight 0) take the
 //      spatial upsample: Catmull-Rom of the LR frame at p - jitter, or with SR_SMOOTH_SPATIAL (the
-//      host sets it for aliased input: jittered, or measuring aliased) the cubic B-spline, which
-//      does not interpolate the point samples' aliasing but low-passes it (docs/ACCURACY.md,
-//      change 16).
+//      host sets it where the input measures aliased, Session::input_aliasing, jittered or not)
+//      the cubic B-spline, which does not interpolate the point samples' aliasing but low-passes
+//      it (docs/ACCURACY.md, change 16).
 //   6. Disagreement (p.disagree > 0; the host sets it only for sessions whose input carries no
 //      jitter and measures antialiased, Session::input_aliasing): the history's weight (1 - a) is
 //      multiplied by max(0, 1 - disagree * e), e = |clamped history - the tent-weighted mean of the

@@ -51,7 +51,7 @@ enum class Resample : uint32_t {
 
 // sr's spatial upsample (shaders/sr.h step 5): where the history is rejected, and on the first frame.
 enum class SrSpatial : uint32_t {
-    automatic = 0,   // B-spline on aliased input (jittered, or measuring aliased), else Catmull-Rom
+    automatic = 0,   // B-spline where the input measures aliased (Session::input_aliasing), else Catmull-Rom
     catmull_rom = 1, // interpolating
     bspline = 2,     // cubic B-spline: smooth, low-passes the point samples' aliasing
 };
