@@ -373,9 +373,9 @@ WallRun run_wall(Params p) {
         EXPECT_TRUE((*s)->submit(v));
         auto out = (*s)->super_resolved();
         EXPECT_TRUE(out) << out.error().message;
+        if (k < 4) continue;
         std::vector<uint8_t> mask;
         const ImageRGBA truth = ApproachedWall::truth(k, &mask);
-        if (k < 4) continue;
         r.psnr += *capture::psnr(out->color, truth) / 6;
         r.uncovered_psnr += *capture::psnr_masked(out->color, truth, mask) / 6;
         r.frames.push_back(std::move(out->color));
