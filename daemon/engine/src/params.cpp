@@ -186,10 +186,11 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
     p.has_history = has_history ? 1u : 0u;
     p.dilate = params.dilate_mvs ? 1u : 0u;
     p.clip = params.sr_clip;
-    const bool measured = input.aliasing >= 0.f;
-    p.disagree = measured && !input.jittered && measures_antialiased(input.aliasing) ? params.sr_disagree : 0.f;
-    const bool smooth = params.sr_spatial == SrSpatial::bspline ||
-                        (params.sr_spatial == SrSpatial::automatic && measured && !measures_antialiased(input.aliasing));
+    // measures_antialiased is false for an unmeasured input; aliased means measured and not that.
+    const bool antialiased = measures_antialiased(input.aliasing);
+    const bool aliased = input.aliasing >= 0.f && !antialiased;
+    p.disagree = antialiased && !input.jittered ? params.sr_disagree : 0.f;
+    const bool smooth = params.sr_spatial == SrSpatial::bspline || (params.sr_spatial == SrSpatial::automatic && aliased);
     p.flags = (params.sr_depth_motion ? SR_DEPTH_MOTION : 0u) | (smooth ? SR_SMOOTH_SPATIAL : 0u);
     return p;
 }
