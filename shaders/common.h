@@ -195,8 +195,8 @@ struct DenoiseParams {
     uint stage;     // DENOISE_*
     uint pad0;
     float strength; // filter range in estimated noise sigmas; 0: no filtering
-    float noise_floor; // noise sigma (linear colour units) left unfiltered
-    float pad1;
+    float noise_floor; // noise sigma (in the units gamma gives it) left unfiltered
+    float gamma;       // noise measured relative to the local brightness to this power (0: absolute)
     float pad2;
 };
 

@@ -128,7 +128,11 @@ int main(int argc, char** argv) {
                      "SR: pre-filter range in estimated noise sigmas")
         ->capture_default_str();
     eval->add_option("--noise-floor", eo.params.noise_floor,
-                     "SR: estimated noise (linear units) at or below which input is not filtered")
+                     "SR: estimated noise (in --denoise-gamma's units) at or below which input is not filtered")
+        ->capture_default_str();
+    eval->add_option("--denoise-gamma", eo.params.denoise_gamma,
+                     "SR: measure noise relative to the local brightness to this power (0: linear units, 1: a "
+                     "fraction of the brightness)")
         ->capture_default_str();
     eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")
         ->capture_default_str();
@@ -304,6 +308,7 @@ int main(int argc, char** argv) {
             if (eval->count("--fast-motion")) p.fast_motion = true;
             if (eval->count("--denoise-strength")) p.denoise_strength = eo.params.denoise_strength;
             if (eval->count("--noise-floor")) p.noise_floor = eo.params.noise_floor;
+            if (eval->count("--denoise-gamma")) p.denoise_gamma = eo.params.denoise_gamma;
             eo.params = p;
         }
         if (no_denoise) eo.params.denoise = false;

@@ -34,6 +34,8 @@ Result<void> validate(const Params& p) {
         return bad("denoise_strength", p.denoise_strength, "[0, 64]");
     if (!(std::isfinite(p.noise_floor) && p.noise_floor >= 0.f))
         return bad("noise_floor", p.noise_floor, "[0, inf)");
+    if (!(p.denoise_gamma >= 0.f && p.denoise_gamma <= 2.f))
+        return bad("denoise_gamma", p.denoise_gamma, "[0, 2]");
     if (!(std::isfinite(p.scale) && p.scale >= 1.f && p.scale <= 4.f))
         return make_error(Errc::invalid_argument,
                           "scale factor " + std::to_string(p.scale) + " is outside [1, 4]");
@@ -208,6 +210,7 @@ DenoiseParams denoise_params(const FrameFormat& format, const Params& params) {
     d.height = format.height;
     d.strength = params.denoise_strength;
     d.noise_floor = params.noise_floor;
+    d.gamma = params.denoise_gamma;
     return d;
 }
 

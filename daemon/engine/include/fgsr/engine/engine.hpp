@@ -144,10 +144,13 @@ struct Params {
     // Noisy input (shaders/denoise.h): a `denoise` pass estimates the noise of each rendered frame
     // (median absolute Laplacian) and, where it exceeds noise_floor, filters the frame with a 3x3
     // bilateral filter of range denoise_strength x (noise above the floor) before accumulation.
+    // Noise is measured relative to the local brightness to the power denoise_gamma (0: in linear
+    // colour units; 1: as a fraction of the brightness), and the filter's range scales with it.
     // Clean input (estimate at or below the floor) passes unchanged. SR sessions only.
     bool denoise = true;
     float denoise_strength = defaults::denoise_strength; // range in noise sigmas, [0, 64]
-    float noise_floor = defaults::noise_floor;           // linear colour units, >= 0
+    float noise_floor = defaults::noise_floor;           // in the units of denoise_gamma, >= 0
+    float denoise_gamma = defaults::denoise_gamma;       // [0, 2]
 
     // Per-tile work skipping (shaders/classify.h): a `classify` pass finds the tiles with no
     // motion; splat, generate, sr and generate_sr run only over the tiles that need them
@@ -167,8 +170,8 @@ struct Params {
 // Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b, sr_clip
 // and sr_disagree finite and >= 0, correct_ratio in [0, 1], correct_margin finite and >= 0,
 // correct_depth >= 0 (correct_vectors only with scale 1), scale finite in [1, 4], lut empty or
-// kLutSize finite weights, denoise_strength in [0, 64], noise_floor finite and >= 0, known enum
-// values.
+// kLutSize finite weights, denoise_strength in [0, 64], noise_floor finite and >= 0, denoise_gamma
+// in [0, 2], known enum values.
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);
 
@@ -193,7 +196,8 @@ struct PassTiming {
 
 // Noise of a rendered frame as the `denoise` pass estimated it (shaders/denoise.h).
 struct NoiseEstimate {
-    float sigma = 0; // standard deviation of the per-pixel noise, linear colour units
+    float sigma = 0; // standard deviation of the per-pixel noise, linear colour units over the
+                     // brightness scale (Params::denoise_gamma; 0: linear colour units)
     float range = 0; // range of the bilateral filter applied (0: the frame was not filtered)
 };
 
