@@ -22,9 +22,10 @@
 // bins per octave.
 // Stage DENOISE_LEVEL, one invocation: sigma = median of the counted magnitudes / 0.6745 (the
 // median absolute deviation of a normal distribution; with gamma > 0 in units of m^gamma); edges
-// and texture are a minority of the blocks and move the median little. The noise above the floor, sqrt(max(sigma^2 - floor^2, 0)), times the
-// strength is the filter's range r. A median bin stands for its geometric centre (bins are 9 %
-// wide). Fewer than 1 interior block (width or height < 3): sigma 0.
+// and texture are a minority of the blocks and move the median little. The noise above the floor,
+// sqrt(max(sigma^2 - floor^2, 0)), times the strength is the filter's range r. A median bin stands
+// for its geometric centre (bins are 9 % wide). Fewer than 1 interior block (width or height < 3):
+// sigma 0.
 // Stage DENOISE_FILTER, one invocation per pixel: a 3x3 bilateral filter, weight
 // s(dx) s(dy) exp(-d^2 / (2 r'^2)) with s(0) = 1, s(+-1) = 0.6 (a Gaussian of about one pixel),
 // d^2 the mean squared RGB difference to the centre pixel (neighbours clamped at the border) and
