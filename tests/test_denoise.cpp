@@ -235,27 +235,19 @@ TEST(Denoise, TinyFramesEstimateNothing) {
 }
 
 TEST(Denoise, ParametersAreValidated) {
-    for (float v : {-1.f, 65.f, std::nanf("")}) {
-        Params p = sr_params();
-        p.denoise_strength = v;
-        auto r = validate(p);
-        ASSERT_FALSE(r);
-        EXPECT_NE(r.error().message.find("denoise_strength"), std::string::npos);
-    }
-    for (float v : {-0.1f, INFINITY, std::nanf("")}) {
-        Params p = sr_params();
-        p.noise_floor = v;
-        auto r = validate(p);
-        ASSERT_FALSE(r);
-        EXPECT_NE(r.error().message.find("noise_floor"), std::string::npos);
-    }
-    for (float v : {-0.5f, 2.5f, std::nanf("")}) {
-        Params p = sr_params();
-        p.denoise_gamma = v;
-        auto r = validate(p);
-        ASSERT_FALSE(r);
-        EXPECT_NE(r.error().message.find("denoise_gamma"), std::string::npos);
-    }
+    // Each value of `field` in `bad` is refused with an error naming the field.
+    auto refused = [](const char* name, float Params::*field, std::initializer_list<float> bad) {
+        for (float v : bad) {
+            Params p = sr_params();
+            p.*field = v;
+            auto r = validate(p);
+            ASSERT_FALSE(r) << name << " " << v;
+            EXPECT_NE(r.error().message.find(name), std::string::npos);
+        }
+    };
+    refused("denoise_strength", &Params::denoise_strength, {-1.f, 65.f, std::nanf("")});
+    refused("noise_floor", &Params::noise_floor, {-0.1f, INFINITY, std::nanf("")});
+    refused("denoise_gamma", &Params::denoise_gamma, {-0.5f, 2.5f, std::nanf("")});
     Params p = sr_params();
     p.denoise_strength = 0.f; // estimate only
     EXPECT_TRUE(validate(p));
