@@ -10,7 +10,9 @@
 // (relative), else from the one of its 4 edge neighbours whose depth is closest and agrees;
 // otherwise the motion falls back to uniform velocity for that pixel. In extrapolation, where that
 // vector implies an acceleration, the edge neighbours of the same surface are searched for the
-// smallest one (below, at the search). (A full 3x3 search was
+// smallest one (below, at the search). In interpolation the acceleration is the median of the
+// pixel's own and those of its 3x3 frame-1 neighbours of the same surface (below, at the median).
+// (A full 3x3 search was
 // measured on lavapipe: ~25% more splat time, where SIMD groups with any miss pay for it, for no
 // PSNR gain beyond 0.01 dB on the captures.)
 //
@@ -39,6 +41,38 @@
 #define MOTION_ACCEL_PX 2.0f // chosen on the train captures (docs/ACCURACY.md, "Changes", 3)
 #define MOTION_ACCEL_RATIO 1.0f
 #define MOTION_M0_SEARCH_PX 0.25f // chosen on the train captures (docs/ACCURACY.md, "Changes", 13)
+#define MOTION_MEDIAN_MIN 5       // of 9; chosen on the train captures (docs/ACCURACY.md, "Changes", 18)
+
+// The acceleration m1 - m0 of the frame-1 pixel pn as the pixel under its own frame-0 position
+// gives it: vec3(m1 - m0, 1) where pn lies on the surface of depth d1 (within `tolerance`), that
+// frame-0 pixel on the same surface, and the acceleration within the plausibility bound (below);
+// vec3(0) otherwise.
+FGSR_INLINE vec3 neighbour_acceleration(ivec2 pn, float d1, float tolerance, GenParams g) {
+    if (!inside(pn, g)) return vec3(0.0f);
+    float dn = load_depth1(pn);
+    if (!(relative_depth_difference(dn, d1) < tolerance)) return vec3(0.0f);
+    vec2 m1 = -load_mv1(pn);
+    ivec2 q = ivec2(floor(vec2(pn) + vec2(0.5f) - m1));
+    if (!inside(q, g) || !(relative_depth_difference(load_depth0(q), dn) < tolerance)) return vec3(0.0f);
+    vec2 accel = m1 + load_mv0(q);
+    return length(accel) <= MOTION_ACCEL_PX + MOTION_ACCEL_RATIO * length(m1) ? vec3(accel, 1.0f)
+                                                                              : vec3(0.0f);
+}
+
+// The median of the values v[i] with ok[i] (n of them, n >= 1): the middle one, or the mean of
+// the two middle ones for even n. By rank, without sorting (no indexing by a variable on CPU
+// devices, where an array indexed so lives in memory).
+FGSR_INLINE float median9(float v[9], bool ok[9], int n) {
+    int lo = (n - 1) / 2, hi = n / 2;
+    float sum = 0.0f;
+    for (int i = 0; i < 9; ++i) {
+        int rank = 0;
+        for (int j = 0; j < 9; ++j) rank += int(ok[j] && (v[j] < v[i] || (v[j] == v[i] && j < i)));
+        if (ok[i] && (rank == lo || rank == hi)) sum += rank == lo && rank == hi ? 2.0f * v[i] : v[i];
+    }
+    return 0.5f * sum;
+}
+
 // The motion of the point: vec4(m1, m0), m0 = m1 for uniform velocity. d1: load_depth1(p1) (splat
 // reads it once for this and for its key).
 FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
@@ -78,8 +112,9 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
         // interpolation it lost as much as it gained on train (docs/ACCURACY.md, change 13). The
         // branch is uniform in interpolation; in extrapolation a SIMD group pays for the search
         // when any of its pixels needs it (splat about 1.5x on lavapipe), so it is a switch:
-        // Params::accel_search, GenParams::quadratic 2.
-        if (g.quadratic == 2u && g.extrapolate != 0u && found && length(m1 - m0) > MOTION_M0_SEARCH_PX) {
+        // Params::accel_search, GenParams::quadratic's MOTION_ACCEL_SEARCH.
+        if ((g.quadratic & MOTION_ACCEL_SEARCH) != 0u && g.extrapolate != 0u && found &&
+            length(m1 - m0) > MOTION_M0_SEARCH_PX) {
             float best = length(m1 - m0);
             vec2 chosen = m0;
             for (int k = 0; k < 4; ++k) {
@@ -103,6 +138,35 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
     // through three frames overshoots. Uniform velocity. Steady acceleration (a thrown object,
     // a camera speeding up, a turning fan) changes the motion by less and keeps the parabola.
     if (length(m1 - m0) > MOTION_ACCEL_PX + MOTION_ACCEL_RATIO * length(m1)) m0 = m1;
+    // The median. An m0 read from another surface at a similar depth (another leaf of a canopy,
+    // the ground beside a slow mover's edge) gives a pixel an acceleration its surface does not
+    // have, and so does a frame-0 vector that is off by its pixel grid; its neighbours of the same
+    // surface, each followed to its own frame-0 position, mostly are not. So in interpolation the
+    // acceleration is the componentwise median of the pixel's own (0 where it fell back to
+    // uniform velocity) and those of its 3x3 frame-1 neighbours on its surface (depth within the
+    // tolerance) whose frame-0 pixel is on that surface too and whose acceleration is plausible
+    // (neighbour_acceleration), where at least MOTION_MEDIAN_MIN of the 9 take part (fewer: the
+    // pixel's own; a small object or a thin part has no consensus to give). A pixel that does not
+    // move keeps its motion: a static source stays one (classify.h). On a surface whose
+    // acceleration varies smoothly the median of its 3x3 is its own. Not in extrapolation, where
+    // it lost on train (docs/ACCURACY.md, change 18; the search above does that part there).
+    // splat 1.16-1.30x in interpolation on lavapipe (docs/PERFORMANCE.md): Params::accel_median.
+    if ((g.quadratic & MOTION_ACCEL_MEDIAN) != 0u && g.extrapolate == 0u && MOTION_LOOKS_UP_M0(g) &&
+        m1 != vec2(0.0f)) {
+        float tolerance = 4.0f * g.t_depth;
+        float ax[9], ay[9];
+        bool ok[9];
+        int n = 0;
+        for (int k = 0; k < 9; ++k) {
+            vec3 a = k == 4 ? vec3(m1 - m0, 1.0f)
+                            : neighbour_acceleration(p1 + ivec2(k % 3 - 1, k / 3 - 1), d1, tolerance, g);
+            ax[k] = a.x;
+            ay[k] = a.y;
+            ok[k] = a.z != 0.0f;
+            n += int(ok[k]);
+        }
+        if (n >= MOTION_MEDIAN_MIN) m0 = m1 - vec2(median9(ax, ok, n), median9(ay, ok, n));
+    }
     return vec4(m1, m0);
 }
 

@@ -155,6 +155,9 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_FALSE(p.accel_search); // balanced leaves extrapolation's search out
     ASSERT_TRUE(fgsr::apply_switch(p, "accel_search=on"));
     EXPECT_TRUE(p.accel_search);
+    EXPECT_FALSE(p.accel_median); // balanced leaves interpolation's median out
+    ASSERT_TRUE(fgsr::apply_switch(p, "accel_median=on"));
+    EXPECT_TRUE(p.accel_median);
     EXPECT_TRUE(p.cover_edges); // balanced has the edge cover
     ASSERT_TRUE(fgsr::apply_switch(p, "cover_edges=off"));
     EXPECT_FALSE(p.cover_edges);
@@ -170,11 +173,10 @@ TEST(Presets, SwitchesApplyAndToggle) {
     // From balanced, every toggle changes exactly the switch it names.
     const fgsr::Params base = *fgsr::preset_params("balanced");
     const std::vector<std::string> toggles = fgsr::switch_toggles(base);
-    const std::set<std::string> expected{"motion=linear",      "resample=catmull_rom", "resample=lut",
-                                         "fill_gaps=off",      "fill_holes=off",       "blend=select",
-                                         "dilate_mvs=on",      "denoise=off",          "passes=separate",
-                                         "correct_vectors=on", "fast_motion=on",       "dilate_edges=on",
-                                         "accel_search=on",    "cover_edges=off"};
+    const std::set<std::string> expected{
+        "motion=linear",  "resample=catmull_rom", "resample=lut",    "fill_gaps=off",   "fill_holes=off",
+        "blend=select",   "dilate_mvs=on",        "denoise=off",     "passes=separate", "correct_vectors=on",
+        "fast_motion=on", "dilate_edges=on",      "accel_search=on", "accel_median=on", "cover_edges=off"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

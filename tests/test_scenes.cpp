@@ -176,6 +176,18 @@ TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
         }
 }
 
+// Where the CPU reference puts frame-1 pixel px at the generated time a (splat, then its field
+// vectors).
+glm::vec2 generated_position(const ref::InternalFrame& f0, const ref::InternalFrame& f1, const Params& p,
+                             float a, bool extrap, glm::ivec2 px) {
+    const ref::GenParams g =
+        params::gen_params(internal_format(f1.width, f1.height), p, a, extrap, true, true);
+    const ref::Splat sp = ref::splat(f0, f1, g);
+    const size_t i = size_t(px.y) * f1.width + size_t(px.x);
+    const glm::vec4 v = ref::source_field_vectors(f0, f1, sp, uint32_t(i), g);
+    return glm::vec2(px) + 0.5f - glm::vec2(v.z, v.w);
+}
+
 // The extrapolation search of shaders/motion.h (docs/ACCURACY.md, change 13): the edge pixel of a
 // uniformly sliding object whose frame-0 position lands on the still ground beside it (zero vector,
 // a depth within the tolerance: a false deceleration). In extrapolation the edge neighbour of the
@@ -200,11 +212,7 @@ TEST(Scenes, ExtrapolationTakesTheSmallestAccelerationOfTheSameSurface) {
                 Params p;
                 p.accel_search = search;
                 const float a = 0.5f;
-                const ref::GenParams g = params::gen_params(internal_format(w, h), p, a, extrap, true, true);
-                const ref::Splat sp = ref::splat(f0, f1, g);
-                const size_t i = size_t(px.y) * w + size_t(px.x);
-                const glm::vec4 v = ref::source_field_vectors(f0, f1, sp, uint32_t(i), g);
-                const glm::vec2 pt = c1 - glm::vec2(v.z, v.w);
+                const glm::vec2 pt = generated_position(f0, f1, p, a, extrap, px);
                 const glm::vec2 m0_ground(0.f);
                 const glm::vec2 accel = 0.5f * a * a * (m1 - m0_ground);
                 const glm::vec2 decelerated = extrap ? c1 + 0.5f * a * (3.f * m1 - m0_ground) + accel
@@ -216,6 +224,54 @@ TEST(Scenes, ExtrapolationTakesTheSmallestAccelerationOfTheSameSurface) {
                     << (extrap ? "extrapolation" : "interpolation")
                     << (same_depth ? ", same depth" : ", other depth") << (search ? "" : ", no search")
                     << ": at (" << pt.x << ", " << pt.y << ")";
+            }
+}
+
+// The median of the acceleration in shaders/motion.h (docs/ACCURACY.md, change 18): a surface
+// accelerating uniformly (m0 = (2, 0) px a frame, m1 = (3, 0)) whose pixel px reads its frame-0
+// vector from a pixel of another surface at the same depth (zero vector: a false deceleration, as
+// from another leaf of a canopy). Its 3x3 neighbours, each followed to its own frame-0 pixel, give
+// the surface's acceleration, so in interpolation px follows the parabola of the true motion. It
+// keeps its own acceleration with Params::accel_median off, in extrapolation, and on a surface one
+// pixel high (its same-surface neighbours are 2 of the 9; fewer than MOTION_MEDIAN_MIN take part).
+TEST(Scenes, InterpolationTakesTheMedianAccelerationOfTheSameSurface) {
+    const uint32_t w = 32, h = 16;
+    const glm::vec2 m1(3.f, 0.f), m0(2.f, 0.f), wrong(0.f); // paper notation: motion towards frame 1
+    const glm::ivec2 px(16, 8);
+    const glm::vec2 c1 = glm::vec2(px) + 0.5f, p0 = c1 - m1;
+    const glm::ivec2 under(glm::floor(p0));
+    for (bool median : {true, false})
+        for (bool thin : {false, true})
+            for (bool extrap : {false, true}) {
+                ref::InternalFrame f0 = flat_frame(w, h), f1 = flat_frame(w, h);
+                f1.mv.assign(size_t(w) * h, -m1);
+                f0.mv.assign(size_t(w) * h, -m0);
+                f0.mv[size_t(under.y) * w + size_t(under.x)] = -wrong;
+                if (thin) // only row px.y is the surface: the rows above and below lie far behind
+                    for (uint32_t y = 0; y < h; ++y)
+                        for (uint32_t x = 0; x < w; ++x)
+                            if (int(y) != px.y)
+                                f0.depth[size_t(y) * w + x] = f1.depth[size_t(y) * w + x] = 4.f;
+                Params p;
+                p.accel_median = median;
+                p.accel_search = false; // extrapolation's own remedy, tested above
+                const float a = 0.5f;
+                const glm::vec2 pt = generated_position(f0, f1, p, a, extrap, px);
+                auto at = [&](glm::vec2 m0_used) {
+                    const glm::vec2 accel = 0.5f * a * a * (m1 - m0_used);
+                    return extrap ? c1 + 0.5f * a * (3.f * m1 - m0_used) + accel
+                                  : p0 + 0.5f * a * (m1 + m0_used) + accel;
+                };
+                ASSERT_GT(glm::length(at(m0) - at(wrong)), 0.1f); // the case tells the two apart
+                const glm::vec2 want = median && !thin && !extrap ? at(m0) : at(wrong);
+                EXPECT_LT(glm::length(pt - want), 1e-4f)
+                    << (extrap ? "extrapolation" : "interpolation") << (thin ? ", thin surface" : "")
+                    << (median ? "" : ", no median") << ": at (" << pt.x << ", " << pt.y << ")";
+                // Another pixel of the surface (its own frame-0 pixel right) follows the parabola.
+                const glm::ivec2 other = px + glm::ivec2(3, 0);
+                EXPECT_LT(glm::length(generated_position(f0, f1, p, a, extrap, other) -
+                                      (at(m0) + glm::vec2(3.f, 0.f))),
+                          1e-4f);
             }
 }
 

@@ -354,6 +354,19 @@ public:
     }
 };
 
+// Submits f with the sample offset j and returns the super-resolved frame (nullopt on a failure,
+// which it reports).
+std::optional<ImageRGBA> submit_with_jitter(Session& s, RawFrame& f, glm::vec2 j) {
+    FrameView v = f.view();
+    v.jitter_x = j.x;
+    v.jitter_y = j.y;
+    EXPECT_TRUE(s.submit(v));
+    auto out = s.super_resolved();
+    EXPECT_TRUE(out) << out.error().message;
+    if (!out) return std::nullopt;
+    return std::move(out->color);
+}
+
 struct WallRun {
     double psnr = 0, uncovered_psnr = 0; // means over frames 4 to 9
     std::vector<ImageRGBA> frames;       // 4 to 9
@@ -367,18 +380,13 @@ WallRun run_wall(Params p) {
     for (int k = 0; k < 10; ++k) {
         const glm::vec2 j = halton_jitter(uint32_t(k));
         RawFrame f = ApproachedWall::lr_frame(k, j);
-        FrameView v = f.view();
-        v.jitter_x = j.x;
-        v.jitter_y = j.y;
-        EXPECT_TRUE((*s)->submit(v));
-        auto out = (*s)->super_resolved();
-        EXPECT_TRUE(out) << out.error().message;
-        if (k < 4) continue;
+        auto out = submit_with_jitter(**s, f, j);
+        if (k < 4 || !out) continue;
         std::vector<uint8_t> mask;
         const ImageRGBA truth = ApproachedWall::truth(k, &mask);
-        r.psnr += *capture::psnr(out->color, truth) / 6;
-        r.uncovered_psnr += *capture::psnr_masked(out->color, truth, mask) / 6;
-        r.frames.push_back(std::move(out->color));
+        r.psnr += *capture::psnr(*out, truth) / 6;
+        r.uncovered_psnr += *capture::psnr_masked(*out, truth, mask) / 6;
+        r.frames.push_back(std::move(*out));
     }
     return r;
 }
@@ -508,13 +516,8 @@ struct NoiseWall {
         for (int k = 0; k < 12; ++k) {
             const glm::vec2 j = halton_jitter(uint32_t(k));
             RawFrame f = lr_frame(k, j);
-            FrameView v = f.view();
-            v.jitter_x = j.x;
-            v.jitter_y = j.y;
-            EXPECT_TRUE((*s)->submit(v));
-            auto out = (*s)->super_resolved();
-            EXPECT_TRUE(out) << out.error().message;
-            if (out && k >= 4) sum += *capture::psnr(out->color, truth(k)) / 8;
+            const auto out = submit_with_jitter(**s, f, j);
+            if (out && k >= 4) sum += *capture::psnr(*out, truth(k)) / 8;
         }
         return sum;
     }

@@ -160,7 +160,10 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     // Vectors estimated from colour give no usable acceleration (the difference of two estimates
     // is mostly their error): uniform velocity, which measured better on every capture
     // (docs/MOTION.md).
-    g.quadratic = params.motion == MotionModel::quadratic && format.has_vectors ? (params.accel_search ? 2u : 1u) : 0u;
+    g.quadratic = params.motion == MotionModel::quadratic && format.has_vectors
+                      ? MOTION_ACCEL | (params.accel_search ? MOTION_ACCEL_SEARCH : 0u) |
+                            (params.accel_median ? MOTION_ACCEL_MEDIAN : 0u)
+                      : 0u;
     g.frame0_has_mv = frame0_has_mv ? 1u : 0u;
     g.frame1_has_mv = frame1_has_mv ? 1u : 0u;
     g.t_depth = params.t_depth;

@@ -54,6 +54,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_mvs = false;
         p.dilate_edges = 0.f;
         p.accel_search = false;
+        p.accel_median = false;
         p.cover_edges = false;
         break;
     case Preset::balanced:
@@ -65,6 +66,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_mvs = false;
         p.dilate_edges = 0.f;
         p.accel_search = false;
+        p.accel_median = false;
         p.cover_edges = true;
         break;
     case Preset::quality:
@@ -76,6 +78,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_mvs = true;
         p.dilate_edges = defaults::dilate_edges;
         p.accel_search = true;
+        p.accel_median = true;
         p.cover_edges = true;
         break;
     }
@@ -111,7 +114,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 13> kSwitches{{
+inline constexpr std::array<SwitchInfo, 14> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -124,6 +127,7 @@ inline constexpr std::array<SwitchInfo, 13> kSwitches{{
     {"fast_motion", {"on", "off", ""}, "without vectors: no refinement of the estimated vectors"},
     {"dilate_edges", {"on", "off", ""}, "ingest: edge pixels take the front's vector where colour follows it"},
     {"accel_search", {"on", "off", ""}, "extrapolation: frame-0 vector of the smallest acceleration among same-surface neighbours"},
+    {"accel_median", {"on", "off", ""}, "interpolation: median acceleration of the same surface's 3x3 neighbours"},
     {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
 }};
 
@@ -142,6 +146,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "fast_motion") return onoff(p.fast_motion);
     if (key == "dilate_edges") return onoff(p.dilate_edges > 0.f);
     if (key == "accel_search") return onoff(p.accel_search);
+    if (key == "accel_median") return onoff(p.accel_median);
     if (key == "cover_edges") return onoff(p.cover_edges);
     return "";
 }
@@ -159,7 +164,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
-                "correct_vectors, fast_motion, dilate_edges, accel_search, cover_edges)");
+                "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, cover_edges)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -182,6 +187,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "fast_motion") p.fast_motion = on;
     if (key == "dilate_edges") p.dilate_edges = on ? defaults::dilate_edges : 0.f;
     if (key == "accel_search") p.accel_search = on;
+    if (key == "accel_median") p.accel_median = on;
     if (key == "cover_edges") p.cover_edges = on;
     return {};
 }
