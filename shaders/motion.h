@@ -140,17 +140,18 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
     if (length(m1 - m0) > MOTION_ACCEL_PX + MOTION_ACCEL_RATIO * length(m1)) m0 = m1;
     // The median. An m0 read from another surface at a similar depth (another leaf of a canopy,
     // the ground beside a slow mover's edge) gives a pixel an acceleration its surface does not
-    // have, and so does a frame-0 vector that is off by its pixel grid; its neighbours of the same
-    // surface, each followed to its own frame-0 position, mostly are not. So in interpolation the
-    // acceleration is the componentwise median of the pixel's own (0 where it fell back to
-    // uniform velocity) and those of its 3x3 frame-1 neighbours on its surface (depth within the
-    // tolerance) whose frame-0 pixel is on that surface too and whose acceleration is plausible
-    // (neighbour_acceleration), where at least MOTION_MEDIAN_MIN of the 9 take part (fewer: the
-    // pixel's own; a small object or a thin part has no consensus to give). A pixel that does not
-    // move keeps its motion: a static source stays one (classify.h). On a surface whose
-    // acceleration varies smoothly the median of its 3x3 is its own. Not in extrapolation, where
-    // it lost on train (docs/ACCURACY.md, change 18; the search above does that part there).
-    // splat 1.16-1.30x in interpolation on lavapipe (docs/PERFORMANCE.md): Params::accel_median.
+    // have; its neighbours of the same surface, each followed to its own frame-0 position, mostly
+    // land on their own surface. So in interpolation the acceleration is the componentwise median
+    // of the pixel's own (0 where it fell back to uniform velocity) and those of its 3x3 frame-1
+    // neighbours on its surface (depth within the tolerance) whose frame-0 pixel is on that
+    // surface too and whose acceleration is plausible (neighbour_acceleration), where at least
+    // MOTION_MEDIAN_MIN of the 9 take part (fewer: the pixel's own; a small object or a thin part
+    // has no consensus to give). A pixel that does not move keeps its motion: a static source
+    // stays one (classify.h). On a surface whose acceleration varies smoothly the median of its
+    // 3x3 is its own or close to it (exactly for a field linear in x and y with all 9 taking part:
+    // the values pair up about it). Not in extrapolation, where it lost on train
+    // (docs/ACCURACY.md, change 18; the search above does that part there). splat 1.16-1.30x in
+    // interpolation on lavapipe (docs/PERFORMANCE.md): Params::accel_median.
     if ((g.quadratic & MOTION_ACCEL_MEDIAN) != 0u && g.extrapolate == 0u && MOTION_LOOKS_UP_M0(g) &&
         m1 != vec2(0.0f)) {
         float tolerance = 4.0f * g.t_depth;
