@@ -324,6 +324,20 @@ FGSR_INLINE bool inside(ivec2 q, GenParams g) {
 // motion.h and classify.h's mirror of it search these.
 FGSR_INLINE ivec2 edge_neighbour_offset(int k) { return k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5); }
 
+// The median of the values v[i] with ok[i] (n of them, n >= 1): the middle one, or the mean of
+// the two middle ones for even n (motion.h's acceleration, match.h's fill). By rank, without
+// sorting: no indexing by a variable, which on CPU devices puts an array in memory.
+FGSR_INLINE float median9(float v[9], bool ok[9], int n) {
+    int lo = (n - 1) / 2, hi = n / 2;
+    float sum = 0.0f;
+    for (int i = 0; i < 9; ++i) {
+        int rank = 0;
+        for (int j = 0; j < 9; ++j) rank += int(ok[j] && (v[j] < v[i] || (v[j] == v[i] && j < i)));
+        if (ok[i] && (rank == lo || rank == hi)) sum += rank == lo && rank == hi ? 2.0f * v[i] : v[i];
+    }
+    return 0.5f * sum;
+}
+
 // |a - b| relative to the nearer of the two (depths are positive).
 FGSR_INLINE float relative_depth_difference(float a, float b) { return abs(a - b) / max(min(a, b), 1.0e-20f); }
 

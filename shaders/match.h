@@ -336,28 +336,16 @@ FGSR_INLINE void fill_block(uvec2 b, MatchParams p) {
     } else { // textured: the component-wise median of the 3x3 blocks (isolated wrong matches)
         float xs[9];
         float ys[9];
-        int n = 0;
-        for (int y = -1; y <= 1; ++y)
-            for (int x = -1; x <= 1; ++x) {
-                ivec2 c = clamp(ivec2(b) + ivec2(x, y), ivec2(0), ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1));
-                vec4 f = load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x));
-                xs[n] = f.x;
-                ys[n] = f.y;
-                ++n;
-            }
-        float mx = own.x, my = own.y;
-        for (int i = 0; i < 9; ++i) {
-            int lx = 0, ex = 0, ly = 0, ey = 0;
-            for (int j = 0; j < 9; ++j) {
-                lx += xs[j] < xs[i] ? 1 : 0;
-                ex += xs[j] == xs[i] ? 1 : 0;
-                ly += ys[j] < ys[i] ? 1 : 0;
-                ey += ys[j] == ys[i] ? 1 : 0;
-            }
-            if (lx <= 4 && lx + ex > 4) mx = xs[i];
-            if (ly <= 4 && ly + ey > 4) my = ys[i];
+        bool all[9];
+        for (int k = 0; k < 9; ++k) {
+            ivec2 c = clamp(ivec2(b) + ivec2(k % 3 - 1, k / 3 - 1), ivec2(0),
+                            ivec2(int(p.blocks_x) - 1, int(p.blocks_y) - 1));
+            vec4 f = load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x));
+            xs[k] = f.x;
+            ys[k] = f.y;
+            all[k] = true;
         }
-        result = vec4(mx, my, own.z, own.w);
+        result = vec4(median9(xs, all, 9), median9(ys, all, 9), own.z, own.w);
     }
     store_field(p.field_offset + b.y * p.blocks_x + b.x, result);
 }

@@ -59,20 +59,6 @@ FGSR_INLINE vec3 neighbour_acceleration(ivec2 pn, float d1, float tolerance, Gen
                                                                               : vec3(0.0f);
 }
 
-// The median of the values v[i] with ok[i] (n of them, n >= 1): the middle one, or the mean of
-// the two middle ones for even n. By rank, without sorting (no indexing by a variable on CPU
-// devices, where an array indexed so lives in memory).
-FGSR_INLINE float median9(float v[9], bool ok[9], int n) {
-    int lo = (n - 1) / 2, hi = n / 2;
-    float sum = 0.0f;
-    for (int i = 0; i < 9; ++i) {
-        int rank = 0;
-        for (int j = 0; j < 9; ++j) rank += int(ok[j] && (v[j] < v[i] || (v[j] == v[i] && j < i)));
-        if (ok[i] && (rank == lo || rank == hi)) sum += rank == lo && rank == hi ? 2.0f * v[i] : v[i];
-    }
-    return 0.5f * sum;
-}
-
 // The motion of the point: vec4(m1, m0), m0 = m1 for uniform velocity. d1: load_depth1(p1) (splat
 // reads it once for this and for its key).
 FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {

@@ -3,6 +3,7 @@
 // translations of a continuous texture, a square moving over a still background (vectors,
 // occlusion, depth proxy), flat colour, a scene cut, and interpolation against the exact frame.
 #include "engine_fixture.hpp"
+#include "value_noise.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -32,23 +33,6 @@ struct FlowHeader {
 namespace fgsr::test {
 namespace {
 
-// Value noise: a continuous function of the plane, so that sampling it shifted gives an exact
-// translation at any sub-pixel offset. Non-periodic, so block matching has one right answer.
-float lattice(int x, int y, uint32_t seed) {
-    uint32_t h = uint32_t(x) * 374761393u + uint32_t(y) * 668265263u + seed * 2246822519u;
-    h = (h ^ (h >> 13)) * 1274126177u;
-    return float((h ^ (h >> 16)) & 0xffffu) / 65535.f;
-}
-float value_noise(float x, float y, float scale, uint32_t seed) {
-    const float fx = x / scale, fy = y / scale;
-    const int ix = int(std::floor(fx)), iy = int(std::floor(fy));
-    float tx = fx - float(ix), ty = fy - float(iy);
-    tx = tx * tx * (3 - 2 * tx);
-    ty = ty * ty * (3 - 2 * ty);
-    const float a = lattice(ix, iy, seed), b = lattice(ix + 1, iy, seed), c = lattice(ix, iy + 1, seed),
-                d = lattice(ix + 1, iy + 1, seed);
-    return (a + (b - a) * tx) + ((c + (d - c) * tx) - (a + (b - a) * tx)) * ty;
-}
 glm::vec4 texture(glm::vec2 p, uint32_t seed) {
     const float n = 0.35f * value_noise(p.x, p.y, 3.f, seed) + 0.25f * value_noise(p.x, p.y, 7.f, seed + 1) +
                     0.2f * value_noise(p.x, p.y, 19.f, seed + 2) +

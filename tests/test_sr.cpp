@@ -2,6 +2,7 @@
 // synthetic scene (sampled exactly at pixel centre + jitter) against its antialiased
 // high-resolution rendering, plus the `sr` pass against its CPU reference.
 #include "engine_fixture.hpp"
+#include "value_noise.hpp"
 
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
@@ -444,28 +445,15 @@ struct NoiseWall {
     static constexpr double kScale = 2.0, kFocal = 90.0, kZ0 = 10.0, kPan = 0.05;
     double rate = 0.05, cell = 0.15;
 
-    static double lattice(int x, int y, uint32_t seed) {
-        uint32_t h = uint32_t(x) * 374761393u + uint32_t(y) * 668265263u + seed * 2246822519u;
-        h = (h ^ (h >> 13)) * 1274126177u;
-        return double(h ^ (h >> 16)) / 4294967295.0;
-    }
-    static double value_noise(double x, double y, uint32_t seed) {
-        const double ix = std::floor(x), iy = std::floor(y);
-        const double fx = x - ix, fy = y - iy;
-        const double sx = fx * fx * (3 - 2 * fx), sy = fy * fy * (3 - 2 * fy);
-        const int i = int(ix), j = int(iy);
-        const double top = lattice(i, j, seed) * (1 - sx) + lattice(i + 1, j, seed) * sx;
-        const double bottom = lattice(i, j + 1, seed) * (1 - sx) + lattice(i + 1, j + 1, seed) * sx;
-        return top * (1 - sy) + bottom * sy;
-    }
     double depth(double t) const { return kZ0 * std::pow(1 - rate, t); }
     glm::vec3 color(glm::dvec2 w) const {
         glm::dvec3 c(0.0);
         double amp = 0.6, size = cell;
+        const glm::vec2 f(w);
         for (uint32_t o = 0; o < 3; ++o, amp *= 0.6, size *= 0.5)
-            c += amp * glm::dvec3(value_noise(w.x / size, w.y / size, 1 + o),
-                                  value_noise(w.x / size, w.y / size, 11 + o),
-                                  value_noise(w.x / size, w.y / size, 21 + o));
+            c += amp * glm::dvec3(value_noise(f.x, f.y, float(size), 1 + o),
+                                  value_noise(f.x, f.y, float(size), 11 + o),
+                                  value_noise(f.x, f.y, float(size), 21 + o));
         return glm::vec3(c);
     }
     // The wall point seen at LR position (x, y) at time t, and back.

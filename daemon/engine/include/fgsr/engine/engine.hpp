@@ -110,8 +110,8 @@ struct Params {
     // the median of its own and those of its 3x3 neighbours of the same surface, where at least
     // 5 of the 9 take part (an m0 read from another leaf or from the ground beside an edge is an
     // outlier there). splat 1.16-1.30x in interpolation on lavapipe (docs/PERFORMANCE.md); off
-    // in the balanced and performance presets. Not carried by the wire protocol: fgsrd's sessions use
-    // the default.
+    // in the balanced and performance presets. Not carried by the wire protocol: fgsrd's sessions
+    // use the default.
     bool accel_median = true;
     // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
     // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
