@@ -33,6 +33,19 @@
 //      new samples comes from vectors that do not follow the colour (temporally antialiased
 //      colour trailing its geometry), not from aliasing; on aliased input it is the detail the
 //      samples alias, and the rule would cost (docs/ACCURACY.md, change 9).
+//   7. Noise (SR_NOISE_AVERAGE; the host sets it where the input measures aliased): the weight a
+//      of the new samples falls to (1 - SR_NOISE_CUT) a where they scatter about the history like
+//      noise. Detail finer than an output pixel (the renders' procedural textures point-sampled)
+//      gives every jittered sample a new value about the same mean, which the truth is; with a
+//      high a the output follows each sample's scatter. The measure r: over t's 3x3 samples on
+//      t's surface (depth within T_D), the mean squared luma difference between each sample and
+//      the history read bilinearly at that sample's own previous position, less the square of
+//      their mean difference (a shift of the history against the samples, from vectors that do
+//      not follow the colour, is bias, not noise: there more history would lag), relative to the
+//      samples' own luma variance. Detail the history resolves predicts its samples (r small);
+//      unresolved detail does not (r about 1 or more). a is lowered by SR_NOISE_CUT x
+//      clamp((r - SR_NOISE_R0) x SR_NOISE_GAIN, 0, 1), where at least 4 samples take part. Chosen on
+//      the train captures (docs/ACCURACY.md, change 19).
 //
 // Entry provides:
 //   vec4  load_lr_color(ivec2 lr_pixel), float load_lr_depth(ivec2), vec2 load_lr_mv(ivec2)
@@ -78,6 +91,37 @@ FGSR_INLINE float motion_depth_scale(ivec2 t, float d_now, SrParams p) {
     // J's columns: the previous position's derivatives along x and y, step + d(mv).
     float det = (1.0f + g[0].x) * (1.0f + g[1].y) - g[1].x * g[0].y;
     return inversesqrt(clamp(det, 0.25f, 4.0f));
+}
+
+#define SR_NOISE_R0 0.35f
+#define SR_NOISE_GAIN 4.0f
+#define SR_NOISE_CUT 0.4f
+
+FGSR_INLINE float sr_luma(vec4 c) { return dot(vec3(c), vec3(0.2126f, 0.7152f, 0.0722f)); }
+
+// Step 7: the factor (1 - SR_NOISE_CUT) .. 1 of the new samples' weight at LR pixel t, whose
+// depth is d_now.
+FGSR_INLINE float noise_weight(ivec2 t, float d_now, vec2 jitter, SrParams p) {
+    ivec2 size = ivec2(int(p.hr_width), int(p.hr_height));
+    float sum = 0.0f, sum2 = 0.0f, diff = 0.0f, diff2 = 0.0f, count = 0.0f;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x) {
+            ivec2 s = clamp_lr(t + ivec2(x, y), p);
+            if (!(relative_depth_difference(load_lr_depth(s), d_now) <= p.t_depth)) continue;
+            float l = sr_luma(load_lr_color(s));
+            vec2 prev = (vec2(s) + vec2(0.5f) + jitter + load_lr_mv(s)) * p.scale;
+            float e = l - sr_luma(resample(prev, size, RESAMPLE_BILINEAR));
+            sum += l;
+            sum2 += l * l;
+            diff += e;
+            diff2 += e * e;
+            count += 1.0f;
+        }
+    if (count < 4.0f) return 1.0f;
+    float mean = sum / count, bias = diff / count;
+    float variance = max(sum2 / count - mean * mean, 1.0e-6f);
+    float r = (diff2 / count - bias * bias) / variance;
+    return 1.0f - SR_NOISE_CUT * clamp((r - SR_NOISE_R0) * SR_NOISE_GAIN, 0.0f, 1.0f);
 }
 
 // Step 2's depth test: does the previous depth at the history's position belong to t's surface?
@@ -135,8 +179,9 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     }
     // With a = 1 (or the history's weight 0) and every sample weighted 0 (b * d >= 1) Eq. 2 has
     // no term left (0 / 0).
-    float wc = p.a * wsum / n;
+    float a = (p.flags & SR_NOISE_AVERAGE) != 0u ? p.a * noise_weight(t, d_now, jitter, p) : p.a;
+    float wc = a * wsum / n;
     float norm = wc + wh;
     if (!(norm > 0.0f)) return lr_upsample(pos - jitter, p);
-    return (p.a * sum / n + wh * hist) / norm;
+    return (a * sum / n + wh * hist) / norm;
 }

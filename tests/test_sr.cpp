@@ -444,6 +444,7 @@ struct NoiseWall {
     static constexpr uint32_t kLrW = 120, kLrH = 80;
     static constexpr double kScale = 2.0, kFocal = 90.0, kZ0 = 10.0, kPan = 0.05;
     double rate = 0.05, cell = 0.15;
+    bool noise_average = false; // Params::sr_noise_average
 
     double depth(double t) const { return kZ0 * std::pow(1 - rate, t); }
     glm::vec3 color(glm::dvec2 w) const {
@@ -497,6 +498,7 @@ struct NoiseWall {
         Params p;
         p.scale = float(kScale);
         p.resample = kind;
+        p.sr_noise_average = noise_average;
         auto s = engine().create_session(internal_format(kLrW, kLrH), p);
         EXPECT_TRUE(s) << s.error().message;
         if (!s) return 0;
@@ -531,6 +533,29 @@ TEST(Sr, LearnedHistoryKeepsResolvedDetailOfAnApproachedWall) {
     expect_no_validation_errors();
 }
 
+// Step 7 of shaders/sr.h (Params::sr_noise_average): on texture far finer than an output pixel,
+// which the truth averages out, every jittered point sample is a new draw about that average;
+// fewer new samples where they scatter about the history like noise brings the output closer to
+// the truth. On texture the output resolves the history predicts its samples and the output
+// stays as it was, within a small tolerance.
+TEST(Sr, NoiseAverageBringsUnresolvedTextureCloserToTheTruth) {
+    for (double cell : {0.01, 0.02}) {
+        NoiseWall off, on;
+        off.cell = on.cell = cell;
+        on.noise_average = true;
+        const double without = off.sr_psnr(Resample::lut), with = on.sr_psnr(Resample::lut);
+        std::printf("[ measured ] texture cell %.2f: %.3f dB with noise averaging, %.3f without\n", cell, with,
+                    without);
+        EXPECT_GT(with, without + 0.1) << "cell " << cell;
+    }
+    NoiseWall off, on;
+    on.noise_average = true;
+    const double without = off.sr_psnr(Resample::lut), with = on.sr_psnr(Resample::lut);
+    std::printf("[ measured ] resolved texture: %.3f dB with noise averaging, %.3f without\n", with, without);
+    EXPECT_GT(with, without - 0.1);
+    expect_no_validation_errors();
+}
+
 // The sr pass on the GPU against the CPU reference on the same inputs (random frames, random
 // history), for every resampling kind, with and without dilation.
 TEST(Sr, PassMatchesReference) {
@@ -545,6 +570,8 @@ TEST(Sr, PassMatchesReference) {
             p.sr_depth_motion = !dilate || kind == Resample::lut; // both depth tests (sr.h step 2)
             // Both spatial kernels (step 5): automatic takes the B-spline on this aliased input.
             p.sr_spatial = kind == Resample::catmull_rom ? SrSpatial::catmull_rom : SrSpatial::automatic;
+            // Step 7 (on this aliased input) with the LUT and bilinear history.
+            p.sr_noise_average = kind != Resample::catmull_rom;
             auto s = engine().create_session(internal_format(w, h), p);
             ASSERT_TRUE(s);
             RawFrame f0 = random_frame(w, h, 3, 2.f), f1 = random_frame(w, h, 4, 2.f);

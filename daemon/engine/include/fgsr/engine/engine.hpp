@@ -129,6 +129,13 @@ struct Params {
     // sr: the kernel of the spatial upsample (rejected history, first frame). Not carried by the
     // wire protocol.
     SrSpatial sr_spatial = SrSpatial::automatic;
+    // sr: on input that measures aliased (Session::input_aliasing), the new samples' weight is
+    // lowered where they scatter about the history like noise (detail finer than an output pixel),
+    // so that more frames average them (shaders/sr.h step 7); false: Eq. 2's a everywhere. Opt-in:
+    // sr gains 0.11-0.44 dB on the noisy train renders but fan-sr (validation) loses 0.04 and
+    // isr / esr lose up to 0.03 on foliage, fan and cut (docs/ACCURACY.md, change 19). Not
+    // carried by the wire protocol.
+    bool sr_noise_average = false;
     // Sessions with vectors: estimate motion from colour as colour-only sessions do (luma, match,
     // flow passes) and replace, per pixel, the client's vector by the estimate where the colour
     // follows the estimate by far better (shading that moves on its own: shadows, reflections).
