@@ -132,7 +132,7 @@ struct Params {
     // sr: on input that measures aliased (Session::input_aliasing), the new samples' weight is
     // lowered where they scatter about the history like noise (detail finer than an output pixel),
     // so that more frames average them (shaders/sr.h step 7); false: Eq. 2's a everywhere. Opt-in:
-    // sr gains 0.11-0.44 dB on the noisy train renders but fan-sr (validation) loses 0.04 and
+    // sr gains 0.09-0.25 dB on the noisy train renders but fan-sr (validation) loses 0.04 and
     // isr / esr lose up to 0.03 on foliage, fan and cut (docs/ACCURACY.md, change 19). Not
     // carried by the wire protocol.
     bool sr_noise_average = false;
