@@ -97,10 +97,11 @@ FGSR_INLINE float motion_depth_scale(ivec2 t, float d_now, SrParams p) {
 #define SR_NOISE_GAIN 4.0f
 #define SR_NOISE_CUT 0.4f
 
-FGSR_INLINE float sr_luma(vec4 c) { return dot(vec3(c), vec3(0.2126f, 0.7152f, 0.0722f)); }
-
 // Step 7: the factor (1 - SR_NOISE_CUT) .. 1 of the new samples' weight at LR pixel t, whose
-// depth is d_now.
+// depth is d_now. It reads super_resolve's 3x3 colour and depth again: folded into that loop
+// behind the (uniform) flag, the history reads made the sr pass 1.4x slower on lavapipe with the
+// flag off (street-sr 66.8 -> 94.4 ms, medians of 3 alternating runs), as CPU devices run a branch's
+// loads for every lane.
 FGSR_INLINE float noise_weight(ivec2 t, float d_now, vec2 jitter, SrParams p) {
     ivec2 size = ivec2(int(p.hr_width), int(p.hr_height));
     float sum = 0.0f, sum2 = 0.0f, diff = 0.0f, diff2 = 0.0f, count = 0.0f;
@@ -108,9 +109,9 @@ FGSR_INLINE float noise_weight(ivec2 t, float d_now, vec2 jitter, SrParams p) {
         for (int x = -1; x <= 1; ++x) {
             ivec2 s = clamp_lr(t + ivec2(x, y), p);
             if (!(relative_depth_difference(load_lr_depth(s), d_now) <= p.t_depth)) continue;
-            float l = sr_luma(load_lr_color(s));
+            float l = linear_luminance(load_lr_color(s));
             vec2 prev = (vec2(s) + vec2(0.5f) + jitter + load_lr_mv(s)) * p.scale;
-            float e = l - sr_luma(resample(prev, size, RESAMPLE_BILINEAR));
+            float e = l - linear_luminance(resample(prev, size, RESAMPLE_BILINEAR));
             sum += l;
             sum2 += l * l;
             diff += e;
