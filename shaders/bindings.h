@@ -65,7 +65,8 @@
 #define SR_HISTORY 4
 #define SR_LUT 5
 #define SR_OUTPUT 6
-#define SR_COUNT 7
+#define SR_NOISE 7 // vec2 per LR pixel: (r, q) of sr.h steps 3 and 7 (written by variant sr_noise)
+#define SR_COUNT 8
 
 #define GENSR_COLOR0 6
 #define GENSR_COLOR1 7

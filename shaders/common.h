@@ -136,6 +136,7 @@ struct SplatParams {
 #define SR_DEPTH_MOTION 1u   // sr.h step 2: the depth test expects the depth change the motion implies
 #define SR_SMOOTH_SPATIAL 2u // sr.h step 5: the spatial upsample is the cubic B-spline (aliased input)
 #define SR_NOISE_AVERAGE 4u  // sr.h step 7: fewer new samples where they scatter about the history like noise
+#define SR_NOISE_KERNEL 8u   // sr.h step 3: the LUT's history smoother where the samples scatter like noise
 
 // super resolution of one rendered frame (sr.h) and the joint ISR / ESR pass (generate_sr.h)
 struct SrParams {

@@ -38,6 +38,13 @@ FGSR_INLINE vec4 bspline_weights(float t) {
     return vec4(u * u * u, 3.0f * t3 - 6.0f * t2 + 4.0f, -3.0f * t3 + 3.0f * t2 + 3.0f * t + 1.0f, t3) / 6.0f;
 }
 
+// The LUT's base pixel (xy) and phase bin (zw, 0..L-1) of position pos.
+FGSR_INLINE ivec4 lut_bin(vec2 pos) {
+    ivec2 k = ivec2(floor((pos - vec2(0.5f)) * float(FGSR_LUT_LEVELS) + vec2(0.5f)));
+    ivec2 base = ivec2(floor(vec2(k) / float(FGSR_LUT_LEVELS)));
+    return ivec4(base, k - base * FGSR_LUT_LEVELS);
+}
+
 FGSR_INLINE vec4 resample(vec2 pos, ivec2 src_size, uint kind) {
     vec2 x = pos - vec2(0.5f);
     vec2 b = floor(x);
@@ -54,13 +61,28 @@ FGSR_INLINE vec4 resample(vec2 pos, ivec2 src_size, uint kind) {
     vec4 wx = catmull_rom_weights(f.x), wy = catmull_rom_weights(f.y);
     uint lut_row = 0u; // the phase's first row of 4 weights
     if (kind == RESAMPLE_LUT) {
-        ivec2 k = ivec2(floor(x * float(FGSR_LUT_LEVELS) + vec2(0.5f)));
-        base = ivec2(floor(vec2(k) / float(FGSR_LUT_LEVELS)));
-        ivec2 bin = k - base * FGSR_LUT_LEVELS;
-        lut_row = uint(bin.y * FGSR_LUT_LEVELS + bin.x) * 4u;
+        ivec4 lb = lut_bin(pos);
+        base = ivec2(lb.x, lb.y);
+        lut_row = uint(lb.w * FGSR_LUT_LEVELS + lb.z) * 4u;
     }
     for (int j = 0; j < 4; ++j) {
         vec4 w = kind == RESAMPLE_LUT ? load_lut4(lut_row + uint(j)) : wx * wy[j];
+        for (int i = 0; i < 4; ++i) sum += w[i] * load_src(clamp(base + ivec2(i - 1, j - 1), ivec2(0), hi));
+    }
+    return sum;
+}
+
+// The LUT's read with its weights moved towards the cubic B-spline's by k (0..1), on the same 16
+// taps: the B-spline taken at the phase of the LUT's bin, at most 1/(2 FGSR_LUT_LEVELS) of a pixel
+// from the exact phase (sr.h step 3, SR_NOISE_KERNEL).
+FGSR_INLINE vec4 resample_lut_smoothed(vec2 pos, ivec2 src_size, float k) {
+    ivec4 lb = lut_bin(pos);
+    ivec2 base = ivec2(lb.x, lb.y), hi = src_size - ivec2(1);
+    uint lut_row = uint(lb.w * FGSR_LUT_LEVELS + lb.z) * 4u;
+    vec4 bx = bspline_weights(float(lb.z) / float(FGSR_LUT_LEVELS)), by = bspline_weights(float(lb.w) / float(FGSR_LUT_LEVELS));
+    vec4 sum = vec4(0.0f);
+    for (int j = 0; j < 4; ++j) {
+        vec4 w = mix(load_lut4(lut_row + uint(j)), bx * by[j], k);
         for (int i = 0; i < 4; ++i) sum += w[i] * load_src(clamp(base + ivec2(i - 1, j - 1), ivec2(0), hi));
     }
     return sum;

@@ -13,6 +13,7 @@ layout(std430, binding = SR_PREV_DEPTH) readonly buffer PrevDepth { float prev_d
 layout(std430, binding = SR_HISTORY) readonly buffer History { u64vec2 history[]; }; // vec4
 layout(std430, binding = SR_LUT) readonly buffer Lut { u64vec2 lut[]; };             // vec4
 layout(std430, binding = SR_OUTPUT) writeonly buffer Output { u64vec2 outp[]; };     // vec4
+layout(std430, binding = SR_NOISE) buffer Noise { vec2 noise[]; };
 #include "load64.h"
 
 vec4 load_lr_color(ivec2 q) { return unpack_color(as_uvec2(color[q.y * int(pc.p.lr_width) + q.x])); }
@@ -28,6 +29,7 @@ float load_prev_depth(ivec2 q) { return prev_depth[q.y * int(pc.p.lr_width) + q.
 #endif
 vec4 load_src(ivec2 q) { return as_vec4(history[q.y * int(pc.p.hr_width) + q.x]); }
 vec4 load_lut4(uint row) { return as_vec4(lut[row]); }
+vec2 load_noise(ivec2 q) { return noise[q.y * int(pc.p.lr_width) + q.x]; }
 
 #include "resample.h"
 #include "sr.h"
@@ -45,6 +47,12 @@ void main() {
         return;
 #else
     ivec2 q = ivec2(gl_GlobalInvocationID.xy);
+#ifdef FGSR_SR_NOISE_STAGE
+    // The stage before the pass (variant sr_noise): one invocation per LR pixel.
+    if (q.x < int(pc.p.lr_width) && q.y < int(pc.p.lr_height))
+        noise[q.y * int(pc.p.lr_width) + q.x] = noise_stats(q, vec2(pc.p.jitter_x, pc.p.jitter_y), pc.p);
+    return;
+#endif
     if (q.x >= int(pc.p.hr_width) || q.y >= int(pc.p.hr_height)) return;
 #endif
     outp[q.y * int(pc.p.hr_width) + q.x] = as_u64vec2(super_resolve(q, pc.p));

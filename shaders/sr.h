@@ -16,6 +16,14 @@
 //      rejects (docs/ACCURACY.md, change 15).
 //   3. History: resampled at h (bilinear, Catmull-Rom or the learned LUT, resample.h), then
 //      clamped to the colour box (min/max) of the current 3x3 LR neighbourhood (shading changes).
+//      With SR_NOISE_KERNEL (opt-in; the host sets it for the LUT where the input measures
+//      aliased) the LUT's weights move towards the cubic B-spline's, on the same taps, by
+//      k = clamp((r - SR_KERNEL_R0) x SR_KERNEL_GAIN, 0, 1) x clamp((SR_KERNEL_Q1 - q) /
+//      SR_KERNEL_Q_SPAN, 0, 1): where the samples scatter about the history like noise (r, step 7)
+//      and the history read at their positions varies less than they do (q: its luma variance over
+//      theirs). That is detail finer than an output pixel, which the truth averages out and the
+//      LUT would keep as the samples aliased it; it costs on detail near the output's resolution,
+//      which looks the same to the 3x3 (docs/ACCURACY.md, change 20).
 //   4. Current samples: LR pixel (i, j) sampled the scene at (i + 0.5 + jitter) LR pixels; the
 //      samples within one LR pixel of p get weight w = 1 - b * d (d: distance in LR pixels).
 //   5. Eq. 2 with its weights normalised: q = (a * sum(w s) / n + (1 - a) * history) /
@@ -46,13 +54,15 @@
 //      unresolved detail does not (r about 1 or more). a is lowered by SR_NOISE_CUT x
 //      clamp((r - SR_NOISE_R0) x SR_NOISE_GAIN, 0, 1), where at least 4 samples take part. Chosen on
 //      the train captures (docs/ACCURACY.md, change 19).
+// r and q depend on the LR pixel t alone: a stage before the pass (noise_stats, variant sr_noise)
+// measures them once per LR pixel, where step 3's or step 7's flag is set and there is a history.
 //
 // Entry provides:
 //   vec4  load_lr_color(ivec2 lr_pixel), float load_lr_depth(ivec2), vec2 load_lr_mv(ivec2)
 //   float load_prev_depth(ivec2 lr_pixel)     previous frame's LR depth
 //   vec4  load_src(ivec2 hr_pixel)            the previous HR output (history), for resample.h
 //   vec4  load_lut4(uint row)
-//   void  store_sr(uint hr_index, vec4 color)
+//   vec2  load_noise(ivec2 lr_pixel)          (r, q) of the stage (steps 3 and 7 only)
 
 FGSR_INLINE ivec2 clamp_lr(ivec2 q, SrParams p) { return clamp(q, ivec2(0), ivec2(int(p.lr_width) - 1, int(p.lr_height) - 1)); }
 
@@ -96,33 +106,50 @@ FGSR_INLINE float motion_depth_scale(ivec2 t, float d_now, SrParams p) {
 #define SR_NOISE_R0 0.35f
 #define SR_NOISE_GAIN 4.0f
 #define SR_NOISE_CUT 0.4f
+#define SR_KERNEL_R0 0.6f
+#define SR_KERNEL_GAIN 4.0f
+#define SR_KERNEL_Q1 0.9f
+#define SR_KERNEL_Q_SPAN 0.4f
 
-// Step 7: the factor (1 - SR_NOISE_CUT) .. 1 of the new samples' weight at LR pixel t, whose
-// depth is d_now. It reads super_resolve's 3x3 colour and depth again: folded into that loop
-// behind the (uniform) flag, the history reads made the sr pass 1.4x slower on lavapipe with the
-// flag off (street-sr 66.8 -> 94.4 ms, medians of 3 alternating runs), as CPU devices run a branch's
-// loads for every lane.
-FGSR_INLINE float noise_weight(ivec2 t, float d_now, vec2 jitter, SrParams p) {
+// The stage before the pass (variant sr_noise), one invocation per LR pixel t: (r, q) of steps 3
+// and 7 over t's 3x3 samples on t's surface; r < 0 where fewer than 4 take part.
+FGSR_INLINE vec2 noise_stats(ivec2 t, vec2 jitter, SrParams p) {
     ivec2 size = ivec2(int(p.hr_width), int(p.hr_height));
-    float sum = 0.0f, sum2 = 0.0f, diff = 0.0f, diff2 = 0.0f, count = 0.0f;
+    float d_now = load_lr_depth(t);
+    float sum = 0.0f, sum2 = 0.0f, diff = 0.0f, diff2 = 0.0f, hsum = 0.0f, hsum2 = 0.0f, count = 0.0f;
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x) {
             ivec2 s = clamp_lr(t + ivec2(x, y), p);
             if (!(relative_depth_difference(load_lr_depth(s), d_now) <= p.t_depth)) continue;
             float l = linear_luminance(load_lr_color(s));
             vec2 prev = (vec2(s) + vec2(0.5f) + jitter + load_lr_mv(s)) * p.scale;
-            float e = l - linear_luminance(resample(prev, size, RESAMPLE_BILINEAR));
+            float hl = linear_luminance(resample(prev, size, RESAMPLE_BILINEAR));
+            float e = l - hl;
             sum += l;
             sum2 += l * l;
+            hsum += hl;
+            hsum2 += hl * hl;
             diff += e;
             diff2 += e * e;
             count += 1.0f;
         }
-    if (count < 4.0f) return 1.0f;
-    float mean = sum / count, bias = diff / count;
+    if (count < 4.0f) return vec2(-1.0f, 0.0f);
+    float mean = sum / count, bias = diff / count, hmean = hsum / count;
     float variance = max(sum2 / count - mean * mean, 1.0e-6f);
-    float r = (diff2 / count - bias * bias) / variance;
+    return vec2((diff2 / count - bias * bias) / variance, max(hsum2 / count - hmean * hmean, 0.0f) / variance);
+}
+
+// Step 7: the factor (1 - SR_NOISE_CUT) .. 1 of the new samples' weight, from r.
+FGSR_INLINE float noise_weight(float r) {
+    if (r < 0.0f) return 1.0f;
     return 1.0f - SR_NOISE_CUT * clamp((r - SR_NOISE_R0) * SR_NOISE_GAIN, 0.0f, 1.0f);
+}
+
+// Step 3: how far (0..1) the LUT's weights move towards the cubic B-spline's, from (r, q).
+FGSR_INLINE float kernel_smoothing(vec2 rq) {
+    if (rq.x < 0.0f) return 0.0f;
+    return clamp((rq.x - SR_KERNEL_R0) * SR_KERNEL_GAIN, 0.0f, 1.0f) *
+           clamp((SR_KERNEL_Q1 - rq.y) / SR_KERNEL_Q_SPAN, 0.0f, 1.0f);
 }
 
 // Step 2's depth test: does the previous depth at the history's position belong to t's surface?
@@ -172,7 +199,10 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     float d_prev = load_prev_depth(clamp_lr(ivec2(floor(pos + mv)), p));
     if (!on || !history_depth_matches(t, d_now, d_prev, p)) return lr_upsample(pos - jitter, p);
 
-    vec4 hist = clamp(resample(h, ivec2(int(p.hr_width), int(p.hr_height)), p.resample), lo, hi);
+    ivec2 hr_size = ivec2(int(p.hr_width), int(p.hr_height));
+    bool smoothed = (p.flags & SR_NOISE_KERNEL) != 0u && p.resample == RESAMPLE_LUT;
+    vec4 hist = smoothed ? resample_lut_smoothed(h, hr_size, kernel_smoothing(load_noise(t))) : resample(h, hr_size, p.resample);
+    hist = clamp(hist, lo, hi);
     float wh = 1.0f - p.a; // the history's weight (step 6 lowers it)
     if (p.disagree > 0.0f && wsum > 0.0f) {
         float e = length(vec3(hist) - vec3(sum) / wsum) / max(length(vec3(hi) - vec3(lo)), 1.0e-4f);
@@ -180,7 +210,7 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     }
     // With a = 1 (or the history's weight 0) and every sample weighted 0 (b * d >= 1) Eq. 2 has
     // no term left (0 / 0).
-    float a = (p.flags & SR_NOISE_AVERAGE) != 0u ? p.a * noise_weight(t, d_now, jitter, p) : p.a;
+    float a = (p.flags & SR_NOISE_AVERAGE) != 0u ? p.a * noise_weight(load_noise(t).x) : p.a;
     float wc = a * wsum / n;
     float norm = wc + wh;
     if (!(norm > 0.0f)) return lr_upsample(pos - jitter, p);

@@ -10,6 +10,7 @@
 #include <fgsr/engine/color.hpp>
 #include <fgsr/engine/lut.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
@@ -445,6 +446,7 @@ struct NoiseWall {
     static constexpr double kScale = 2.0, kFocal = 90.0, kZ0 = 10.0, kPan = 0.05;
     double rate = 0.05, cell = 0.15;
     bool noise_average = false; // Params::sr_noise_average
+    bool noise_kernel = false;  // Params::sr_noise_kernel
 
     double depth(double t) const { return kZ0 * std::pow(1 - rate, t); }
     glm::vec3 color(glm::dvec2 w) const {
@@ -499,6 +501,7 @@ struct NoiseWall {
         p.scale = float(kScale);
         p.resample = kind;
         p.sr_noise_average = noise_average;
+        p.sr_noise_kernel = noise_kernel;
         auto s = engine().create_session(internal_format(kLrW, kLrH), p);
         EXPECT_TRUE(s) << s.error().message;
         if (!s) return 0;
@@ -516,7 +519,7 @@ struct NoiseWall {
 // The learned table (the default) keeps what bilinear resampling of the history blurs away, frame
 // after frame, on detail the output resolves, also while the camera approaches; where the texture
 // is far finer than an output pixel (the truth averages it out) bilinear's blur scores a little
-// higher, as on street-sr (docs/ACCURACY.md, "the history's kernel by magnification").
+// higher, as on street-sr (docs/ACCURACY.md, "the history's kernel by magnification" and change 20).
 TEST(Sr, LearnedHistoryKeepsResolvedDetailOfAnApproachedWall) {
     for (double rate : {0.05, 0.1}) {
         NoiseWall resolved, fine;
@@ -530,6 +533,38 @@ TEST(Sr, LearnedHistoryKeepsResolvedDetailOfAnApproachedWall) {
         EXPECT_GT(lut, bil + 0.2);
         EXPECT_GT(fine_lut, fine_bil - 0.1);
     }
+    expect_no_validation_errors();
+}
+
+// Step 3 of shaders/sr.h (Params::sr_noise_kernel, opt-in): on texture far finer than an output
+// pixel the jittered samples scatter about a history smoother than they are, and the table's
+// history read moves towards the cubic B-spline: closer to the truth, which averages that texture
+// out, and above bilinear history. On texture the output resolves the history predicts its samples
+// and the table is kept. Between the two (cells of 0.7 output pixels) the 3x3 sees the same
+// scatter and the smoothing costs; the bound keeps that trade from growing (docs/ACCURACY.md,
+// change 20).
+TEST(Sr, NoiseKernelSmoothsUnresolvedTexture) {
+    auto both = [](double cell) {
+        NoiseWall off, on;
+        off.cell = on.cell = cell;
+        on.noise_kernel = true;
+        return std::array<double, 3>{on.sr_psnr(Resample::lut), off.sr_psnr(Resample::lut), off.sr_psnr(Resample::bilinear)};
+    };
+    for (double cell : {0.005, 0.01}) {
+        const auto [with, without, bilinear] = both(cell);
+        std::printf("[ measured ] texture cell %.3f: %.4f dB with the smoothing, %.4f without, bilinear history %.4f\n",
+                    cell, with, without, bilinear);
+        EXPECT_GT(with, without + 0.02) << "cell " << cell;
+        EXPECT_GT(with, bilinear) << "cell " << cell;
+    }
+    const auto [near_with, near_without, near_bilinear] = both(0.04);
+    std::printf("[ measured ] texture cell 0.040: %.4f dB with the smoothing, %.4f without, bilinear history %.4f\n",
+                near_with, near_without, near_bilinear);
+    EXPECT_GT(near_with, near_without - 0.06);
+    const auto [with, without, bilinear] = both(0.15);
+    std::printf("[ measured ] resolved texture: %.4f dB with the smoothing, %.4f without, bilinear history %.4f\n",
+                with, without, bilinear);
+    EXPECT_NEAR(with, without, 0.01);
     expect_no_validation_errors();
 }
 
@@ -570,8 +605,10 @@ TEST(Sr, PassMatchesReference) {
             p.sr_depth_motion = !dilate || kind == Resample::lut; // both depth tests (sr.h step 2)
             // Both spatial kernels (step 5): automatic takes the B-spline on this aliased input.
             p.sr_spatial = kind == Resample::catmull_rom ? SrSpatial::catmull_rom : SrSpatial::automatic;
-            // Step 7 (on this aliased input) with the LUT and bilinear history.
+            // Step 7 (on this aliased input) with the LUT and bilinear history; step 3's smoothing
+            // with the LUT (the host sets it for the LUT only).
             p.sr_noise_average = kind != Resample::catmull_rom;
+            p.sr_noise_kernel = kind != Resample::catmull_rom;
             auto s = engine().create_session(internal_format(w, h), p);
             ASSERT_TRUE(s);
             RawFrame f0 = random_frame(w, h, 3, 2.f), f1 = random_frame(w, h, 4, 2.f);
@@ -601,6 +638,18 @@ TEST(Sr, PassMatchesReference) {
                 for (int k = 0; k < 4; ++k)
                     err = std::max(err, double(std::abs(expect[i][k] - out->color.rgba[4 * i + size_t(k)])));
             EXPECT_LT(err, 1e-4) << "kind " << int(kind) << " dilate " << dilate;
+            if (kind != Resample::lut) {
+                EXPECT_EQ(sp.flags & SR_NOISE_KERNEL, 0u) << "kind " << int(kind);
+            }
+            if (kind == Resample::lut) { // step 3's smoothing took part
+                ref::SrParams plain = sp;
+                plain.flags &= ~SR_NOISE_KERNEL;
+                EXPECT_NE(sp.flags, plain.flags);
+                const auto table = ref::super_resolve(cur, g0->depth, hist, plain, lut.weights);
+                double moved = 0;
+                for (size_t i = 0; i < table.size(); ++i) moved = std::max(moved, double(glm::length(table[i] - expect[i])));
+                EXPECT_GT(moved, 1e-2) << "dilate " << dilate;
+            }
         }
     expect_no_validation_errors();
 }

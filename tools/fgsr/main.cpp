@@ -95,6 +95,11 @@ int main(int argc, char** argv) {
                      "SR: on input that measures aliased, fewer new samples where they scatter about the "
                      "history like noise (false: Eq. 2's a everywhere)")
         ->capture_default_str();
+    eval->add_option("--sr-noise-kernel", eo.params.sr_noise_kernel,
+                     "SR: on input that measures aliased, the LUT's history read moves towards the cubic "
+                     "B-spline where the samples scatter like noise and the history is smoother (false: "
+                     "the LUT everywhere)")
+        ->capture_default_str();
     eval->add_option("--dilate-bright", eo.params.dilate_bright,
                      "With vectors and depth in linear colour: pixels next to over-white ones (luminance "
                      "above this) take their depth and vector when those lie in front (0: off)")
@@ -303,6 +308,7 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-disagree")) p.sr_disagree = eo.params.sr_disagree;
             if (eval->count("--sr-depth-motion")) p.sr_depth_motion = eo.params.sr_depth_motion;
             if (eval->count("--sr-noise-average")) p.sr_noise_average = eo.params.sr_noise_average;
+            if (eval->count("--sr-noise-kernel")) p.sr_noise_kernel = eo.params.sr_noise_kernel;
             if (eval->count("--dilate-bright")) p.dilate_bright = eo.params.dilate_bright;
             if (eval->count("--dilate-edges")) p.dilate_edges = eo.params.dilate_edges;
             if (eval->count("--correct-vectors")) p.correct_vectors = true;

@@ -136,7 +136,9 @@ struct SrCpu {
     const std::vector<vec4>* history;
     std::span<const float> lut;
     uint lr_w, hr_w;
+    std::vector<vec2> noise; // sr.h's (r, q) per LR pixel, the stage's output
     vec4 load_lr_color(ivec2 q) const { return cur->color[size_t(q.y) * lr_w + size_t(q.x)]; }
+    vec2 load_noise(ivec2 q) const { return noise[size_t(q.y) * lr_w + size_t(q.x)]; }
     float load_lr_depth(ivec2 q) const { return cur->depth[size_t(q.y) * lr_w + size_t(q.x)]; }
     vec2 load_lr_mv(ivec2 q) const { return cur->mv[size_t(q.y) * lr_w + size_t(q.x)]; }
     float load_prev_depth(ivec2 q) const { return (*prev_depth)[size_t(q.y) * lr_w + size_t(q.x)]; }
@@ -234,7 +236,14 @@ std::vector<glm::vec4> super_resolve(const InternalFrame& cur, const std::vector
                                      const std::vector<glm::vec4>& history, const SrParams& p,
                                      std::span<const float> lut) {
     std::vector<glm::vec4> out(size_t(p.hr_width) * p.hr_height);
-    gpu::SrCpu cpu{&cur, &prev_depth, &history, lut, p.lr_width, p.hr_width};
+    gpu::SrCpu cpu{&cur, &prev_depth, &history, lut, p.lr_width, p.hr_width, {}};
+    // The stage before the pass (variant sr_noise), where the host dispatches it.
+    cpu.noise.assign(size_t(p.lr_width) * p.lr_height, glm::vec2(-1.f, 0.f));
+    if (p.has_history != 0u && (p.flags & (SR_NOISE_KERNEL | SR_NOISE_AVERAGE)) != 0u)
+        for (uint32_t y = 0; y < p.lr_height; ++y)
+            for (uint32_t x = 0; x < p.lr_width; ++x)
+                cpu.noise[size_t(y) * p.lr_width + x] =
+                    cpu.noise_stats(glm::ivec2(int(x), int(y)), glm::vec2(p.jitter_x, p.jitter_y), p);
     for (uint32_t y = 0; y < p.hr_height; ++y)
         for (uint32_t x = 0; x < p.hr_width; ++x)
             out[size_t(y) * p.hr_width + x] = cpu.super_resolve(glm::ivec2(int(x), int(y)), p);

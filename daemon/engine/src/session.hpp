@@ -108,6 +108,7 @@ struct Session::Impl {
         int newest = 0;
         bool valid = false;                        // an output exists (no reset since)
         vk::Buffer lut;                            // kLutSize weights (Resample::lut)
+        vk::Buffer noise;                          // vec2 per input pixel: sr.h's (r, q), variant sr_noise
         PassTiming timing = timing_of(PassId::sr); // of the last submit
         // The input's aliasing measure (fgsr/engine/color.hpp) over its first
         // defaults::aliasing_frames frames; jittered once any frame had jitter. Together they
@@ -239,7 +240,9 @@ struct Session::Impl {
     // whether it was tiled.
     Result<bool> record_sr(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev, uint32_t& query);
     // The sr pass's own bindings (before the tiled ones) for frame f into `out`.
-    using SrInputs = At<SR_COLOR, SR_DEPTH, SR_MV, SR_PREV_DEPTH, SR_HISTORY, SR_LUT, SR_OUTPUT>;
+    Result<void> record_sr_noise(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,
+                                 const vk::Buffer& history, const vk::Buffer& out);
+    using SrInputs = At<SR_COLOR, SR_DEPTH, SR_MV, SR_PREV_DEPTH, SR_HISTORY, SR_LUT, SR_OUTPUT, SR_NOISE>;
     SrInputs sr_inputs(const GpuFrame& f, const GpuFrame& prev, const vk::Buffer& history,
                        const vk::Buffer& out) const;
     // After the submit's fence: the sr timing, the history swap.

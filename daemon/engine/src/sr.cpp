@@ -26,6 +26,7 @@ Result<bool> Session::Impl::record_sr(const gpu::SrParams& sp, const GpuFrame& f
     if (tiled) {
         FGSR_TRY(record_sr_tiled(sp, f, prev, history, out, query++));
     } else {
+        FGSR_TRY(record_sr_noise(sp, f, prev, history, out));
         const auto b = make_slots<PassId::sr>(sr_inputs(f, prev, history, out));
         FGSR_TRY(rec.dispatch_pixels(Variant::sr, b, &sp, out_w, out_h));
     }
@@ -34,9 +35,20 @@ Result<bool> Session::Impl::record_sr(const gpu::SrParams& sp, const GpuFrame& f
     return tiled;
 }
 
+// sr.h's (r, q) once per input pixel (variant sr_noise), for steps 3 and 7 of every output pixel
+// that shares it; only where one of them is on and there is a history to measure against.
+Result<void> Session::Impl::record_sr_noise(const gpu::SrParams& sp, const GpuFrame& f, const GpuFrame& prev,
+                                            const vk::Buffer& history, const vk::Buffer& out) {
+    if (sp.has_history == 0u || (sp.flags & (SR_NOISE_KERNEL | SR_NOISE_AVERAGE)) == 0u) return {};
+    const auto b = make_slots<PassId::sr>(sr_inputs(f, prev, history, out));
+    FGSR_TRY(rec.dispatch_pixels(Variant::sr_noise, b, &sp, format.width, format.height));
+    rec.barrier();
+    return {};
+}
+
 Session::Impl::SrInputs Session::Impl::sr_inputs(const GpuFrame& f, const GpuFrame& prev,
                                                  const vk::Buffer& history, const vk::Buffer& out) const {
-    return SrInputs{{f.color, f.depth, f.mv, prev.depth, history, sr_history.lut, out}};
+    return SrInputs{{f.color, f.depth, f.mv, prev.depth, history, sr_history.lut, out, sr_history.noise}};
 }
 
 void Session::Impl::finish_sr(const PassTiming& t) {

@@ -136,6 +136,7 @@ Result<void> Session::Impl::record_sr_tiled(const gpu::SrParams& sp, const GpuFr
                              tile_lists(ts))));
     rec.barrier();
     rec.timestamp(query);
+    FGSR_TRY(record_sr_noise(sp, f, prev, history, out));
     const auto in = sr_inputs(f, prev, history, out);
     FGSR_TRY(rec.dispatch_indirect(
         Variant::sr_tiled,

@@ -136,6 +136,13 @@ struct Params {
     // isr / esr lose up to 0.03 on foliage, fan and cut (docs/ACCURACY.md, change 19). Not
     // carried by the wire protocol.
     bool sr_noise_average = false;
+    // sr, on input that measures aliased: the history read with the LUT (Resample::lut) moves
+    // towards the cubic B-spline where the new samples scatter about the history like noise and
+    // the history there is smoother than they are (shaders/sr.h step 3). Off by default: it gains
+    // on texture far finer than an output pixel (street-sr +0.04 dB, hdr-sr +0.02) and loses on
+    // texture near the output's resolution (orbit-sr, foliage-sr -0.015; docs/ACCURACY.md,
+    // change 20). Not carried by the wire protocol.
+    bool sr_noise_kernel = false;
     // Sessions with vectors: estimate motion from colour as colour-only sessions do (luma, match,
     // flow passes) and replace, per pixel, the client's vector by the estimate where the colour
     // follows the estimate by far better (shading that moves on its own: shadows, reflections).
