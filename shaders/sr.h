@@ -200,6 +200,7 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     if (!on || !history_depth_matches(t, d_now, d_prev, p)) return lr_upsample(pos - jitter, p);
 
     ivec2 hr_size = ivec2(int(p.hr_width), int(p.hr_height));
+    // The host sets SR_NOISE_KERNEL for the LUT only, but static tiles read bilinearly (tiles.cpp).
     bool smoothed = (p.flags & SR_NOISE_KERNEL) != 0u && p.resample == RESAMPLE_LUT;
     vec4 hist = smoothed ? resample_lut_smoothed(h, hr_size, kernel_smoothing(load_noise(t))) : resample(h, hr_size, p.resample);
     hist = clamp(hist, lo, hi);

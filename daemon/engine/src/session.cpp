@@ -51,6 +51,7 @@ Result<void> Session::Impl::init() {
         const VkDeviceSize hpx = VkDeviceSize(out_w) * out_h;
         for (vk::Buffer& b : sr_history.hr) FGSR_TRY(make(b, hpx * 16, false));
         FGSR_TRY(make(sr_history.lut, kLutSize * 4, true));
+        // Whatever Params::sr_noise_* say now (8 bytes an input pixel): set_params may turn them on.
         FGSR_TRY(make(sr_history.noise, px * 8, false));
         FGSR_TRY(upload_lut());
         // Whatever Params::denoise says now: set_params may turn it on later.
