@@ -83,10 +83,12 @@ struct IngestParams {
 };
 
 // GenParams::quadratic bits (motion.h): the model, extrapolation's search for the frame-0 vector,
-// interpolation's median of the acceleration over the same surface.
+// interpolation's median of the acceleration over the same surface, the frame-0 depth test
+// expecting the depth change the motion implies.
 #define MOTION_ACCEL 1u
 #define MOTION_ACCEL_SEARCH 2u
 #define MOTION_ACCEL_MEDIAN 4u
+#define MOTION_DEPTH_MOTION 8u
 
 // splat, refine, disocc, warp and blend share one parameter block per generated frame.
 struct GenParams {
@@ -95,7 +97,8 @@ struct GenParams {
     float alpha;      // interpolation: (0,1); extrapolation: the a of 1+a, (0,1]
     uint extrapolate; // 0: interpolate between frame 0 and 1; 1: extrapolate after frame 1
     uint quadratic;   // 0: uniform velocity; else MOTION_ACCEL (uniform acceleration, needs
-                      // frame 0 vectors) | MOTION_ACCEL_SEARCH | MOTION_ACCEL_MEDIAN (motion.h)
+                      // frame 0 vectors) | MOTION_ACCEL_SEARCH | MOTION_ACCEL_MEDIAN |
+                      // MOTION_DEPTH_MOTION (motion.h)
     uint frame0_has_mv;
     uint frame1_has_mv;
     float t_depth;  // T_D: relative depth difference (|d0-d1| / min(d0,d1)) that means disocclusion

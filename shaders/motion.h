@@ -7,7 +7,8 @@
 // m0 must belong to the same surface: where p0 lies on another surface in frame 0 (the point was
 // hidden then, or sits on an edge) its vector would describe the occluder. So m0 is read from the
 // pixel under p0 if its frame-0 depth agrees with the point's frame-1 depth within 4 T_D
-// (relative), else from the one of its 4 edge neighbours whose depth is closest and agrees;
+// (relative), a band that Params::accel_depth_motion extends to the depth change the motion
+// implies (surface_band), else from the one of its 4 edge neighbours whose depth is closest and agrees;
 // otherwise the motion falls back to uniform velocity for that pixel. In extrapolation, where that
 // vector implies an acceleration, the edge neighbours of the same surface are searched for the
 // smallest one (below, at the search). In interpolation the acceleration is the median of the
@@ -42,18 +43,61 @@
 #define MOTION_ACCEL_RATIO 1.0f
 #define MOTION_M0_SEARCH_PX 0.25f // chosen on the train captures (docs/ACCURACY.md, "Changes", 13)
 #define MOTION_MEDIAN_MIN 5       // of 9; chosen on the train captures (docs/ACCURACY.md, "Changes", 18)
+#define MOTION_SURFACE_TD 4.0f    // in T_D; chosen on the train captures (docs/ACCURACY.md, "Changes", 21)
+
+// Which frame-0 depths count as the point's surface: vec3(lo, hi, tolerance), a frame-0 depth d0
+// of a point of frame-1 depth d1 belongs where d1 lo / (1 + tolerance) < d0 < d1 hi (1 + tolerance)
+// (on_surface0). Without MOTION_DEPTH_MOTION: within 4 T_D of d1 either way (lo = hi = 1). With it
+// (docs/ACCURACY.md, change 21), the depth change the motion implies, as the sr pass's history test
+// expects it (sr.h step 2): a patch the camera approaches was farther in frame 0 by s = 1 /
+// sqrt(det J), J = I + grad(mv1) the local map from frame-1 to frame-0 positions (central
+// differences of the frame-1 vectors over p1's edge neighbours on its surface, depth within T_D;
+// one-sided at an edge of it; det J clamped to [1/4, 4]); a patch at a slant changes by less (a
+// ground plane by about s^(2/3)). So d0 is expected between d1 and d1 s, widened by
+// MOTION_SURFACE_TD T_D either way: a street approached at speed keeps its frame-0 vector where its
+// depth changed by more than 4 T_D. The band only ever grows (s = 1 is the plain test): a tighter
+// one (2 T_D) kept another leaf or the ground behind an edge out, but lost more where a turning,
+// approaching ball's depth changes unlike its vectors' area (docs/ACCURACY.md, change 21).
+FGSR_INLINE float frame1_depth_scale(ivec2 p1, float d1, GenParams g) {
+    vec2 mc = load_mv1(p1);
+    vec2 grad[2];
+    for (int axis = 0; axis < 2; ++axis) {
+        ivec2 step = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        ivec2 lo_q = p1 - step, hi_q = p1 + step;
+        bool lo_ok = inside(lo_q, g) && relative_depth_difference(load_depth1(lo_q), d1) <= g.t_depth;
+        bool hi_ok = inside(hi_q, g) && relative_depth_difference(load_depth1(hi_q), d1) <= g.t_depth;
+        vec2 m_lo = lo_ok ? load_mv1(lo_q) : mc, m_hi = hi_ok ? load_mv1(hi_q) : mc;
+        float span = float(int(lo_ok) + int(hi_ok));
+        grad[axis] = span > 0.0f ? (m_hi - m_lo) / span : vec2(0.0f);
+    }
+    // J's columns: the frame-0 position's derivatives along x and y, step + d(mv1).
+    float det = (1.0f + grad[0].x) * (1.0f + grad[1].y) - grad[1].x * grad[0].y;
+    return inversesqrt(clamp(det, 0.25f, 4.0f));
+}
+FGSR_INLINE vec3 surface_band(ivec2 p1, float d1, GenParams g) {
+    if ((g.quadratic & MOTION_DEPTH_MOTION) == 0u) return vec3(1.0f, 1.0f, 4.0f * g.t_depth);
+    float s = frame1_depth_scale(p1, d1, g);
+    return vec3(min(1.0f, s), max(1.0f, s), MOTION_SURFACE_TD * g.t_depth);
+}
+FGSR_INLINE bool on_surface0(float d0, float d1, vec3 band) {
+    return d0 > d1 * band.x / (1.0f + band.z) && d0 < d1 * band.y * (1.0f + band.z);
+}
+// How far d0 lies outside [d1 lo, d1 hi], relative (0 inside): the edge neighbours' ranking.
+FGSR_INLINE float surface_distance0(float d0, float d1, vec3 band) {
+    return relative_depth_difference(d0, clamp(d0, d1 * band.x, d1 * band.y));
+}
 
 // The acceleration m1 - m0 of the frame-1 pixel pn as the pixel under its own frame-0 position
 // gives it: vec3(m1 - m0, 1) where pn lies on the surface of depth d1 (within `tolerance`), that
-// frame-0 pixel on the same surface, and the acceleration within the plausibility bound (below);
+// frame-0 pixel on the same surface (on_surface0 with the centre's band), and the acceleration within the plausibility bound (below);
 // vec3(0) otherwise.
-FGSR_INLINE vec3 neighbour_acceleration(ivec2 pn, float d1, float tolerance, GenParams g) {
+FGSR_INLINE vec3 neighbour_acceleration(ivec2 pn, float d1, float tolerance, vec3 band, GenParams g) {
     if (!inside(pn, g)) return vec3(0.0f);
     float dn = load_depth1(pn);
     if (!(relative_depth_difference(dn, d1) < tolerance)) return vec3(0.0f);
     vec2 m1 = -load_mv1(pn);
     ivec2 q = ivec2(floor(vec2(pn) + vec2(0.5f) - m1));
-    if (!inside(q, g) || !(relative_depth_difference(load_depth0(q), dn) < tolerance)) return vec3(0.0f);
+    if (!inside(q, g) || !on_surface0(load_depth0(q), dn, band)) return vec3(0.0f);
     vec2 accel = m1 + load_mv0(q);
     return length(accel) <= MOTION_ACCEL_PX + MOTION_ACCEL_RATIO * length(m1) ? vec3(accel, 1.0f)
                                                                               : vec3(0.0f);
@@ -66,20 +110,22 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
     vec2 m1 = -load_mv1(p1);
     vec2 p0 = c1 - m1;
     vec2 m0 = m1;
+    vec3 band = vec3(1.0f, 1.0f, 4.0f * g.t_depth);
     if (MOTION_LOOKS_UP_M0(g)) {
         ivec2 q = ivec2(floor(p0));
-        float tolerance = 4.0f * g.t_depth;
+        band = surface_band(p1, d1, g);
         // The pixel whose vector is taken is chosen first and its vector read once: on CPU devices
         // each load in a branch costs every lane, taken or not.
         ivec2 from = q;
-        bool found = inside(q, g) && relative_depth_difference(load_depth0(q), d1) < tolerance;
+        bool found = inside(q, g) && on_surface0(load_depth0(q), d1, band);
         if (!found) {
-            // The centre missed: the 4 edge neighbours, closest depth wins (first on ties).
-            float best = tolerance;
+            // The centre missed: the 4 edge neighbours on the surface, closest depth wins (first on
+            // ties).
+            float best = 1.0e30f;
             for (int k = 0; k < 4; ++k) {
                 ivec2 qq = q + edge_neighbour_offset(k);
-                if (inside(qq, g)) {
-                    float rel = relative_depth_difference(load_depth0(qq), d1);
+                if (inside(qq, g) && on_surface0(load_depth0(qq), d1, band)) {
+                    float rel = surface_distance0(load_depth0(qq), d1, band);
                     if (rel < best) {
                         best = rel;
                         from = qq;
@@ -93,8 +139,8 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
         // of m1 - m0 at alpha 0.5), so there an m0 read from a neighbouring surface at a similar
         // depth costs most: the ground beside a slow mover's edge (zero motion, a false
         // deceleration), another leaf of a canopy. Where the chosen vector implies a change of
-        // more than MOTION_M0_SEARCH_PX, the 4 edge neighbours of the same surface (depth within
-        // the tolerance) are searched too and the vector of the smallest acceleration wins. In
+        // more than MOTION_M0_SEARCH_PX, the 4 edge neighbours of the same surface (on_surface0)
+        // are searched too and the vector of the smallest acceleration wins. In
         // interpolation it lost as much as it gained on train (docs/ACCURACY.md, change 13). The
         // branch is uniform in interpolation; in extrapolation a SIMD group pays for the search
         // when any of its pixels needs it (splat about 1.5x on lavapipe), so it is a switch:
@@ -105,7 +151,7 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
             vec2 chosen = m0;
             for (int k = 0; k < 4; ++k) {
                 ivec2 qq = q + edge_neighbour_offset(k);
-                if (inside(qq, g) && relative_depth_difference(load_depth0(qq), d1) < tolerance) {
+                if (inside(qq, g) && on_surface0(load_depth0(qq), d1, band)) {
                     vec2 c = -load_mv0(qq);
                     float e = length(m1 - c);
                     if (e < best) {
@@ -146,7 +192,7 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
         int n = 0;
         for (int k = 0; k < 9; ++k) {
             vec3 a = k == 4 ? vec3(m1 - m0, 1.0f)
-                            : neighbour_acceleration(p1 + ivec2(k % 3 - 1, k / 3 - 1), d1, tolerance, g);
+                            : neighbour_acceleration(p1 + ivec2(k % 3 - 1, k / 3 - 1), d1, tolerance, band, g);
             ax[k] = a.x;
             ay[k] = a.y;
             ok[k] = a.z != 0.0f;

@@ -158,6 +158,9 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_FALSE(p.accel_median); // balanced leaves interpolation's median out
     ASSERT_TRUE(fgsr::apply_switch(p, "accel_median=on"));
     EXPECT_TRUE(p.accel_median);
+    EXPECT_FALSE(p.accel_depth_motion); // balanced leaves the motion's depth expectation out
+    ASSERT_TRUE(fgsr::apply_switch(p, "accel_depth=on"));
+    EXPECT_TRUE(p.accel_depth_motion);
     EXPECT_TRUE(p.cover_edges); // balanced has the edge cover
     ASSERT_TRUE(fgsr::apply_switch(p, "cover_edges=off"));
     EXPECT_FALSE(p.cover_edges);
@@ -176,7 +179,8 @@ TEST(Presets, SwitchesApplyAndToggle) {
     const std::set<std::string> expected{
         "motion=linear",  "resample=catmull_rom", "resample=lut",    "fill_gaps=off",   "fill_holes=off",
         "blend=select",   "dilate_mvs=on",        "denoise=off",     "passes=separate", "correct_vectors=on",
-        "fast_motion=on", "dilate_edges=on",      "accel_search=on", "accel_median=on", "cover_edges=off"};
+        "fast_motion=on", "dilate_edges=on",      "accel_search=on", "accel_median=on", "accel_depth=on",
+        "cover_edges=off"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

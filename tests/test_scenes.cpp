@@ -227,6 +227,61 @@ TEST(Scenes, ExtrapolationTakesTheSmallestAccelerationOfTheSameSurface) {
             }
 }
 
+// The frame-0 depth test of shaders/motion.h with Params::accel_depth_motion (docs/ACCURACY.md,
+// change 21), on the CPU reference, with the median and the search off (each tested on its own):
+// a surface growing 1.3x a frame (a zoom about the frame's centre, as the camera approaches; its
+// growth slowing from 1.2x the frame before: an acceleration) or shrinking to 1 / 1.3 (receding,
+// faster than the frame before),
+// its frame-0 depth 30 % larger or smaller than its frame-1 depth. That is more than 4 T_D (20 %),
+// so without the rule the pixel moves uniformly; with it the depth change the vectors imply is
+// expected and the pixel follows the parabola through its frame-0 vector. Where the vectors imply
+// no change (a uniform slide), a frame-0 depth 30 % away is another surface with the rule too.
+TEST(Scenes, FrameZeroDepthTestExpectsTheDepthChangeTheMotionImplies) {
+    const uint32_t w = 64, h = 32;
+    const glm::vec2 centre(32.f, 16.f);
+    const float a = 0.5f;
+    struct Case {
+        float k1, k0;  // growth from frame 0 to 1 and from frame -1 to 0 (1: a uniform slide)
+        float depth0;  // frame-0 depth (frame 1: 1)
+        bool expected; // the depth change is what the vectors imply
+    };
+    const Case cases[] = {{1.3f, 1.2f, 1.3f, true}, {1.f / 1.3f, 1.f / 1.1f, 1.f / 1.3f, true}, {1.f, 1.f, 1.3f, false}};
+    for (const Case& c : cases)
+        for (bool rule : {true, false})
+            for (bool extrap : {false, true}) {
+                Params p;
+                p.accel_depth_motion = rule;
+                p.accel_median = false;
+                p.accel_search = false;
+                ref::InternalFrame f0 = flat_frame(w, h), f1 = flat_frame(w, h);
+                const glm::vec2 slide = c.k1 == 1.f ? glm::vec2(2.f, 0.f) : glm::vec2(0.f); // a = 1 px
+                const glm::vec2 slide0 = c.k1 == 1.f ? glm::vec2(1.f, 0.f) : glm::vec2(0.f);
+                for (uint32_t y = 0; y < h; ++y)
+                    for (uint32_t x = 0; x < w; ++x) {
+                        const glm::vec2 r = glm::vec2(float(x), float(y)) + 0.5f - centre;
+                        f1.mv.push_back(-r * (1.f - 1.f / c.k1) - slide); // to the frame-0 position
+                        f0.mv.push_back(-r * (1.f - 1.f / c.k0) - slide0);
+                        f0.depth[size_t(y) * w + x] = c.depth0;
+                    }
+                const glm::ivec2 px(44, 16);
+                const glm::vec2 c1 = glm::vec2(px) + 0.5f, m1 = -f1.mv[size_t(px.y) * w + size_t(px.x)];
+                const glm::ivec2 q(glm::floor(c1 - m1));
+                const glm::vec2 m0 = -f0.mv[size_t(q.y) * w + size_t(q.x)];
+                auto at = [&](glm::vec2 m0_used) {
+                    const glm::vec2 accel = 0.5f * a * a * (m1 - m0_used), p0 = c1 - m1;
+                    return extrap ? c1 + 0.5f * a * (3.f * m1 - m0_used) + accel
+                                  : p0 + 0.5f * a * (m1 + m0_used) + accel;
+                };
+                ASSERT_GT(glm::length(at(m0) - at(m1)), 0.1f); // the case tells the two apart
+                const glm::vec2 want = rule && c.expected ? at(m0) : at(m1);
+                const glm::vec2 pt = generated_position(f0, f1, p, a, extrap, px);
+                EXPECT_LT(glm::length(pt - want), 1e-4f)
+                    << "growth " << c.k1 << ", frame-0 depth " << c.depth0 << ", "
+                    << (extrap ? "extrapolation" : "interpolation") << (rule ? "" : ", no rule") << ": at ("
+                    << pt.x << ", " << pt.y << ")";
+            }
+}
+
 // The median of the acceleration in shaders/motion.h (docs/ACCURACY.md, change 18): a surface
 // accelerating uniformly (m0 = (2, 0) px a frame, m1 = (3, 0)) whose pixel px reads its frame-0
 // vector from a pixel of another surface at the same depth (zero vector: a false deceleration, as

@@ -162,7 +162,8 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     // (docs/MOTION.md).
     g.quadratic = params.motion == MotionModel::quadratic && format.has_vectors
                       ? MOTION_ACCEL | (params.accel_search ? MOTION_ACCEL_SEARCH : 0u) |
-                            (params.accel_median ? MOTION_ACCEL_MEDIAN : 0u)
+                            (params.accel_median ? MOTION_ACCEL_MEDIAN : 0u) |
+                            (params.accel_depth_motion ? MOTION_DEPTH_MOTION : 0u)
                       : 0u;
     g.frame0_has_mv = frame0_has_mv ? 1u : 0u;
     g.frame1_has_mv = frame1_has_mv ? 1u : 0u;

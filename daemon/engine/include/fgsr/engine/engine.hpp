@@ -113,6 +113,13 @@ struct Params {
     // in the balanced and performance presets. Not carried by the wire protocol: fgsrd's sessions
     // use the default.
     bool accel_median = true;
+    // Uniform acceleration (shaders/motion.h): a frame-0 pixel counts as the point's surface where
+    // its depth lies within 4 T_D of the point's, a band extended to the depth change the local
+    // motion implies (a surface the camera approaches was farther: 1 / sqrt(det J) of the frame-1
+    // vectors' local map). Four more vector and depth reads per source pixel in splat. Off in the
+    // balanced and performance presets. Not carried by the wire protocol: fgsrd's sessions use the
+    // default.
+    bool accel_depth_motion = true;
     // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
     // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's

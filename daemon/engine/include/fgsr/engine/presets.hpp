@@ -55,6 +55,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_edges = 0.f;
         p.accel_search = false;
         p.accel_median = false;
+        p.accel_depth_motion = false;
         p.cover_edges = false;
         break;
     case Preset::balanced:
@@ -67,6 +68,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_edges = 0.f;
         p.accel_search = false;
         p.accel_median = false;
+        p.accel_depth_motion = false;
         p.cover_edges = true;
         break;
     case Preset::quality:
@@ -79,6 +81,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_edges = defaults::dilate_edges;
         p.accel_search = true;
         p.accel_median = true;
+        p.accel_depth_motion = true;
         p.cover_edges = true;
         break;
     }
@@ -114,7 +117,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 14> kSwitches{{
+inline constexpr std::array<SwitchInfo, 15> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -128,6 +131,7 @@ inline constexpr std::array<SwitchInfo, 14> kSwitches{{
     {"dilate_edges", {"on", "off", ""}, "ingest: edge pixels take the front's vector where colour follows it"},
     {"accel_search", {"on", "off", ""}, "extrapolation: frame-0 vector of the smallest acceleration among same-surface neighbours"},
     {"accel_median", {"on", "off", ""}, "interpolation: median acceleration of the same surface's 3x3 neighbours"},
+    {"accel_depth", {"on", "off", ""}, "quadratic motion: frame-0 depth test expects the depth change the motion implies"},
     {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
 }};
 
@@ -147,6 +151,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "dilate_edges") return onoff(p.dilate_edges > 0.f);
     if (key == "accel_search") return onoff(p.accel_search);
     if (key == "accel_median") return onoff(p.accel_median);
+    if (key == "accel_depth") return onoff(p.accel_depth_motion);
     if (key == "cover_edges") return onoff(p.cover_edges);
     return "";
 }
@@ -164,7 +169,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
-                "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, cover_edges)");
+                "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, cover_edges)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -188,6 +193,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "dilate_edges") p.dilate_edges = on ? defaults::dilate_edges : 0.f;
     if (key == "accel_search") p.accel_search = on;
     if (key == "accel_median") p.accel_median = on;
+    if (key == "accel_depth") p.accel_depth_motion = on;
     if (key == "cover_edges") p.cover_edges = on;
     return {};
 }
