@@ -8,14 +8,13 @@
 // hidden then, or sits on an edge) its vector would describe the occluder. So m0 is read from the
 // pixel under p0 if its frame-0 depth agrees with the point's frame-1 depth within 4 T_D
 // (relative), a band that Params::accel_depth_motion extends to the depth change the motion
-// implies (surface_band), else from the one of its 4 edge neighbours whose depth is closest and agrees;
-// otherwise the motion falls back to uniform velocity for that pixel. In extrapolation, where that
-// vector implies an acceleration, the edge neighbours of the same surface are searched for the
-// smallest one (below, at the search). In interpolation the acceleration is the median of the
-// pixel's own and those of its 3x3 frame-1 neighbours of the same surface (below, at the median).
-// (A full 3x3 search was
-// measured on lavapipe: ~25% more splat time, where SIMD groups with any miss pay for it, for no
-// PSNR gain beyond 0.01 dB on the captures.)
+// implies (surface_band), else from the one of its 4 edge neighbours whose depth is closest and
+// agrees; otherwise the motion falls back to uniform velocity for that pixel. In extrapolation,
+// where that vector implies an acceleration, the edge neighbours of the same surface are searched
+// for the smallest one (below, at the search). In interpolation the acceleration is the median of
+// the pixel's own and those of its 3x3 frame-1 neighbours of the same surface (below, at the
+// median). (A full 3x3 search was measured on lavapipe: ~25% more splat time, where SIMD groups
+// with any miss pay for it, for no PSNR gain beyond 0.01 dB on the captures.)
 //
 // Entry provides:
 //   vec2  load_mv1(ivec2 pixel)     frame 1 vectors
@@ -58,8 +57,8 @@
 // depth changed by more than 4 T_D. The band only ever grows (s = 1 is the plain test): a tighter
 // one (2 T_D) kept another leaf or the ground behind an edge out, but lost more where a turning,
 // approaching ball's depth changes unlike its vectors' area (docs/ACCURACY.md, change 21).
-FGSR_INLINE float frame1_depth_scale(ivec2 p1, float d1, GenParams g) {
-    vec2 mc = load_mv1(p1);
+// mc: load_mv1(p1), which the caller has read already.
+FGSR_INLINE float frame1_depth_scale(ivec2 p1, float d1, vec2 mc, GenParams g) {
     vec2 grad[2];
     for (int axis = 0; axis < 2; ++axis) {
         ivec2 step = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
@@ -74,9 +73,9 @@ FGSR_INLINE float frame1_depth_scale(ivec2 p1, float d1, GenParams g) {
     float det = (1.0f + grad[0].x) * (1.0f + grad[1].y) - grad[1].x * grad[0].y;
     return inversesqrt(clamp(det, 0.25f, 4.0f));
 }
-FGSR_INLINE vec3 surface_band(ivec2 p1, float d1, GenParams g) {
+FGSR_INLINE vec3 surface_band(ivec2 p1, float d1, vec2 mv1, GenParams g) {
     if ((g.quadratic & MOTION_DEPTH_MOTION) == 0u) return vec3(1.0f, 1.0f, 4.0f * g.t_depth);
-    float s = frame1_depth_scale(p1, d1, g);
+    float s = frame1_depth_scale(p1, d1, mv1, g);
     return vec3(min(1.0f, s), max(1.0f, s), MOTION_SURFACE_TD * g.t_depth);
 }
 FGSR_INLINE bool on_surface0(float d0, float d1, vec3 band) {
@@ -89,8 +88,8 @@ FGSR_INLINE float surface_distance0(float d0, float d1, vec3 band) {
 
 // The acceleration m1 - m0 of the frame-1 pixel pn as the pixel under its own frame-0 position
 // gives it: vec3(m1 - m0, 1) where pn lies on the surface of depth d1 (within `tolerance`), that
-// frame-0 pixel on the same surface (on_surface0 with the centre's band), and the acceleration within the plausibility bound (below);
-// vec3(0) otherwise.
+// frame-0 pixel on the same surface (on_surface0 with the centre's band), and the acceleration
+// within the plausibility bound (below); vec3(0) otherwise.
 FGSR_INLINE vec3 neighbour_acceleration(ivec2 pn, float d1, float tolerance, vec3 band, GenParams g) {
     if (!inside(pn, g)) return vec3(0.0f);
     float dn = load_depth1(pn);
@@ -113,7 +112,7 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
     vec3 band = vec3(1.0f, 1.0f, 4.0f * g.t_depth);
     if (MOTION_LOOKS_UP_M0(g)) {
         ivec2 q = ivec2(floor(p0));
-        band = surface_band(p1, d1, g);
+        band = surface_band(p1, d1, -m1, g);
         // The pixel whose vector is taken is chosen first and its vector read once: on CPU devices
         // each load in a branch costs every lane, taken or not.
         ivec2 from = q;
@@ -191,8 +190,9 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
         bool ok[9];
         int n = 0;
         for (int k = 0; k < 9; ++k) {
-            vec3 a = k == 4 ? vec3(m1 - m0, 1.0f)
-                            : neighbour_acceleration(p1 + ivec2(k % 3 - 1, k / 3 - 1), d1, tolerance, band, g);
+            vec3 a = k == 4
+                         ? vec3(m1 - m0, 1.0f)
+                         : neighbour_acceleration(p1 + ivec2(k % 3 - 1, k / 3 - 1), d1, tolerance, band, g);
             ax[k] = a.x;
             ay[k] = a.y;
             ok[k] = a.z != 0.0f;

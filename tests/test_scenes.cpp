@@ -245,7 +245,8 @@ TEST(Scenes, FrameZeroDepthTestExpectsTheDepthChangeTheMotionImplies) {
         float depth0;  // frame-0 depth (frame 1: 1)
         bool expected; // the depth change is what the vectors imply
     };
-    const Case cases[] = {{1.3f, 1.2f, 1.3f, true}, {1.f / 1.3f, 1.f / 1.1f, 1.f / 1.3f, true}, {1.f, 1.f, 1.3f, false}};
+    const Case cases[] = {
+        {1.3f, 1.2f, 1.3f, true}, {1.f / 1.3f, 1.f / 1.1f, 1.f / 1.3f, true}, {1.f, 1.f, 1.3f, false}};
     for (const Case& c : cases)
         for (bool rule : {true, false})
             for (bool extrap : {false, true}) {

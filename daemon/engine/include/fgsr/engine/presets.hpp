@@ -169,7 +169,8 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             Errc::invalid_argument,
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
-                "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, cover_edges)");
+                "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, "
+                "cover_edges)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
