@@ -22,6 +22,7 @@ struct PassCase {
     ColorFormat color_format;
     MvFormat mv_format;
     bool structured = false; // frames of the analytic scene (edges, occlusion, thin bars) instead of random
+    bool depth_motion = false; // Params::accel_depth_motion (opt-in; docs/ACCURACY.md, change 21)
 };
 
 std::string case_name(const testing::TestParamInfo<PassCase>& info) {
@@ -31,7 +32,7 @@ std::string case_name(const testing::TestParamInfo<PassCase>& info) {
            (c.motion == MotionModel::quadratic ? "_quadratic" : "_linear") + "_a" +
            std::to_string(int(std::lround(c.alpha * 100))) + "_r" + std::to_string(int(c.range)) + "_" +
            std::string(to_string(c.color_format)) + "_" + std::string(to_string(c.mv_format)) +
-           (c.structured ? "_scene" : "_random");
+           (c.structured ? "_scene" : "_random") + (c.depth_motion ? "_depthmotion" : "");
 }
 
 // Converts internal-convention planes to the case's client formats (so ingest is exercised too).
@@ -81,6 +82,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     fmt.mv_format = c.mv_format;
     Params params;
     params.motion = c.motion;
+    params.accel_depth_motion = c.depth_motion;
     params.fill_holes = false;
     params.separate_passes = true;
     auto s = engine().create_session(fmt, params);
@@ -280,7 +282,11 @@ INSTANTIATE_TEST_SUITE_P(Random, PassesMatchReference,
                                          PassCase{240, 135, false, MotionModel::quadratic, 0.5f, 10.f,
                                                   ColorFormat::rgba16f_linear, MvFormat::rg32f, true},
                                          PassCase{240, 135, true, MotionModel::quadratic, 0.7f, 20.f,
-                                                  ColorFormat::rgba8_srgb, MvFormat::rg16f, true}),
+                                                  ColorFormat::rgba8_srgb, MvFormat::rg16f, true},
+                                         PassCase{64, 48, false, MotionModel::quadratic, 0.5f, 6.f,
+                                                  ColorFormat::rgba32f_linear, MvFormat::rg32f, false, true},
+                                         PassCase{240, 135, true, MotionModel::quadratic, 0.7f, 20.f,
+                                                  ColorFormat::rgba8_srgb, MvFormat::rg16f, true, true}),
                          case_name);
 
 } // namespace

@@ -113,13 +113,14 @@ struct Params {
     // in the balanced and performance presets. Not carried by the wire protocol: fgsrd's sessions
     // use the default.
     bool accel_median = true;
-    // Uniform acceleration (shaders/motion.h): a frame-0 pixel counts as the point's surface where
-    // its depth lies within 4 T_D of the point's, a band extended to the depth change the local
-    // motion implies (a surface the camera approaches was farther: 1 / sqrt(det J) of the frame-1
-    // vectors' local map). Four more vector and depth reads per source pixel in splat. Off in the
-    // balanced and performance presets. Not carried by the wire protocol: fgsrd's sessions use the
-    // default.
-    bool accel_depth_motion = true;
+    // Opt-in. Uniform acceleration (shaders/motion.h): a frame-0 pixel counts as the point's
+    // surface where its depth lies within 4 T_D of the point's, a band extended to the depth change
+    // the local motion implies (a surface the camera approaches was farther: 1 / sqrt(det J) of the
+    // frame-1 vectors' local map). It gains where the camera approaches fast (street renders) and
+    // loses across camera cuts, where a fresh render's extrapolation fell below uniform velocity
+    // with it (docs/ACCURACY.md, change 21): off by default and in every preset. Four more vector
+    // and depth reads per source pixel in splat. Not carried by the wire protocol.
+    bool accel_depth_motion = false;
     // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
     // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's

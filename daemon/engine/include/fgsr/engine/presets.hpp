@@ -81,7 +81,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_edges = defaults::dilate_edges;
         p.accel_search = true;
         p.accel_median = true;
-        p.accel_depth_motion = true;
+        p.accel_depth_motion = false; // opt-in (docs/ACCURACY.md, change 21)
         p.cover_edges = true;
         break;
     }
