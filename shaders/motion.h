@@ -45,8 +45,9 @@
 #define MOTION_SURFACE_TD 4.0f    // in T_D; chosen on the train captures (docs/ACCURACY.md, "Changes", 21)
 
 // Which frame-0 depths count as the point's surface: vec3(lo, hi, tolerance), a frame-0 depth d0
-// of a point of frame-1 depth d1 belongs where d1 lo / (1 + tolerance) < d0 < d1 hi (1 + tolerance)
-// (on_surface0). Without MOTION_DEPTH_MOTION: within 4 T_D of d1 either way (lo = hi = 1). With it
+// of a point of frame-1 depth d1 belongs where its relative difference to [d1 lo, d1 hi] is below
+// the tolerance (on_surface0; for positive depths d1 lo / (1 + tolerance) < d0 < d1 hi (1 +
+// tolerance)). Without MOTION_DEPTH_MOTION: within 4 T_D of d1 either way (lo = hi = 1). With it
 // (docs/ACCURACY.md, change 21), the depth change the motion implies, as the sr pass's history test
 // expects it (sr.h step 2): a patch the camera approaches was farther in frame 0 by s = 1 /
 // sqrt(det J), J = I + grad(mv1) the local map from frame-1 to frame-0 positions (central
@@ -78,12 +79,13 @@ FGSR_INLINE vec3 surface_band(ivec2 p1, float d1, vec2 mv1, GenParams g) {
     float s = frame1_depth_scale(p1, d1, mv1, g);
     return vec3(min(1.0f, s), max(1.0f, s), MOTION_SURFACE_TD * g.t_depth);
 }
-FGSR_INLINE bool on_surface0(float d0, float d1, vec3 band) {
-    return d0 > d1 * band.x / (1.0f + band.z) && d0 < d1 * band.y * (1.0f + band.z);
-}
 // How far d0 lies outside [d1 lo, d1 hi], relative (0 inside): the edge neighbours' ranking.
 FGSR_INLINE float surface_distance0(float d0, float d1, vec3 band) {
     return relative_depth_difference(d0, clamp(d0, d1 * band.x, d1 * band.y));
+}
+// With lo = hi = 1 this is the plain test relative_depth_difference(d0, d1) < tolerance, to the bit.
+FGSR_INLINE bool on_surface0(float d0, float d1, vec3 band) {
+    return surface_distance0(d0, d1, band) < band.z;
 }
 
 // The acceleration m1 - m0 of the frame-1 pixel pn as the pixel under its own frame-0 position
