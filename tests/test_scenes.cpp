@@ -231,11 +231,11 @@ TEST(Scenes, ExtrapolationTakesTheSmallestAccelerationOfTheSameSurface) {
 // change 21), on the CPU reference, with the median and the search off (each tested on its own):
 // a surface growing 1.3x a frame (a zoom about the frame's centre, as the camera approaches; its
 // growth slowing from 1.2x the frame before: an acceleration) or shrinking to 1 / 1.3 (receding,
-// faster than the frame before),
-// its frame-0 depth 30 % larger or smaller than its frame-1 depth. That is more than 4 T_D (20 %),
-// so without the rule the pixel moves uniformly; with it the depth change the vectors imply is
-// expected and the pixel follows the parabola through its frame-0 vector. Where the vectors imply
-// no change (a uniform slide), a frame-0 depth 30 % away is another surface with the rule too.
+// faster than the frame before), its frame-0 depth 30 % larger or smaller than its frame-1 depth.
+// That is more than 4 T_D (20 %), so without the rule the pixel moves uniformly; with it the depth
+// change the vectors imply is expected and the pixel follows the parabola through its frame-0
+// vector. Where the vectors imply no change (a uniform slide), a frame-0 depth 30 % away is another
+// surface with the rule too.
 TEST(Scenes, FrameZeroDepthTestExpectsTheDepthChangeTheMotionImplies) {
     const uint32_t w = 64, h = 32;
     const glm::vec2 centre(32.f, 16.f);
