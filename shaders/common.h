@@ -346,6 +346,16 @@ FGSR_INLINE float median9(float v[9], bool ok[9], int n) {
 // |a - b| relative to the nearer of the two (depths are positive).
 FGSR_INLINE float relative_depth_difference(float a, float b) { return abs(a - b) / max(min(a, b), 1.0e-20f); }
 
+// The factor by which a surface patch was farther in the previous frame, if it faces the camera:
+// 1 / sqrt(det J), J = I + grad(mv) the local map from current to previous positions, gx and gy
+// the vectors' derivatives along x and y (J's columns: step + d(mv)); det J clamped to [1/4, 4].
+// The sr pass's history test (sr.h step 2) and the motion's frame-0 depth test (motion.h) expect
+// the depth change it implies.
+FGSR_INLINE float expansion_depth_scale(vec2 gx, vec2 gy) {
+    float det = (1.0f + gx.x) * (1.0f + gy.y) - gy.x * gx.y;
+    return inversesqrt(clamp(det, 0.25f, 4.0f));
+}
+
 // a / b for quotients below 2^23, b >= 1. Integer division by a non-constant is not vectorised on
 // CPU devices (lavapipe scalarises it: the tiled passes were measured 2-3x slower with it), float
 // division is; the float quotient is within 1 of the true one, and one integer step corrects it.

@@ -70,9 +70,7 @@ FGSR_INLINE float frame1_depth_scale(ivec2 p1, float d1, vec2 mc, GenParams g) {
         float span = float(int(lo_ok) + int(hi_ok));
         grad[axis] = span > 0.0f ? (m_hi - m_lo) / span : vec2(0.0f);
     }
-    // J's columns: the frame-0 position's derivatives along x and y, step + d(mv1).
-    float det = (1.0f + grad[0].x) * (1.0f + grad[1].y) - grad[1].x * grad[0].y;
-    return inversesqrt(clamp(det, 0.25f, 4.0f));
+    return expansion_depth_scale(grad[0], grad[1]);
 }
 FGSR_INLINE vec3 surface_band(ivec2 p1, float d1, vec2 mv1, GenParams g) {
     if ((g.quadratic & MOTION_DEPTH_MOTION) == 0u) return vec3(1.0f, 1.0f, 4.0f * g.t_depth);
@@ -122,10 +120,10 @@ FGSR_INLINE vec4 source_velocities_at_depth(ivec2 p1, float d1, GenParams g) {
         if (!found) {
             // The centre missed: the 4 edge neighbours on the surface, closest depth wins (first on
             // ties).
-            float best = 1.0e30f;
+            float best = band.z;
             for (int k = 0; k < 4; ++k) {
                 ivec2 qq = q + edge_neighbour_offset(k);
-                if (inside(qq, g) && on_surface0(load_depth0(qq), d1, band)) {
+                if (inside(qq, g)) {
                     float rel = surface_distance0(load_depth0(qq), d1, band);
                     if (rel < best) {
                         best = rel;

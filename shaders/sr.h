@@ -98,9 +98,7 @@ FGSR_INLINE float motion_depth_scale(ivec2 t, float d_now, SrParams p) {
         float span = float(int(lo_ok) + int(hi_ok));
         g[axis] = span > 0.0f ? (m_hi - m_lo) / span : vec2(0.0f);
     }
-    // J's columns: the previous position's derivatives along x and y, step + d(mv).
-    float det = (1.0f + g[0].x) * (1.0f + g[1].y) - g[1].x * g[0].y;
-    return inversesqrt(clamp(det, 0.25f, 4.0f));
+    return expansion_depth_scale(g[0], g[1]);
 }
 
 #define SR_NOISE_R0 0.35f
