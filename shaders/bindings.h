@@ -11,7 +11,8 @@
 #define INGEST_MV 5
 #define INGEST_BRIGHT 6 // per 16x16 tile: over-white content within 1 pixel (stage dilate)
 #define INGEST_PREV_COLOR 7 // the previous frame's ingested colour (stage dilate, edge rule)
-#define INGEST_COUNT 8
+#define INGEST_CUT 8 // per 8x8 block: vec2(SAD, contrast) of the frame against the previous one (stage cut)
+#define INGEST_COUNT 9
 
 // splat, refine, disocc and generate share the bindings of the frames and keys they read.
 #define GEN_MV1 0

@@ -51,6 +51,10 @@ namespace fgsr::gpu {
 // ---- push-constant blocks (std430 scalars only; layout identical in GLSL and C++) ----
 
 // ingest: client formats -> internal convention
+// The cut stage's blocks (shaders/cut.h): CUT_BLOCK x CUT_BLOCK pixels, every CUT_STEP-th one in
+// each direction sampled.
+#define CUT_BLOCK 8u
+#define CUT_STEP 2u
 #define FGSR_BRIGHT_TILE_SHIFT 4u // the dilate stage's over-white flags: per 16x16 tile (shaders/dilate.h)
 // The workgroup of the dilate stage's edge-rule build (one invocation per 16x16 tile): small, so
 // that a small frame's few hundred tiles still spread over every CPU thread of lavapipe (one
@@ -320,6 +324,9 @@ FGSR_INLINE vec4 unpack_color(uvec2 p) { return vec4(unpackHalf2x16(p.x), unpack
 
 // Rec. 709 luminance of linear colour, unclamped (1 = display white; the dilate stage's over-white test).
 FGSR_INLINE float linear_luminance(vec4 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+// Display-referred luma: the square root of linear luminance clamped to [0, 1] (about perceptually
+// even steps). What motion estimation matches (luma.h) and the scene-cut test compares (cut.h).
+FGSR_INLINE float motion_luma(vec4 c) { return sqrt(clamp(linear_luminance(c), 0.0f, 1.0f)); }
 
 FGSR_INLINE bool inside(ivec2 q, GenParams g) {
     return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);

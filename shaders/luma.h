@@ -10,9 +10,7 @@
 //   float load_level(uint index)              the pyramid (levels > 0 read the finer level)
 //   void  store_level(uint index, float value)
 
-FGSR_INLINE float motion_luma(vec4 c) {
-    return sqrt(clamp(0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z, 0.0f, 1.0f));
-}
+// motion_luma (common.h): that luma of one colour.
 
 // Level 0 and the levels above it are separate builds on the GPU (luma_level0 defines
 // FGSR_LUMA_LEVEL0): CPU devices run both sides of a branch with the inactive lanes masked off,

@@ -164,6 +164,9 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_TRUE(p.cover_edges); // balanced has the edge cover
     ASSERT_TRUE(fgsr::apply_switch(p, "cover_edges=off"));
     EXPECT_FALSE(p.cover_edges);
+    EXPECT_FALSE(p.vector_cuts); // opt-in in every preset
+    ASSERT_TRUE(fgsr::apply_switch(p, "vector_cuts=on"));
+    EXPECT_TRUE(p.vector_cuts);
     const fgsr::Params before = p;
     auto e = fgsr::apply_switch(p, "motion=cubic");
     ASSERT_FALSE(e);
@@ -180,7 +183,7 @@ TEST(Presets, SwitchesApplyAndToggle) {
         "motion=linear",  "resample=catmull_rom", "resample=lut",    "fill_gaps=off",   "fill_holes=off",
         "blend=select",   "dilate_mvs=on",        "denoise=off",     "passes=separate", "correct_vectors=on",
         "fast_motion=on", "dilate_edges=on",      "accel_search=on", "accel_median=on", "accel_depth=on",
-        "cover_edges=off"};
+        "cover_edges=off", "vector_cuts=on"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

@@ -245,7 +245,9 @@ TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
 
 // A cut the capture does not flag (the inputs from 5 on come from another scene): the colour-only
 // session detects it and refuses the pair across it; eval shows the nearest input there, counts
-// it and carries on (it used to stop the whole evaluation with the refusal).
+// it and carries on (it used to stop the whole evaluation with the refusal). The session with the
+// capture's vectors (fgsr, Params::vector_cuts on) detects it too, in ingest's cut stage: scene A's
+// vectors do not explain scene B's colour.
 TEST(EvalMotionTiming, DetectedCutIsScoredAsTheNearestInput) {
     auto a = cli::load_capture_spec("builtin");
     ASSERT_TRUE(a) << a.error().message;
@@ -266,7 +268,8 @@ TEST(EvalMotionTiming, DetectedCutIsScoredAsTheNearestInput) {
         a->inputs[k].color = f.color;
     }
     cli::EvalOptions o;
-    o.methods = {"fgsr-colour", "blend"};
+    o.methods = {"fgsr-colour", "fgsr", "blend"};
+    o.params.vector_cuts = true;
     o.preloaded = &*a;
     o.engine = &engine();
     o.progress = false;
@@ -279,6 +282,10 @@ TEST(EvalMotionTiming, DetectedCutIsScoredAsTheNearestInput) {
     EXPECT_EQ(c.ms_samples.size(), r->frames - c.scene_cuts) << "refused frames are not timed";
     const nlohmann::json j = nlohmann::json::parse(cli::report_json(*r, false));
     EXPECT_EQ(j["methods"]["fgsr-colour"]["scene_cuts"].get<size_t>(), c.scene_cuts);
+    const cli::MethodScore& v = r->methods.at("fgsr");
+    EXPECT_EQ(v.scene_cuts, 1u) << "with vectors: the cut before input 5, and nothing else";
+    EXPECT_EQ(v.psnr.size(), r->frames);
+    EXPECT_EQ(j["methods"]["fgsr"]["scene_cuts"].get<size_t>(), 1u);
     expect_no_validation_errors();
 }
 

@@ -193,12 +193,11 @@ ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, floa
     for (const glm::vec4& b : blocks) {
         const glm::vec2 d = glm::vec2(b.x, b.y) - mode;
         if (glm::dot(d, d) <= r2) sum += glm::vec2(b.x, b.y), ++count;
-        high += (b.z > kCutSad && b.z > kCutContrast * b.w) ? 1 : 0;
+        high += block_unmatched(b.z, b.w) ? 1 : 0;
     }
     s.global = count ? sum / float(count) : mode;
     s.mismatch_share = float(high) / float(n);
-    s.cut = typical_share < 0.f ? s.mismatch_share > kCutShareAlone
-                                : s.mismatch_share > std::max(kCutShare, kCutJump * typical_share);
+    s.cut = is_cut(s.mismatch_share, typical_share);
     return s;
 }
 
@@ -382,6 +381,10 @@ std::vector<PassTiming> Session::last_motion_timings() const {
 
 bool Session::last_scene_cut() const {
     return impl_->estimator.last_cut;
+}
+
+float Session::last_cut_share() const {
+    return impl_->last_cut_share;
 }
 
 } // namespace fgsr

@@ -58,6 +58,18 @@ struct DilateCpu {
 #include "dilate.h"
 };
 
+// Ingest's cut stage: the ingested frame against the previous frame's colour.
+struct CutCpu {
+    const ref::InternalFrame* f;
+    const ref::InternalFrame* prev;
+    std::vector<vec2>* out;
+    vec4 load_frame_color(uint i) const { return f->color[i]; }
+    vec4 load_prev_color(uint i) const { return prev->color[i]; }
+    vec2 load_frame_mv(uint i) const { return f->mv[i]; }
+    void store_cut_block(uint b, vec2 v) { (*out)[b] = v; }
+#include "cut.h"
+};
+
 // Loads shared by the generation passes.
 struct FramesCpu {
     const ref::InternalFrame* f0;
@@ -219,6 +231,27 @@ void dilate(InternalFrame& f, const InternalFrame* prev, const IngestParams& p) 
     // The edge rule first: the over-white rule's writes take precedence (as the GPU dispatches).
     if (edges) for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.dilate_edge_pixel(glm::uvec2(q), p); });
     if (p.bright > 0.f) for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.dilate_pixel(glm::uvec2(q), p); });
+}
+
+uint32_t cut_blocks(uint32_t width, uint32_t height) {
+    return ((width + CUT_BLOCK - 1) / CUT_BLOCK) * ((height + CUT_BLOCK - 1) / CUT_BLOCK);
+}
+
+std::vector<glm::vec2> cut_stage(const InternalFrame& f, const InternalFrame& prev) {
+    std::vector<glm::vec2> out(cut_blocks(f.width, f.height));
+    IngestParams p{};
+    p.width = f.width;
+    p.height = f.height;
+    gpu::CutCpu cpu{&f, &prev, &out};
+    for_each_pixel(cpu.cut_blocks_x(p), cpu.cut_blocks_y(p), [&](glm::ivec2 b) { cpu.cut_block(glm::uvec2(b), p); });
+    return out;
+}
+
+float cut_share(std::span<const glm::vec2> blocks) {
+    if (blocks.empty()) return 0.f;
+    size_t high = 0;
+    for (const glm::vec2& b : blocks) high += block_unmatched(b.x, b.y) ? 1 : 0;
+    return float(high) / float(blocks.size());
 }
 
 std::vector<glm::vec4> generate_sr(const InternalFrame& f0, const InternalFrame& f1, const Splat& sp,

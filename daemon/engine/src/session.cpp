@@ -32,6 +32,8 @@ Result<void> Session::Impl::init() {
     FGSR_TRY(make(mv_raw, px * bytes_per_pixel(format.mv_format), true));
     const VkDeviceSize tile = 1u << FGSR_BRIGHT_TILE_SHIFT;
     FGSR_TRY(make(bright, (format.width + tile - 1) / tile * ((format.height + tile - 1) / tile) * 4, false));
+    if (format.has_vectors)
+        FGSR_TRY(make(cut_blocks, VkDeviceSize(ref::cut_blocks(format.width, format.height)) * 8, true));
     for (GpuFrame& f : frames) {
         FGSR_TRY(make(f.color, px * 8, false)); // pack_color: 4 halves
         FGSR_TRY(make(f.depth, px * 4, false));
@@ -211,7 +213,8 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     const auto b = make_slots<PassId::ingest>(at<INGEST_COLOR_RAW>(color_in), at<INGEST_DEPTH_RAW>(depth_in),
                                               at<INGEST_MV_RAW>(mv_in), at<INGEST_COLOR>(f.color),
                                               at<INGEST_DEPTH>(f.depth), at<INGEST_MV>(f.mv),
-                                              at<INGEST_BRIGHT>(s.bright), at<INGEST_PREV_COLOR>(prev.color));
+                                              at<INGEST_BRIGHT>(s.bright), at<INGEST_PREV_COLOR>(prev.color),
+                                              at<INGEST_CUT>(s.cut_blocks.handle() ? BufRef(s.cut_blocks) : unused(color_in)));
     // The dilate stage (shaders/dilate.h): with the client's vectors and depth, uncorrected; its
     // edge rule reads the previous frame's colour.
     params::set_dilate(p, s.format, s.params, !restart);
@@ -257,14 +260,58 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         }
         s.rec.barrier();
     }
+    // With vectors: the cut stage (shaders/cut.h, Params::vector_cuts) ends a first command buffer;
+    // the host reads its blocks and, on a cut, starts the session afresh before the SR pass, as
+    // FrameView::reset would have. The denoise pass filters a frame's colour in place, so in
+    // sessions that filter it runs first, and the stage compares the filtered frame with the
+    // filtered previous one (unfiltered against filtered, the filter alone left half the blocks of
+    // a static stretch of orbit-sr without a match). The stage is timed with ingest (its ms added).
+    const bool checks_cut = s.params.vector_cuts && has_mv && !restart && !s.estimates_motion() &&
+                            s.cut_blocks.handle() != VK_NULL_HANDLE;
     s.rec.timestamp(q++);
+    if (checks_cut) {
+        if (denoise) {
+            FGSR_TRY(s.record_denoise(f.color));
+            s.rec.barrier();
+            s.rec.timestamp(q++);
+        }
+        // One invocation per 8x8 block (cut.comp's small workgroups, as the edge rule's).
+        const uint32_t blocks_x = (s.format.width + CUT_BLOCK - 1) / CUT_BLOCK;
+        const uint32_t blocks_y = (s.format.height + CUT_BLOCK - 1) / CUT_BLOCK;
+        FGSR_TRY(s.rec.dispatch(Variant::ingest_cut, b, &p,
+                                (blocks_x + FGSR_DILATE_EDGES_GROUP_X - 1) / FGSR_DILATE_EDGES_GROUP_X,
+                                (blocks_y + FGSR_DILATE_EDGES_GROUP_Y - 1) / FGSR_DILATE_EDGES_GROUP_Y));
+        s.rec.barrier(); // also makes the blocks visible to the host
+        s.rec.timestamp(q++);
+    }
     // Without vectors (motion.cpp): the pyramid, then against the previous frame matching in a
     // first command buffer, the host's summary (dominant motion, scene cut), and the per-pixel
     // vectors at the start of the second one. Timings gathered per command buffer.
     std::vector<PassTiming> first_times;
+    bool vector_cut = false;
+    s.last_cut_share = -1.f;
+    if (checks_cut) {
+        FGSR_TRY(s.rec.finish(true));
+        auto t1 = s.rec.read_times(0, q - 1);
+        if (!t1) return t1.error();
+        first_times = std::move(*t1);
+        const float share = ref::cut_share(
+            {static_cast<const glm::vec2*>(s.cut_blocks.mapped()), ref::cut_blocks(s.format.width, s.format.height)});
+        // ref::is_vector_cut. The session's first comparison only sets the typical share: aliased,
+        // point-sampled input (jittered or not) leaves 0.5-0.99 of its blocks without a match at
+        // every frame (orbit-sr, street-sr, rotor-sr), so an absolute threshold would cut its second
+        // frame.
+        vector_cut = ref::is_vector_cut(share, s.cut_typical_share);
+        s.last_cut_share = share;
+        s.cut_typical_share = ref::update_typical_share(s.cut_typical_share, share, vector_cut);
+        restart = restart || vector_cut;
+        FGSR_TRY(s.rec.begin());
+        q = 0;
+        s.rec.timestamp(q++);
+    }
     // With Params::correct_vectors the same chain corrects the client's vectors: a cut it detects
     // then only skips the correction (the client says when to reset).
-    bool frame_has_mv = has_mv;
+    bool frame_has_mv = has_mv && !vector_cut;
     const bool correcting = s.correction().on;
     bool flow_skipped = false;
     // The refinement (both its coarse levels and level 0) fits the colour: on jittered frames that
@@ -276,7 +323,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     const bool polishing = !correcting && !s.params.fast_motion && frame.jitter_x == 0.f &&
                            frame.jitter_y == 0.f && ref::polishes(s.format.width, s.format.height);
     s.estimator.timings.clear();
-    s.estimator.last_cut = false;
+    s.estimator.last_cut = vector_cut;
     if (s.estimates_motion()) {
         FGSR_TRY(s.record_luma(slot));
         s.rec.barrier();
@@ -330,7 +377,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         if (!correcting) frame_has_mv = !restart;
         s.estimator.field_valid = !restart && !s.estimator.last_cut;
     }
-    if (denoise) {
+    if (denoise && !checks_cut) {
         FGSR_TRY(s.record_denoise(f.color));
         s.rec.barrier();
         s.rec.timestamp(q++);
@@ -369,12 +416,15 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             sweeps.ms += coarse_time.ms;
             s.estimator.timings.push_back(sweeps);
         }
+    } else if (checks_cut) {
+        s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
+        s.ingest_timing.ms += first_times.back().ms; // the cut stage
     } else {
         s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
     }
     s.denoiser.estimate = NoiseEstimate{};
     if (denoise) {
-        s.denoiser.timing = timing_of(PassId::denoise, (*t)[ti++]);
+        s.denoiser.timing = timing_of(PassId::denoise, checks_cut ? first_times[1] : (*t)[ti++]);
         s.read_noise_estimate();
     }
     s.tiles.last_sr_tiled = sr_tiled;

@@ -90,6 +90,12 @@ struct Session::Impl {
     vk::Buffer color_raw, depth_raw, mv_raw;
     vk::Buffer bright;         // ingest's over-white flags per 16x16 tile (shaders/dilate.h)
     bool bright_clear = false; // cleared once; then the dilate stage clears what it reads
+    // Scene cuts in sessions with vectors (ingest's cut stage, shaders/cut.h; Params::vector_cuts):
+    // host-visible vec2(SAD, contrast) per 8x8 block; the running share of unmatched blocks since
+    // the last restart (negative: no history yet), as Motion::typical_share for colour-only ones.
+    vk::Buffer cut_blocks;
+    float cut_typical_share = -1.f;
+    float last_cut_share = -1.f;
     struct GpuFrame {
         vk::Buffer color, depth, mv;
         bool has_mv = false;

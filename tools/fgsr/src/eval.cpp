@@ -350,7 +350,7 @@ std::string report_json(const EvalReport& r, bool per_frame) {
         jm["ms"] = s.mean_ms;
         if (s.scores_vectors)
             jm["epe"] = s.epe.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(s.mean_epe);
-        if (is_colour_method(m)) jm["scene_cuts"] = s.scene_cuts;
+        if (is_engine_method(m)) jm["scene_cuts"] = s.scene_cuts;
         if (s.stability_std >= 0) jm["stability_std"] = s.stability_std;
         if (!s.pass_ms.empty()) {
             nlohmann::ordered_json passes = nlohmann::ordered_json::object();

@@ -58,7 +58,7 @@ FrameView session_view(const FrameFormat& session_format, const FrameView& frame
 }
 
 bool restarted_at_cut(const Session& session) {
-    return !session.format().has_vectors && session.last_scene_cut() && session.frames_submitted() < 2;
+    return session.last_scene_cut() && session.frames_submitted() < 2;
 }
 
 GeneratedFrame with_motion_timings(GeneratedFrame frame, const std::vector<PassTiming>& motion) {

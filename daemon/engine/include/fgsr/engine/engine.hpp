@@ -121,6 +121,17 @@ struct Params {
     // with it (docs/ACCURACY.md, change 21): off by default and in every preset. Four more vector
     // and depth reads per source pixel in splat. Not carried by the wire protocol.
     bool accel_depth_motion = false;
+    // Opt-in. Sessions with vectors (ingest's cut stage, shaders/cut.h): a frame whose own vectors
+    // do not explain its colour against the previous frame's (most of its 8x8 blocks without a
+    // match, a jump from the session's typical share: ref::is_vector_cut) is a scene cut the client
+    // did not announce: the session restarts as on FrameView::reset (no frame generated across it,
+    // the SR history restarts, last_scene_cut() says so) and the frame's vectors are not read as
+    // the next pair's frame-0 motion. Off by default and in every preset: a sequence that is not
+    // continuous on purpose (a timing loop submitting two inputs in turn, a stress frame of NaN or
+    // of the largest half float) is taken for a cut too, and its pairs are refused
+    // (docs/ACCURACY.md, change 22). One more command buffer per submit. Not carried by the wire
+    // protocol.
+    bool vector_cuts = false;
     // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
     // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's
@@ -331,11 +342,16 @@ class Session {
     // Timing of the last submit's ingest pass (with CLOCK_MONOTONIC begin/end).
     PassTiming last_ingest_timing() const;
     // Sessions without vectors (FrameFormat::has_vectors false): the timings of the last submit's
-    // motion passes (luma, then match and flow when there was a previous frame; empty otherwise),
-    // and whether that submit was found to be a scene cut (then it started afresh, as with
-    // FrameView::reset: frames before it are not interpolated from).
+    // motion passes (luma, then match and flow when there was a previous frame; empty otherwise).
     std::vector<PassTiming> last_motion_timings() const;
+    // Whether the last submit was found to be a scene cut (then it started afresh, as with
+    // FrameView::reset: frames before it are not interpolated from): by block matching in sessions
+    // without vectors, by the cut stage in sessions with them (Params::vector_cuts).
     bool last_scene_cut() const;
+    // Sessions with vectors: the share of the last submit's 8x8 blocks whose vectors did not explain
+    // their colour (the cut stage, shaders/cut.h); negative where the stage did not run (the first
+    // frame or a reset, no vectors, Params::vector_cuts off).
+    float last_cut_share() const;
     // The last submit's noise estimate (Params::denoise; zeros without it).
     NoiseEstimate last_noise_estimate() const;
     // Super-resolution sessions: the aliasing measure of the input's first frames (fgsr/engine/

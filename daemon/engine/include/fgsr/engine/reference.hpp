@@ -13,6 +13,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -251,6 +252,30 @@ inline float update_typical_share(float typical, float share, bool cut) {
     if (typical < 0.f || cut) return share;
     return 0.7f * typical + 0.3f * share;
 }
+// The cut rule on a frame's share of unmatched blocks (kCutShare, kCutJump, kCutShareAlone).
+inline bool is_cut(float share, float typical_share) {
+    return typical_share < 0.f ? share > kCutShareAlone : share > std::max(kCutShare, kCutJump * typical_share);
+}
+// Sessions with vectors (ingest's cut stage): a frame is a cut where the share of its blocks that
+// its own vectors leave without a match is above kCutShareVectors and kCutJump times the session's
+// typical share; the session's first comparison only sets the typical share. The given vectors
+// are not a search: a patch they do not describe (an effect drawn without vectors, shading that
+// moves, wrong vectors) leaves its blocks unmatched without any cut, so the share must be most of
+// the frame (measured: at most 0.28 without a cut on the captures, 0.75-0.79 at their cuts).
+inline constexpr float kCutShareVectors = 0.5f;
+inline bool is_vector_cut(float share, float typical_share) {
+    return typical_share >= 0.f && share > std::max(kCutShareVectors, kCutJump * typical_share);
+}
+// A block that finds no match: SAD above kCutSad and above kCutContrast times its contrast.
+inline bool block_unmatched(float sad, float contrast) { return sad > kCutSad && sad > kCutContrast * contrast; }
+
+// Scene cuts in sessions with vectors (ingest's cut stage, shaders/cut.h): the number of 8x8
+// blocks of a frame; the stage on the CPU, vec2(SAD, contrast) per block of `f` (ingested, its
+// vectors after the dilate stage) against the previous frame's colour; the share of those blocks
+// that find no match (block_unmatched).
+uint32_t cut_blocks(uint32_t width, uint32_t height);
+std::vector<glm::vec2> cut_stage(const InternalFrame& f, const InternalFrame& prev);
+float cut_share(std::span<const glm::vec2> blocks);
 
 // The passes on the CPU: the pyramid of a frame; one level of matching into `field` (both
 // directions share it, as on the GPU); the flow pass writing f.mv (and f.depth with write_depth).

@@ -68,7 +68,7 @@ struct MethodScore {
     std::vector<double> epe;
     double mean_epe = 0;
     bool scores_vectors = false;
-    // Colour-only methods: generated frames the session refused because it detected a scene cut
+    // Engine methods: generated frames the session refused because it detected a scene cut
     // in the newest input (restarted_at_cut, fgsr/cli/eval_motion.hpp); the nearest input is
     // scored in their place and they are not timed.
     size_t scene_cuts = 0;

@@ -36,7 +36,8 @@ FrameFormat colour_only(FrameFormat f);
 FrameView session_view(const FrameFormat& session_format, const FrameView& frame);
 
 // Whether `session` refused to generate because it restarted at a scene cut it detected in its
-// newest input (colour-only sessions: Session::last_scene_cut, then as after FrameView::reset).
+// newest input (Session::last_scene_cut: block matching without vectors, the cut stage with them
+// (Params::vector_cuts); then as after FrameView::reset).
 // Eval then shows the nearest input (the `repeat` rule; sr modes: the newest super-resolved
 // frame), scores it, counts it in MethodScore::scene_cuts and times nothing for it.
 bool restarted_at_cut(const Session& session);

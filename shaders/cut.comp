@@ -1,0 +1,23 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.h"
+#include "bindings.h"
+// Stage cut of pass ingest (shaders/cut.h), after ingest and its dilate stage, with their bindings
+// and push constants: the frame's ingested colour and vectors against the previous frame's colour.
+// One invocation per 8x8 block, in small workgroups (as the dilate stage's edge rule: a 480x270
+// frame's 2040 blocks still spread over every CPU thread of lavapipe).
+layout(local_size_x = FGSR_DILATE_EDGES_GROUP_X, local_size_y = FGSR_DILATE_EDGES_GROUP_Y) in;
+layout(push_constant) uniform Push { IngestParams p; } pc;
+layout(std430, binding = INGEST_COLOR) readonly buffer Color { uvec2 color[]; }; // pack_color
+layout(std430, binding = INGEST_MV) readonly buffer Mv { vec2 mv[]; };
+layout(std430, binding = INGEST_PREV_COLOR) readonly buffer PrevColor { uvec2 prev_color[]; }; // pack_color
+layout(std430, binding = INGEST_CUT) writeonly buffer Cut { vec2 cut[]; };
+
+vec4 load_frame_color(uint i) { return unpack_color(color[i]); }
+vec4 load_prev_color(uint i) { return unpack_color(prev_color[i]); }
+vec2 load_frame_mv(uint i) { return mv[i]; }
+void store_cut_block(uint b, vec2 v) { cut[b] = v; }
+
+#include "cut.h"
+
+void main() { cut_block(gl_GlobalInvocationID.xy, pc.p); }

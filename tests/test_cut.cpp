@@ -1,0 +1,186 @@
+// Scene cuts in sessions with vectors (ingest's cut stage, shaders/cut.h; Params::vector_cuts):
+// a frame whose own vectors do not explain its colour against the previous frame starts the
+// session afresh, as FrameView::reset would have. Analytic scenes: value noise panned by a known
+// amount per frame, so that the vectors given are exact where the scene goes on, and a second
+// scene (another texture) after a cut, whose vectors point where a renderer would reproject them
+// (far off, into the other shot) or are zero (a client that writes none at a cut).
+#include "engine_fixture.hpp"
+#include "value_noise.hpp"
+
+#include <fgsr/engine/reference.hpp>
+
+#include <cmath>
+
+namespace fgsr::test {
+namespace {
+
+constexpr uint32_t kW = 128, kH = 96;
+
+struct Pan {
+    uint32_t seed = 3;
+    glm::vec2 start{0.f}, velocity{5.f, 2.f}, accel{0.f}; // scene offset at frame t: start + v t + a t^2 / 2
+    // A square occluder in front (depth 2) moving its own way: disocclusion behind it.
+    bool occluder = false;
+
+    glm::vec2 offset(float t) const { return start + velocity * t + 0.5f * accel * t * t; }
+    glm::vec2 square(float t) const { return glm::vec2(30.f, 30.f) + glm::vec2(-6.f, 3.f) * t; }
+    bool on_square(glm::vec2 p, float t) const {
+        const glm::vec2 d = p - square(t);
+        return occluder && d.x >= 0.f && d.y >= 0.f && d.x < 28.f && d.y < 28.f;
+    }
+    // Frame t: colour of the scene sampled at pixel centres, depth (10 behind, 2 on the square),
+    // vectors to frame t - 1 (none for t = 0).
+    RawFrame frame(int t, const glm::vec2* mv_override = nullptr) const {
+        std::vector<glm::vec4> col(size_t(kW) * kH);
+        std::vector<float> depth(col.size());
+        std::vector<glm::vec2> mv(t == 0 ? 0 : col.size());
+        for (uint32_t y = 0; y < kH; ++y)
+            for (uint32_t x = 0; x < kW; ++x) {
+                const size_t i = size_t(y) * kW + x;
+                const glm::vec2 c(float(x) + 0.5f, float(y) + 0.5f);
+                const bool sq = on_square(c, float(t));
+                const glm::vec2 q = sq ? c - square(float(t)) : c + offset(float(t));
+                const float v = value_noise(q.x, q.y, sq ? 3.f : 4.f, sq ? seed + 100 : seed);
+                col[i] = sq ? glm::vec4(0.9f * v, 0.5f * v, 0.2f, 1.f) : glm::vec4(v, v, 0.8f * v, 1.f);
+                depth[i] = sq ? 2.f : 10.f;
+                if (t > 0) {
+                    // The point at c was at c + (offset(t) - offset(t - 1)) in frame t - 1 (the
+                    // scene slides by minus the offset); the square's points move with it.
+                    mv[i] = mv_override ? *mv_override
+                            : sq        ? square(float(t - 1)) - square(float(t))
+                                        : offset(float(t)) - offset(float(t - 1));
+                }
+            }
+        return make_raw(col, depth, mv);
+    }
+};
+
+std::unique_ptr<Session> session(bool vector_cuts = true) {
+    Params p;
+    p.vector_cuts = vector_cuts;
+    auto s = engine().create_session(internal_format(kW, kH), p);
+    EXPECT_TRUE(s) << s.error().message;
+    return s ? std::move(*s) : nullptr;
+}
+
+std::vector<float> interpolated(Session& s) {
+    const float a[] = {0.5f};
+    auto out = s.interpolate(a);
+    EXPECT_TRUE(out) << out.error().message;
+    return out ? (*out)[0].color.rgba : std::vector<float>{};
+}
+
+// The stage on the GPU and on the CPU (the same header) count the same blocks: frame 2's vectors
+// are exact on the left half and point elsewhere on the right half (share near a half, so a
+// block counted differently shows).
+TEST(Cut, StageMatchesTheCpuReference) {
+    const Pan pan;
+    auto s = session();
+    ASSERT_TRUE(s);
+    ASSERT_TRUE(s->submit(pan.frame(0).view()));
+    ASSERT_TRUE(s->submit(pan.frame(1).view()));
+    RawFrame f2 = pan.frame(2);
+    std::vector<glm::vec2> mv(size_t(kW) * kH);
+    std::memcpy(mv.data(), f2.mv.data(), f2.mv.size());
+    for (uint32_t y = 0; y < kH; ++y)
+        for (uint32_t x = kW / 2; x < kW; ++x) mv[size_t(y) * kW + x] = glm::vec2(37.f, -23.f);
+    f2.mv = bytes_of(mv);
+    ASSERT_TRUE(s->submit(f2.view()));
+    auto cur = s->read_frame(1), prev = s->read_frame(0);
+    ASSERT_TRUE(cur && prev);
+    const std::vector<glm::vec2> blocks = ref::cut_stage(to_internal(*cur, kW, kH), to_internal(*prev, kW, kH));
+    ASSERT_EQ(blocks.size(), size_t(ref::cut_blocks(kW, kH)));
+    const float cpu = ref::cut_share(blocks);
+    EXPECT_GT(cpu, 0.35f) << "the right half's blocks find no match";
+    EXPECT_LT(cpu, 0.65f) << "the left half's do";
+    EXPECT_NEAR(s->last_cut_share(), cpu, 0.5f / float(blocks.size())) << "GPU and CPU count the same blocks";
+    expect_no_validation_errors();
+}
+
+// A cut the client does not announce: scene B's first frame carries vectors into scene A (far off)
+// or zero ones. The session starts afresh there, exactly as if the frame had come with
+// FrameView::reset and without vectors: the pair across it is refused, its vectors are not read as
+// frame-0 motion by the next pairs, whose frames equal those of the announced cut value for value.
+TEST(Cut, UnannouncedCutStartsTheSessionAfresh) {
+    const Pan a{.seed = 3, .start = glm::vec2(0.f), .velocity = glm::vec2(5.f, 2.f), .accel = glm::vec2(0.6f, 0.f)};
+    const Pan b{.seed = 41, .start = glm::vec2(400.f, -300.f), .velocity = glm::vec2(-3.f, 4.f), .accel = glm::vec2(0.f, -0.5f)};
+    const glm::vec2 reprojected(-211.f, 97.f), zero(0.f);
+    for (const glm::vec2* cut_mv : {&reprojected, &zero}) {
+        SCOPED_TRACE(cut_mv == &zero ? "zero vectors at the cut" : "vectors into the other shot");
+        auto unannounced = session(), announced = session();
+        ASSERT_TRUE(unannounced && announced);
+        for (int t = 0; t < 4; ++t) {
+            ASSERT_TRUE(unannounced->submit(a.frame(t).view()));
+            ASSERT_TRUE(announced->submit(a.frame(t).view()));
+            EXPECT_FALSE(unannounced->last_scene_cut()) << "scene A, frame " << t;
+        }
+        EXPECT_LT(unannounced->last_cut_share(), 0.1f) << "exact vectors explain the colour";
+        const RawFrame cut = b.frame(4, cut_mv);
+        ASSERT_TRUE(unannounced->submit(cut.view()));
+        FrameView reset = cut.view();
+        reset.mv = {};
+        reset.reset = true;
+        ASSERT_TRUE(announced->submit(reset));
+        EXPECT_TRUE(unannounced->last_scene_cut());
+        EXPECT_GT(unannounced->last_cut_share(), 0.5f);
+        EXPECT_EQ(unannounced->frames_submitted(), 1u) << "the cut starts the session afresh";
+        const float alpha = 0.5f;
+        EXPECT_FALSE(unannounced->interpolate(std::span<const float>(&alpha, 1))) << "nothing across the cut";
+        auto r = unannounced->read_frame(1);
+        ASSERT_TRUE(r);
+        EXPECT_FALSE(r->has_mv) << "its vectors are not the next pair's frame-0 motion";
+        for (int t = 5; t < 7; ++t) {
+            ASSERT_TRUE(unannounced->submit(b.frame(t).view()));
+            ASSERT_TRUE(announced->submit(b.frame(t).view()));
+            EXPECT_FALSE(unannounced->last_scene_cut()) << "scene B goes on, frame " << t;
+            const std::vector<float> x = interpolated(*unannounced), y = interpolated(*announced);
+            ASSERT_EQ(x.size(), y.size());
+            ASSERT_FALSE(x.empty());
+            size_t differ = 0;
+            for (size_t i = 0; i < x.size(); ++i) differ += x[i] != y[i];
+            EXPECT_EQ(differ, 0u) << "frame " << t << ": as after an announced cut";
+        }
+    }
+    expect_no_validation_errors();
+}
+
+// Right vectors are no cut, however fast the motion: an accelerating pan reaching 31 px a frame,
+// an occluder moving against it (disocclusion behind it, content entering at the edges). The
+// content entering at the edge alone is a quarter of this 128-pixel frame by the end, above
+// kCutShare: what keeps it from being a cut is that the share grows from frame to frame instead
+// of jumping (ref::is_cut against the session's typical share).
+TEST(Cut, FastMotionWithRightVectorsIsNoCut) {
+    const Pan fast{.seed = 9, .start = glm::vec2(0.f), .velocity = glm::vec2(4.f, -1.f), .accel = glm::vec2(3.f, 1.f),
+                   .occluder = true};
+    auto s = session();
+    ASSERT_TRUE(s);
+    float most = 0.f;
+    for (int t = 0; t < 10; ++t) {
+        ASSERT_TRUE(s->submit(fast.frame(t).view()));
+        EXPECT_FALSE(s->last_scene_cut()) << "frame " << t;
+        most = std::max(most, s->last_cut_share());
+    }
+    EXPECT_EQ(s->frames_submitted(), 10u);
+    EXPECT_GT(most, ref::kCutShare) << "an absolute threshold alone would have cut";
+    EXPECT_LT(most, 0.4f) << "the unexplained blocks are those of the entering edge and the disocclusion";
+    expect_no_validation_errors();
+}
+
+// With the switch off the stage does not run: the same unannounced cut goes through as before
+// (the pair across it is generated from the vectors given).
+TEST(Cut, SwitchOffTrustsTheVectors) {
+    const Pan a{.seed = 3}, b{.seed = 41, .start = glm::vec2(400.f, -300.f)};
+    const glm::vec2 reprojected(-211.f, 97.f);
+    auto s = session(false);
+    ASSERT_TRUE(s);
+    for (int t = 0; t < 4; ++t) ASSERT_TRUE(s->submit(a.frame(t).view()));
+    ASSERT_TRUE(s->submit(b.frame(4, &reprojected).view()));
+    EXPECT_FALSE(s->last_scene_cut());
+    EXPECT_LT(s->last_cut_share(), 0.f) << "not measured";
+    EXPECT_EQ(s->frames_submitted(), 5u);
+    EXPECT_FALSE(interpolated(*s).empty());
+    expect_no_validation_errors();
+}
+
+} // namespace
+} // namespace fgsr::test
