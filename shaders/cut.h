@@ -1,4 +1,5 @@
-// Stage cut of pass ingest (sessions with vectors): do the frame's own vectors explain its colour?
+// Stage cut of pass ingest (sessions with vectors, Params::vector_cuts, opt-in): do the frame's own
+// vectors explain its colour?
 //
 // A client that hands over vectors need not say when the camera cuts (FrameView::reset): across a
 // cut its first frame's vectors point to where each surface point was under the other shot's
@@ -12,7 +13,7 @@
 // matching), and the block's contrast (the mean absolute deviation of its own samples' luma).
 // The host counts the blocks that find no match under the same rule as block matching (SAD above
 // kCutSad and above kCutContrast times the contrast) and calls the frame a cut where their share
-// jumps (ref::is_cut). One invocation per block.
+// is most of the frame and jumps (ref::is_vector_cut). One invocation per block.
 //
 // Entry provides:
 //   vec4 load_frame_color(uint pixel)   the frame's ingested colour
