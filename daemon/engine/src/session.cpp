@@ -269,6 +269,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     const bool checks_cut = s.params.vector_cuts && has_mv && !restart && !s.estimates_motion() &&
                             s.cut_blocks.handle() != VK_NULL_HANDLE;
     s.rec.timestamp(q++);
+    // Without vectors (motion.cpp): the pyramid, then against the previous frame matching in a
+    // first command buffer, the host's summary (dominant motion, scene cut), and the per-pixel
+    // vectors at the start of the second one. Timings gathered per command buffer.
+    std::vector<PassTiming> first_times;
+    bool vector_cut = false;
+    s.last_cut_share = -1.f;
     if (checks_cut) {
         if (denoise) {
             FGSR_TRY(s.record_denoise(f.color));
@@ -283,14 +289,6 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
                                 (blocks_y + FGSR_DILATE_EDGES_GROUP_Y - 1) / FGSR_DILATE_EDGES_GROUP_Y));
         s.rec.barrier(); // also makes the blocks visible to the host
         s.rec.timestamp(q++);
-    }
-    // Without vectors (motion.cpp): the pyramid, then against the previous frame matching in a
-    // first command buffer, the host's summary (dominant motion, scene cut), and the per-pixel
-    // vectors at the start of the second one. Timings gathered per command buffer.
-    std::vector<PassTiming> first_times;
-    bool vector_cut = false;
-    s.last_cut_share = -1.f;
-    if (checks_cut) {
         FGSR_TRY(s.rec.finish(true));
         auto t1 = s.rec.read_times(0, q - 1);
         if (!t1) return t1.error();
