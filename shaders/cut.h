@@ -1,4 +1,4 @@
-// Stage cut of pass ingest (sessions with vectors, Params::vector_cuts, opt-in): do the frame's own
+// Stage cut of pass ingest (sessions with vectors, Params::vector_cuts, on by default): do the frame's own
 // vectors explain its colour?
 //
 // A client that hands over vectors need not say when the camera cuts (FrameView::reset): across a

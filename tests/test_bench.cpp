@@ -123,9 +123,14 @@ TEST(Presets, MapToTheParamsTheyClaim) {
     EXPECT_TRUE(q.dilate_mvs);
     EXPECT_FALSE(q.separate_passes);
     EXPECT_FALSE(q.fast_motion);
+    EXPECT_TRUE(q.accel_depth_motion); // the default's (docs/ACCURACY.md, changes 21, 22)
+    EXPECT_FALSE(bal.accel_depth_motion);
+    EXPECT_FALSE(perf.accel_depth_motion);
+    EXPECT_TRUE(fgsr::Params{}.accel_depth_motion);
 
-    // Calibrated thresholds in every preset.
+    // Calibrated thresholds and the scene-cut check in every preset.
     for (const fgsr::Params& p : {perf, bal, q}) {
+        EXPECT_TRUE(p.vector_cuts);
         EXPECT_EQ(p.t_depth, fgsr::defaults::t_depth);
         EXPECT_EQ(p.sr_a, fgsr::defaults::sr_a);
         EXPECT_EQ(p.scale, 1.f);
@@ -164,9 +169,9 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_TRUE(p.cover_edges); // balanced has the edge cover
     ASSERT_TRUE(fgsr::apply_switch(p, "cover_edges=off"));
     EXPECT_FALSE(p.cover_edges);
-    EXPECT_FALSE(p.vector_cuts); // opt-in in every preset
-    ASSERT_TRUE(fgsr::apply_switch(p, "vector_cuts=on"));
-    EXPECT_TRUE(p.vector_cuts);
+    EXPECT_TRUE(p.vector_cuts); // every preset checks for scene cuts
+    ASSERT_TRUE(fgsr::apply_switch(p, "vector_cuts=off"));
+    EXPECT_FALSE(p.vector_cuts);
     const fgsr::Params before = p;
     auto e = fgsr::apply_switch(p, "motion=cubic");
     ASSERT_FALSE(e);
@@ -183,7 +188,7 @@ TEST(Presets, SwitchesApplyAndToggle) {
         "motion=linear",  "resample=catmull_rom", "resample=lut",    "fill_gaps=off",   "fill_holes=off",
         "blend=select",   "dilate_mvs=on",        "denoise=off",     "passes=separate", "correct_vectors=on",
         "fast_motion=on", "dilate_edges=on",      "accel_search=on", "accel_median=on", "accel_depth=on",
-        "cover_edges=off", "vector_cuts=on"};
+        "cover_edges=off", "vector_cuts=off"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

@@ -22,7 +22,7 @@ struct PassCase {
     ColorFormat color_format;
     MvFormat mv_format;
     bool structured = false; // frames of the analytic scene (edges, occlusion, thin bars) instead of random
-    bool depth_motion = false; // Params::accel_depth_motion (opt-in; docs/ACCURACY.md, change 21)
+    bool depth_motion = false; // Params::accel_depth_motion (docs/ACCURACY.md, changes 21, 23)
 };
 
 std::string case_name(const testing::TestParamInfo<PassCase>& info) {

@@ -24,7 +24,11 @@ const std::vector<float> kInterpAlphas = {1e-6f, 0.5f, 1.f - 1e-6f};
 const std::vector<float> kExtrapAlphas = {1e-6f, 0.5f, 1.f};
 
 // The standard scenario: two frames (both poisoned), every request kind at the extreme alphas,
-// then a clean frame and one more interpolation (the session recovers from poisoned history).
+// then a clean frame and one more interpolation, and another clean frame and interpolation (the
+// session recovers from poisoned history). The first clean frame's vectors do not explain its
+// colour against a poisoned frame's (sanitised) colour: ingest's cut stage (Params::vector_cuts)
+// may take it for a scene cut and restart, so the interpolation after it may be refused as after
+// a reset; the one after the second clean frame must succeed either way.
 std::vector<StepFn> standard_steps(const FrameFormat& f, float scale, std::vector<Poison> poisons,
                                    glm::vec2 motion, bool with_mv = true) {
     const bool sr = scale > 1.f;
@@ -41,9 +45,15 @@ std::vector<StepFn> standard_steps(const FrameFormat& f, float scale, std::vecto
     }
     s.push_back([] { return request(Op::interpolate, kInterpAlphas); });
     s.push_back([] { return request(Op::extrapolate, kExtrapAlphas); });
-    s.push_back([=] { return submit(encode(f, content(f.width, f.height, 2, motion))); });
-    if (sr) s.push_back([] { return request(Op::super_resolve, {}); });
-    s.push_back([] { return request(Op::interpolate, {0.5f}); });
+    for (int k = 2; k < 4; ++k) {
+        s.push_back([=] { return submit(encode(f, content(f.width, f.height, k, motion))); });
+        if (sr) s.push_back([] { return request(Op::super_resolve, {}); });
+        s.push_back([k] {
+            Step st = request(Op::interpolate, {0.5f});
+            st.cut_allowed = k == 2;
+            return st;
+        });
+    }
     return s;
 }
 

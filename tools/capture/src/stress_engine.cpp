@@ -228,7 +228,7 @@ class Runner {
         for (float d : in->depth)
             if (!(d > 0.f)) return fail(where + ": ingested depth " + std::to_string(d) + " is not positive");
         const FrameFormat& f = c_.format;
-        const bool restart = fr.reset || cs_.frames == 0;
+        bool restart = fr.reset || cs_.frames == 0;
         // The engine removes the jitter from vectors that contain it (Session::submit).
         const glm::vec2 offset = c_.params.mvs_contain_jitter && !restart
                                      ? glm::vec2(cs_.jitter_x - fr.jitter_x, cs_.jitter_y - fr.jitter_y)
@@ -250,6 +250,24 @@ class Runner {
                 return fail(where + ": noise estimate " + std::to_string(gpu.sigma) + " (GPU) against " +
                             std::to_string(cpu.sigma) + " (CPU)");
             cur.color = ref::denoise(cur, dp, gpu.range);
+        }
+        // Ingest's cut stage (sessions with vectors, Params::vector_cuts) on the frame as filtered:
+        // the share of blocks the frame's vectors leave unmatched must be finite and, on CPU
+        // devices, the GPU's (within one block: a SAD at the threshold may round either way). A cut
+        // the session found restarts the reference too, and the frame keeps no vectors.
+        if (c_.params.vector_cuts && cur.has_mv && !restart && f.has_vectors && !c_.params.correct_vectors) {
+            const float gpu = s.last_cut_share();
+            if (!(gpu >= 0.f && gpu <= 1.f))
+                return fail(where + ": the cut stage's share " + std::to_string(gpu) + " is not in [0, 1]");
+            const float cpu = ref::cut_share(ref::cut_stage(cur, cs_.f1));
+            const float block = 1.f / float(ref::cut_blocks(f.width, f.height));
+            if (engine_.is_cpu_device() && !(std::abs(gpu - cpu) <= block + 1e-6f))
+                return fail(where + ": the cut stage's share " + std::to_string(gpu) + " (GPU) against " +
+                            std::to_string(cpu) + " (CPU)");
+            if (s.last_scene_cut()) {
+                restart = true;
+                cur.has_mv = false;
+            }
         }
         if (sr) {
             // The session's measure of its input decides Params::sr_disagree and the spatial

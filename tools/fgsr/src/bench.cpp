@@ -165,6 +165,34 @@ capture::SceneOptions timing_scene(const Resolution& r, float speed) {
     return so;
 }
 
+// The timing loops submit a new input before each call. Inputs 1 and 2 of a capture in turn would
+// not be a stream: input 1's vectors describe input 0, not input 2, and ingest's cut stage
+// (Params::vector_cuts) takes every other frame for a scene cut, whose pairs are refused. So the
+// scene at t = 1 with vectors towards t = 2 is appended as input 3, and the loops submit inputs 3
+// and 2 in turn: the motion turns back at every frame, and every frame's vectors describe the
+// frame submitted before it. (The quadratic model falls back to uniform velocity on the turn: the
+// same passes, one branch per pixel.)
+Result<capture::Capture> timing_capture(const capture::SceneOptions& so) {
+    auto c = capture::make_synthetic_capture(so, 3);
+    if (!c) return c.error();
+    const capture::SyntheticScene::Sample back = capture::SyntheticScene(so).render(1.0, 2.0);
+    auto bytes = [](const auto& v) {
+        std::vector<std::byte> out(v.size() * sizeof(v[0]));
+        if (!v.empty()) std::memcpy(out.data(), v.data(), out.size());
+        return out;
+    };
+    capture::Frame f;
+    f.color = bytes(back.color.rgba);
+    f.depth = bytes(back.depth);
+    f.mv = bytes(back.mv);
+    c->inputs.push_back(std::move(f));
+    return c;
+}
+
+// Input i of a timing loop after a session was primed with every input of timing_capture (the
+// last input 3): inputs 2 and 3 in turn.
+const capture::Frame& timing_input(const capture::Capture& c, int i) { return c.inputs[i % 2 == 0 ? 2 : 3]; }
+
 // Per-config timing samples of one capture and mode.
 struct Samples {
     std::vector<double> ms;
@@ -349,7 +377,7 @@ Result<void> time_colour_only(const BenchOptions& o, Engine& engine, const captu
     std::map<std::string, std::vector<double>> passes;
     const std::vector<float> half{0.5f};
     for (int i = 0; i < std::max(o.repeats, 9); ++i) {
-        FGSR_TRY((*s)->submit(session_view((*s)->format(), cap.inputs[1 + size_t(i) % 2].view())));
+        FGSR_TRY((*s)->submit(session_view((*s)->format(), timing_input(cap, i).view())));
         double m = 0;
         for (const PassTiming& p : (*s)->last_motion_timings()) {
             m += p.ms;
@@ -392,7 +420,7 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
         if (o.still_only && r.name != rep.headline.name) continue;
         progress(o, fmt::format("resolution {} ({}x{}): rendering the synthetic scene", r.name, r.width,
                                 r.height));
-        auto cap = capture::make_synthetic_capture(timing_scene(r, 1.f), 3);
+        auto cap = timing_capture(timing_scene(r, 1.f));
         if (!cap) return cap.error();
         auto s = primed_session(engine, *cap, balanced);
         if (!s) return s.error();
@@ -451,17 +479,17 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
                      fmt::format("{} frames per pair: {:.2f} ms per call", counts[c], rep.alphas.back().ms));
         }
         // Still (no motion, identical frames, zero vectors) against moving, alternating; each call
-        // on a fresh pair: a new input is submitted (each capture's inputs 1 and 2 in turn) and its
-        // ingest counted in the per-frame figure.
-        auto still_cap = capture::make_synthetic_capture(timing_scene(r, 0.f), 3);
+        // on a fresh pair: a new input is submitted (timing_input: the scene moving forward and back
+        // in turn) and its ingest counted in the per-frame figure.
+        auto still_cap = timing_capture(timing_scene(r, 0.f));
         if (!still_cap) return still_cap.error();
         auto still = primed_session(engine, *still_cap, balanced);
         if (!still) return still.error();
         std::vector<double> st, mv, st_frame, mv_frame, mv_wall;
         std::map<std::string, std::vector<double>> mv_passes;
         for (int i = 0; i < std::max(reps, 9); ++i) {
-            // Inputs 1 and 2 in turn for both: they carry vectors (zero in the still scene), input 0 none.
-            FGSR_TRY((*still)->submit(still_cap->inputs[1 + size_t(i) % 2].view()));
+            // Inputs 2 and 3 in turn for both: they carry vectors (zero in the still scene), input 0 none.
+            FGSR_TRY((*still)->submit(timing_input(*still_cap, i).view()));
             auto a = timed_call(**still, half, nullptr);
             if (!a) return a.error();
             st.push_back(*a);
@@ -469,7 +497,7 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             // Wall time of the moving frame's submit and call: the host's share (copies, allocation of
             // the returned frame, submission and waits) that the GPU timestamps leave out.
             const auto w0 = Clock::now();
-            FGSR_TRY((*s)->submit(cap->inputs[1 + size_t(i) % 2].view()));
+            FGSR_TRY((*s)->submit(timing_input(*cap, i).view()));
             std::map<std::string, double> passes;
             auto b = timed_call(**s, half, &passes);
             if (!b) return b.error();
@@ -491,7 +519,7 @@ Result<void> run_timing(const BenchOptions& o, Engine& engine, BenchReport& rep)
             std::vector<double> all, classified, plain;
             const int run_calls = std::max(8 * reps, 64);
             for (int i = 0; i < run_calls; ++i) {
-                FGSR_TRY((*run)->submit(cap->inputs[1 + size_t(i) % 2].view()));
+                FGSR_TRY((*run)->submit(timing_input(*cap, i).view()));
                 std::map<std::string, double> passes;
                 auto ms = timed_call(**run, half, &passes);
                 if (!ms) return ms.error();

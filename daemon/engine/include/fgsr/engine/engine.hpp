@@ -113,25 +113,27 @@ struct Params {
     // in the balanced and performance presets. Not carried by the wire protocol: fgsrd's sessions
     // use the default.
     bool accel_median = true;
-    // Opt-in. Uniform acceleration (shaders/motion.h): a frame-0 pixel counts as the point's
-    // surface where its depth lies within 4 T_D of the point's, a band extended to the depth change
-    // the local motion implies (a surface the camera approaches was farther: 1 / sqrt(det J) of the
-    // frame-1 vectors' local map). It gains where the camera approaches fast (street renders) and
-    // loses across camera cuts, where a fresh render's extrapolation fell below uniform velocity
-    // with it (docs/ACCURACY.md, change 21): off by default and in every preset. Four more vector
-    // and depth reads per source pixel in splat. Not carried by the wire protocol.
-    bool accel_depth_motion = false;
-    // Opt-in. Sessions with vectors (ingest's cut stage, shaders/cut.h): a frame whose own vectors
-    // do not explain its colour against the previous frame's (most of its 8x8 blocks without a
-    // match, a jump from the session's typical share: ref::is_vector_cut) is a scene cut the client
-    // did not announce: the session restarts as on FrameView::reset (no frame generated across it,
-    // the SR history restarts, last_scene_cut() says so) and the frame's vectors are not read as
-    // the next pair's frame-0 motion. Off by default and in every preset: a sequence that is not
-    // continuous on purpose (a timing loop submitting two inputs in turn, a stress frame of NaN or
-    // of the largest half float) is taken for a cut too, and its pairs are refused
-    // (docs/ACCURACY.md, change 22). One more command buffer per submit. Not carried by the wire
-    // protocol.
-    bool vector_cuts = false;
+    // Uniform acceleration (shaders/motion.h): a frame-0 pixel counts as the point's surface where
+    // its depth lies within 4 T_D of the point's, a band extended to the depth change the local
+    // motion implies (a surface the camera approaches was farther: 1 / sqrt(det J) of the frame-1
+    // vectors' local map). It gains where the camera approaches fast (street renders); across an
+    // unannounced camera cut it lost (a fresh render's extrapolation fell below uniform velocity),
+    // which vector_cuts below prevents, so the two are defaults together (docs/ACCURACY.md,
+    // changes 21, 23); off in the balanced and performance presets. Four more vector and depth
+    // reads per source pixel in splat. Not carried by the wire protocol: fgsrd's sessions use the
+    // default.
+    bool accel_depth_motion = true;
+    // Sessions with vectors (ingest's cut stage, shaders/cut.h): a frame whose own vectors do not
+    // explain its colour against the previous frame's (most of its 8x8 blocks without a match, a
+    // jump from the session's typical share: ref::is_vector_cut) is a scene cut the client did not
+    // announce: the session restarts as on FrameView::reset (no frame generated across it: the
+    // pair is refused with not_ready, as colour-only sessions do at the cuts they find; the SR
+    // history restarts, last_scene_cut() says so) and the frame's vectors are not read as the next
+    // pair's frame-0 motion. On by default and in every preset (docs/ACCURACY.md, changes 22, 23).
+    // A sequence that is not continuous on purpose (two inputs submitted in turn, a clean frame
+    // after a frame of NaN) is a cut to it too: turn it off for such input. One more command
+    // buffer per submit. Not carried by the wire protocol: fgsrd's sessions use the default.
+    bool vector_cuts = true;
     // ISR / ESR (shaders/generate_sr.h): the warped SR history is clipped per channel to the mean
     // +- sr_clip standard deviations of the low-resolution frame's 3x3 neighbourhood at the same
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's

@@ -16,7 +16,10 @@
 //                loses up to 0.25 dB elsewhere (docs/ACCURACY.md, change 4), at several times the
 //                cost of a frame on CPU devices.
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
-// pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing).
+// pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing),
+// and so is the scene-cut test of sessions with vectors (vector_cuts). The frame-0 depth test's
+// expected depth change (accel_depth) is in quality only, with the two other refinements of the
+// acceleration (accel_search, accel_median).
 //
 // Switches are "key=value" settings of one field each, e.g. "motion=linear", "resample=lut",
 // "fill_gaps=off", "passes=separate"; kSwitches lists every key and its values, and
@@ -81,7 +84,7 @@ inline Params preset_params(Preset preset) {
         p.dilate_edges = defaults::dilate_edges;
         p.accel_search = true;
         p.accel_median = true;
-        p.accel_depth_motion = false; // opt-in (docs/ACCURACY.md, change 21)
+        p.accel_depth_motion = true; // docs/ACCURACY.md, changes 21, 23
         p.cover_edges = true;
         break;
     }

@@ -60,8 +60,9 @@ struct Step {
     // 1 as stored (Session::read_frame, within 1e-3 relative to max(1, |value|)): never a warp or
     // a blend of the two scenes. `reject` is unused.
     bool across_cut = false;
-    // interpolate / extrapolate on content a colour-only session may take for a scene cut (no
-    // texture, noise, a fade, motion beyond any search range): besides succeeding, the step may be
+    // interpolate / extrapolate on content a session may take for a scene cut (colour-only: no
+    // texture, noise, a fade, motion beyond any search range; with vectors, ingest's cut stage: a
+    // clean frame after poisoned ones): besides succeeding, the step may be
     // refused as after a reset (a reason mentioning "needs two submitted frames", or the session's
     // frames_submitted() back at 1; through fgsrd NOT_READY with that reason logged). Any other
     // failure still fails the case.
