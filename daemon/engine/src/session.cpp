@@ -308,8 +308,11 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         s.rec.timestamp(q++);
     }
     // With Params::correct_vectors the same chain corrects the client's vectors: a cut it detects
-    // then only skips the correction (the client says when to reset).
-    bool frame_has_mv = has_mv && !vector_cut;
+    // then only skips the correction (the client says when to reset). A frame that starts the
+    // session afresh at a cut, announced (FrameView::reset) or detected, keeps no vectors: they
+    // point into the shot before it, and the next pair would read them as frame-0 motion. (A
+    // session's first frame keeps its own: the stream it describes goes on.)
+    bool frame_has_mv = has_mv && !vector_cut && !frame.reset;
     const bool correcting = s.correction().on;
     bool flow_skipped = false;
     // The refinement (both its coarse levels and level 0) fits the colour: on jittered frames that

@@ -269,6 +269,7 @@ class Runner {
                 cur.has_mv = false;
             }
         }
+        if (fr.reset) cur.has_mv = false; // an announced cut keeps no vectors either
         if (sr) {
             // The session's measure of its input decides Params::sr_disagree and the spatial
             // upsample's kernel (shaders/sr.h steps 5, 6).

@@ -105,7 +105,9 @@ struct FrameView {
     // scene, in pixels (x right, y down), e.g. a Halton(2,3) sequence in [-0.5, 0.5).
     float jitter_x = 0.f;
     float jitter_y = 0.f;
-    // Start super-resolution history afresh with this frame (scene cut, camera teleport).
+    // Start afresh with this frame (scene cut, camera teleport): no frame is generated from the
+    // frames before it, the super-resolution history restarts, and the frame's vectors, which
+    // point into the shot before it, are not used as the next pair's frame-0 motion.
     bool reset = false;
 };
 
