@@ -123,7 +123,7 @@ TEST(Presets, MapToTheParamsTheyClaim) {
     EXPECT_TRUE(q.dilate_mvs);
     EXPECT_FALSE(q.separate_passes);
     EXPECT_FALSE(q.fast_motion);
-    EXPECT_TRUE(q.accel_depth_motion); // the default's (docs/ACCURACY.md, changes 21, 22)
+    EXPECT_TRUE(q.accel_depth_motion); // as the default Params (docs/ACCURACY.md, changes 21, 23)
     EXPECT_FALSE(bal.accel_depth_motion);
     EXPECT_FALSE(perf.accel_depth_motion);
     EXPECT_TRUE(fgsr::Params{}.accel_depth_motion);

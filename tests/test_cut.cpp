@@ -148,36 +148,45 @@ TEST(Cut, UnannouncedCutStartsTheSessionAfresh) {
 // that writes none at a cut hands over; zero is a plausible frame-0 motion for the quadratic
 // model, which far-off reprojected vectors would not be): the session keeps none of them, so the
 // pairs after it equal those after the same reset frame handed over without vectors, value for
-// value. Scene B accelerates, so a frame-0 motion of zero would bend its path.
+// value. Scene B accelerates, so a frame-0 motion of zero would bend its path. The same for a cut
+// announced by Session::reset() before the frame.
 TEST(Cut, AnnouncedResetKeepsNoVectors) {
     const Pan a{.seed = 3};
     const Pan b{.seed = 41, .start = glm::vec2(400.f, -300.f), .velocity = glm::vec2(-3.f, 4.f),
                 .accel = glm::vec2(0.f, -0.5f)};
     const glm::vec2 zero(0.f);
-    auto with = session(), without = session();
-    ASSERT_TRUE(with && without);
-    for (int t = 0; t < 3; ++t) {
-        ASSERT_TRUE(with->submit(a.frame(t).view()));
-        ASSERT_TRUE(without->submit(a.frame(t).view()));
-    }
+    auto with = session(), by_call = session(), without = session();
+    ASSERT_TRUE(with && by_call && without);
+    for (int t = 0; t < 3; ++t)
+        for (Session* s : {with.get(), by_call.get(), without.get()})
+            ASSERT_TRUE(s->submit(a.frame(t).view()));
     const RawFrame cut = b.frame(3, &zero);
     FrameView v = cut.view();
+    by_call->reset();
+    ASSERT_TRUE(by_call->submit(v));
     v.reset = true;
     ASSERT_TRUE(with->submit(v));
     v.mv = {};
     ASSERT_TRUE(without->submit(v));
-    auto r = with->read_frame(1);
-    ASSERT_TRUE(r);
-    EXPECT_FALSE(r->has_mv) << "the reset frame's vectors point into the shot before it";
+    for (Session* s : {with.get(), by_call.get()}) {
+        auto r = s->read_frame(1);
+        ASSERT_TRUE(r);
+        EXPECT_FALSE(r->has_mv) << "the reset frame's vectors point into the shot before it";
+    }
     for (int t = 4; t < 6; ++t) {
-        ASSERT_TRUE(with->submit(b.frame(t).view()));
-        ASSERT_TRUE(without->submit(b.frame(t).view()));
-        const std::vector<float> x = interpolated(*with), y = interpolated(*without);
-        ASSERT_EQ(x.size(), y.size());
-        ASSERT_FALSE(x.empty());
-        size_t differ = 0;
-        for (size_t i = 0; i < x.size(); ++i) differ += x[i] != y[i];
-        EXPECT_EQ(differ, 0u) << "frame " << t << ": as after a reset frame without vectors";
+        for (Session* s : {with.get(), by_call.get(), without.get()})
+            ASSERT_TRUE(s->submit(b.frame(t).view()));
+        const std::vector<float> y = interpolated(*without);
+        ASSERT_FALSE(y.empty());
+        for (Session* s : {with.get(), by_call.get()}) {
+            const std::vector<float> x = interpolated(*s);
+            ASSERT_EQ(x.size(), y.size());
+            size_t differ = 0;
+            for (size_t i = 0; i < x.size(); ++i) differ += x[i] != y[i];
+            EXPECT_EQ(differ, 0u) << "frame " << t
+                                  << (s == with.get() ? " (FrameView::reset)" : " (Session::reset)")
+                                  << ": as after a reset frame without vectors";
+        }
     }
     expect_no_validation_errors();
 }

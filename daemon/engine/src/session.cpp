@@ -147,6 +147,7 @@ uint32_t Session::tile_side() const {
 void Session::reset() {
     impl_->submitted = 0;
     impl_->sr_history.valid = false;
+    impl_->reset_pending = true;
     for (auto& f : impl_->frames) f.has_mv = false;
 }
 
@@ -201,7 +202,9 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         return make_error(Errc::invalid_argument, "jitter (" + std::to_string(frame.jitter_x) + ", " +
                                                       std::to_string(frame.jitter_y) +
                                                       ") is outside [-1, 1] pixels");
-    bool restart = frame.reset || s.submitted == 0;
+    // An announced cut: FrameView::reset, or Session::reset() before this frame.
+    const bool announced_cut = frame.reset || s.reset_pending;
+    bool restart = announced_cut || s.submitted == 0;
     const int slot = 1 - s.newest;
     GpuFrame& f = s.frames[size_t(slot)];
     const GpuFrame& prev = s.frames[size_t(s.newest)];
@@ -312,7 +315,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // session afresh at a cut, announced (FrameView::reset) or detected, keeps no vectors: they
     // point into the shot before it, and the next pair would read them as frame-0 motion. (A
     // session's first frame keeps its own: the stream it describes goes on.)
-    bool frame_has_mv = has_mv && !vector_cut && !frame.reset;
+    bool frame_has_mv = has_mv && !vector_cut && !announced_cut;
     const bool correcting = s.correction().on;
     bool flow_skipped = false;
     // The refinement (both its coarse levels and level 0) fits the colour: on jittered frames that
@@ -437,6 +440,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     s.jitter_y = frame.jitter_y;
     if (restart) s.submitted = 0;
     ++s.submitted;
+    s.reset_pending = false;
     if (s.sr()) s.finish_sr((*t)[ti]);
     return {};
 }

@@ -103,6 +103,8 @@ struct Session::Impl {
     std::array<GpuFrame, 2> frames;
     int newest = 1; // index into frames of frame 1
     uint64_t submitted = 0;
+    // Session::reset() was called: the next frame submitted starts afresh as with FrameView::reset.
+    bool reset_pending = false;
     PassTiming ingest_timing = timing_of(PassId::ingest);
     float jitter_x = 0, jitter_y = 0; // of the newest frame
 

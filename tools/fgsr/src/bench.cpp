@@ -168,9 +168,9 @@ capture::SceneOptions timing_scene(const Resolution& r, float speed) {
 // The timing loops submit a new input before each call. Inputs 1 and 2 of a capture in turn would
 // not be a stream: input 1's vectors describe input 0, not input 2, and ingest's cut stage
 // (Params::vector_cuts) takes every other frame for a scene cut, whose pairs are refused. So the
-// scene at t = 1 with vectors towards t = 2 is appended as input 3, and the loops submit inputs 3
-// and 2 in turn: the motion turns back at every frame, and every frame's vectors describe the
-// frame submitted before it. (The quadratic model falls back to uniform velocity on the turn: the
+// scene at t = 1 with vectors towards t = 2 is appended as input 3, and the loops submit inputs 2
+// and 3 in turn (timing_input): the motion turns back at every frame, and every frame's vectors
+// describe the frame submitted before it. (The quadratic model falls back to uniform velocity on the turn: the
 // same passes, one branch per pixel.)
 Result<capture::Capture> timing_capture(const capture::SceneOptions& so) {
     auto c = capture::make_synthetic_capture(so, 3);

@@ -336,7 +336,8 @@ class Session {
     // Plane offsets from memory.data() must be multiples of the device's
     // minStorageBufferOffsetAlignment (FGSR_PLANE_ALIGNMENT satisfies it). Same frames as submit.
     Result<void> submit(const FrameView& frame, const HostMemory& memory);
-    // Forgets the submitted frames (scene cut).
+    // Forgets the submitted frames (scene cut): the next frame submitted starts afresh as with
+    // FrameView::reset (its vectors, which point into the shot before the cut, are not kept).
     void reset();
     uint64_t frames_submitted() const;
     // GPU time of the last submit's ingest pass.
