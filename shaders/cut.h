@@ -1,5 +1,5 @@
-// Stage cut of pass ingest (sessions with vectors, Params::vector_cuts, on by default): do the frame's own
-// vectors explain its colour?
+// Stage cut of pass ingest (sessions with vectors, Params::vector_cuts, on by default): do the
+// frame's own vectors explain its colour?
 //
 // A client that hands over vectors need not say when the camera cuts (FrameView::reset): across a
 // cut its first frame's vectors point to where each surface point was under the other shot's

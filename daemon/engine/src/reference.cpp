@@ -233,8 +233,13 @@ void dilate(InternalFrame& f, const InternalFrame* prev, const IngestParams& p) 
     if (p.bright > 0.f) for_each_pixel(f.width, f.height, [&](glm::ivec2 q) { cpu.dilate_pixel(glm::uvec2(q), p); });
 }
 
+glm::uvec2 cut_grid(uint32_t width, uint32_t height) {
+    return {(width + CUT_BLOCK - 1) / CUT_BLOCK, (height + CUT_BLOCK - 1) / CUT_BLOCK};
+}
+
 uint32_t cut_blocks(uint32_t width, uint32_t height) {
-    return ((width + CUT_BLOCK - 1) / CUT_BLOCK) * ((height + CUT_BLOCK - 1) / CUT_BLOCK);
+    const glm::uvec2 g = cut_grid(width, height);
+    return g.x * g.y;
 }
 
 std::vector<glm::vec2> cut_stage(const InternalFrame& f, const InternalFrame& prev) {

@@ -269,8 +269,8 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // sessions that filter it runs first, and the stage compares the filtered frame with the
     // filtered previous one (unfiltered against filtered, the filter alone left half the blocks of
     // a static stretch of orbit-sr without a match). The stage is timed with ingest (its ms added).
-    const bool checks_cut = s.params.vector_cuts && has_mv && !restart && !s.estimates_motion() &&
-                            s.cut_blocks.handle() != VK_NULL_HANDLE;
+    // (Sessions that do not estimate motion have vectors, and their cut_blocks buffer.)
+    const bool checks_cut = s.params.vector_cuts && has_mv && !restart && !s.estimates_motion();
     s.rec.timestamp(q++);
     // Without vectors (motion.cpp): the pyramid, then against the previous frame matching in a
     // first command buffer, the host's summary (dominant motion, scene cut), and the per-pixel
@@ -285,11 +285,10 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             s.rec.timestamp(q++);
         }
         // One invocation per 8x8 block (cut.comp's small workgroups, as the edge rule's).
-        const uint32_t blocks_x = (s.format.width + CUT_BLOCK - 1) / CUT_BLOCK;
-        const uint32_t blocks_y = (s.format.height + CUT_BLOCK - 1) / CUT_BLOCK;
+        const glm::uvec2 blocks = ref::cut_grid(s.format.width, s.format.height);
         FGSR_TRY(s.rec.dispatch(Variant::ingest_cut, b, &p,
-                                (blocks_x + FGSR_DILATE_EDGES_GROUP_X - 1) / FGSR_DILATE_EDGES_GROUP_X,
-                                (blocks_y + FGSR_DILATE_EDGES_GROUP_Y - 1) / FGSR_DILATE_EDGES_GROUP_Y));
+                                (blocks.x + FGSR_DILATE_EDGES_GROUP_X - 1) / FGSR_DILATE_EDGES_GROUP_X,
+                                (blocks.y + FGSR_DILATE_EDGES_GROUP_Y - 1) / FGSR_DILATE_EDGES_GROUP_Y));
         s.rec.barrier(); // also makes the blocks visible to the host
         s.rec.timestamp(q++);
         FGSR_TRY(s.rec.finish(true));

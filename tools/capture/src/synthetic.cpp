@@ -390,6 +390,15 @@ template <class T> std::vector<std::byte> to_bytes(const std::vector<T>& v) {
 
 } // namespace
 
+Frame synthetic_frame(const SyntheticScene& scene, double t, double t_prev, bool with_mv) {
+    const SyntheticScene::Sample s = scene.render(t, t_prev);
+    Frame f;
+    f.color = to_bytes(s.color.rgba);
+    f.depth = to_bytes(s.depth);
+    if (with_mv) f.mv = to_bytes(s.mv);
+    return f;
+}
+
 Result<Capture> make_synthetic_capture(const SceneOptions& o, uint32_t inputs) {
     FGSR_TRY(validate(o));
     if (inputs < 2)
@@ -407,15 +416,8 @@ Result<Capture> make_synthetic_capture(const SceneOptions& o, uint32_t inputs) {
     c.format.conventions = Conventions{}; // linear depth, pixels, to_previous, y down
     c.ground_truth_kind = GroundTruth::halfway;
     c.inputs.reserve(inputs);
-    for (uint32_t k = 0; k < inputs; ++k) {
-        const double t = double(k);
-        SyntheticScene::Sample s = scene.render(t, t - 1.0);
-        Frame f;
-        f.color = to_bytes(s.color.rgba);
-        f.depth = to_bytes(s.depth);
-        if (k > 0) f.mv = to_bytes(s.mv);
-        c.inputs.push_back(std::move(f));
-    }
+    for (uint32_t k = 0; k < inputs; ++k)
+        c.inputs.push_back(synthetic_frame(scene, double(k), double(k) - 1.0, k > 0));
     c.ground_truth.reserve(inputs - 1);
     for (uint32_t k = 0; k + 1 < inputs; ++k) c.ground_truth.push_back(scene.render_color(k + 0.5));
     return c;

@@ -170,28 +170,20 @@ capture::SceneOptions timing_scene(const Resolution& r, float speed) {
 // (Params::vector_cuts) takes every other frame for a scene cut, whose pairs are refused. So the
 // scene at t = 1 with vectors towards t = 2 is appended as input 3, and the loops submit inputs 2
 // and 3 in turn (timing_input): the motion turns back at every frame, and every frame's vectors
-// describe the frame submitted before it. (The quadratic model falls back to uniform velocity on the turn: the
-// same passes, one branch per pixel.)
+// describe the frame submitted before it. (The quadratic model falls back to uniform velocity on
+// the turn: the same passes, one branch per pixel.)
 Result<capture::Capture> timing_capture(const capture::SceneOptions& so) {
     auto c = capture::make_synthetic_capture(so, 3);
     if (!c) return c.error();
-    const capture::SyntheticScene::Sample back = capture::SyntheticScene(so).render(1.0, 2.0);
-    auto bytes = [](const auto& v) {
-        std::vector<std::byte> out(v.size() * sizeof(v[0]));
-        if (!v.empty()) std::memcpy(out.data(), v.data(), out.size());
-        return out;
-    };
-    capture::Frame f;
-    f.color = bytes(back.color.rgba);
-    f.depth = bytes(back.depth);
-    f.mv = bytes(back.mv);
-    c->inputs.push_back(std::move(f));
+    c->inputs.push_back(capture::synthetic_frame(capture::SyntheticScene(so), 1.0, 2.0));
     return c;
 }
 
 // Input i of a timing loop after a session was primed with every input of timing_capture (the
 // last input 3): inputs 2 and 3 in turn.
-const capture::Frame& timing_input(const capture::Capture& c, int i) { return c.inputs[i % 2 == 0 ? 2 : 3]; }
+const capture::Frame& timing_input(const capture::Capture& c, int i) {
+    return c.inputs[i % 2 == 0 ? 2 : 3];
+}
 
 // Per-config timing samples of one capture and mode.
 struct Samples {

@@ -273,6 +273,7 @@ inline bool block_unmatched(float sad, float contrast) { return sad > kCutSad &&
 // blocks of a frame; the stage on the CPU, vec2(SAD, contrast) per block of `f` (ingested, its
 // vectors after the dilate stage) against the previous frame's colour; the share of those blocks
 // that find no match (block_unmatched).
+glm::uvec2 cut_grid(uint32_t width, uint32_t height); // blocks across, down
 uint32_t cut_blocks(uint32_t width, uint32_t height);
 std::vector<glm::vec2> cut_stage(const InternalFrame& f, const InternalFrame& prev);
 float cut_share(std::span<const glm::vec2> blocks);

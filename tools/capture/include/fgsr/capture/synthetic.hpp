@@ -122,4 +122,8 @@ class SyntheticScene {
 // Errors: invalid_argument for options outside their ranges or inputs < 2.
 Result<Capture> make_synthetic_capture(const SceneOptions& o, uint32_t inputs = 11);
 
+// One input of such a capture: the scene at t with vectors towards t_prev (any two instants; none
+// without with_mv), in make_synthetic_capture's format.
+Frame synthetic_frame(const SyntheticScene& scene, double t, double t_prev, bool with_mv = true);
+
 } // namespace fgsr::capture
