@@ -11,12 +11,15 @@ layout(push_constant) uniform Push { IngestParams p; } pc;
 layout(std430, binding = INGEST_COLOR) readonly buffer Color { uvec2 color[]; }; // pack_color
 layout(std430, binding = INGEST_MV) readonly buffer Mv { vec2 mv[]; };
 layout(std430, binding = INGEST_PREV_COLOR) readonly buffer PrevColor { uvec2 prev_color[]; }; // pack_color
-layout(std430, binding = INGEST_CUT) writeonly buffer Cut { vec2 cut[]; };
+layout(std430, binding = INGEST_CUT) writeonly buffer Cut { vec4 cut[]; }; // two per block
 
 vec4 load_frame_color(uint i) { return unpack_color(color[i]); }
 vec4 load_prev_color(uint i) { return unpack_color(prev_color[i]); }
 vec2 load_frame_mv(uint i) { return mv[i]; }
-void store_cut_block(uint b, vec2 v) { cut[b] = v; }
+void store_cut_block(uint b, vec4 sad, vec4 level) {
+    cut[2u * b] = sad;
+    cut[2u * b + 1u] = level;
+}
 
 #include "cut.h"
 

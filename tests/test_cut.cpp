@@ -10,6 +10,7 @@
 #include <fgsr/engine/reference.hpp>
 
 #include <cmath>
+#include <functional>
 
 namespace fgsr::test {
 namespace {
@@ -21,6 +22,9 @@ struct Pan {
     glm::vec2 start{0.f}, velocity{5.f, 2.f}, accel{0.f}; // scene offset at frame t: start + v t + a t^2 / 2
     // A square occluder in front (depth 2) moving its own way: disocclusion behind it.
     bool occluder = false;
+    // The lighting of the whole frame t (a fade, a flash): colour = lift + gain x colour, with
+    // light(t) = (gain, lift); none: (1, 0).
+    std::function<glm::vec2(int)> light;
 
     glm::vec2 offset(float t) const { return start + velocity * t + 0.5f * accel * t * t; }
     glm::vec2 square(float t) const { return glm::vec2(30.f, 30.f) + glm::vec2(-6.f, 3.f) * t; }
@@ -42,6 +46,10 @@ struct Pan {
                 const glm::vec2 q = sq ? c - square(float(t)) : c + offset(float(t));
                 const float v = value_noise(q.x, q.y, sq ? 3.f : 4.f, sq ? seed + 100 : seed);
                 col[i] = sq ? glm::vec4(0.9f * v, 0.5f * v, 0.2f, 1.f) : glm::vec4(v, v, 0.8f * v, 1.f);
+                if (light) {
+                    const glm::vec2 gl = light(t);
+                    col[i] = glm::vec4(glm::vec3(gl.y) + gl.x * glm::vec3(col[i]), 1.f);
+                }
                 depth[i] = sq ? 2.f : 10.f;
                 if (t > 0) {
                     // The point at c was at c + (offset(t) - offset(t - 1)) in frame t - 1 (the
@@ -88,7 +96,7 @@ TEST(Cut, StageMatchesTheCpuReference) {
     ASSERT_TRUE(s->submit(f2.view()));
     auto cur = s->read_frame(1), prev = s->read_frame(0);
     ASSERT_TRUE(cur && prev);
-    const std::vector<glm::vec2> blocks = ref::cut_stage(to_internal(*cur, kW, kH), to_internal(*prev, kW, kH));
+    const std::vector<ref::CutBlock> blocks = ref::cut_stage(to_internal(*cur, kW, kH), to_internal(*prev, kW, kH));
     ASSERT_EQ(blocks.size(), size_t(ref::cut_blocks(kW, kH)));
     const float cpu = ref::cut_share(blocks);
     EXPECT_GT(cpu, 0.35f) << "the right half's blocks find no match";
@@ -227,6 +235,113 @@ TEST(Cut, SwitchOffTrustsTheVectors) {
     EXPECT_EQ(s->frames_submitted(), 5u);
     EXPECT_FALSE(interpolated(*s).empty());
     expect_no_validation_errors();
+}
+
+// The share of the frame's blocks that the rule of change 22 alone (block_unmatched on the colour
+// as given) counts: the session's last frame against the one before, on the CPU.
+float share_as_given(Session& s) {
+    auto cur = s.read_frame(1), prev = s.read_frame(0);
+    EXPECT_TRUE(cur && prev);
+    if (!cur || !prev) return -1.f;
+    const std::vector<ref::CutBlock> blocks =
+        ref::cut_stage(to_internal(*cur, kW, kH), to_internal(*prev, kW, kH));
+    size_t high = 0;
+    for (const ref::CutBlock& b : blocks) high += ref::block_unmatched(b.sad.x, b.sad.y) ? 1 : 0;
+    return float(high) / float(blocks.size());
+}
+
+// A change of the whole frame's lighting is no cut: the vectors still explain the colour, up to
+// a law that moves every block's mean together (ref::fit_lighting). A fade to black over 4 to 20
+// frames and one-frame flashes (a lift of 0.1 and 0.2 in linear light, a gain of 1.4 and 1.8) on
+// the moving scene with its occluder: the colour as given leaves most blocks unmatched at some
+// frame of each but the slowest fade (the test's own check that these are hard cases: change 22's
+// rule alone cut all but that one and the 10-frame fade, whose share rose slowly enough for the
+// session's typical share to follow), and no frame is a cut, so every pair is generated. The last step of a fade, into
+// a frame with nothing left to match (all black), is not asserted: it reads as a cut into a
+// featureless shot, which it is as far as the colour can tell.
+TEST(Cut, LightingChangeIsNoCut) {
+    const Pan scene{.seed = 9, .velocity = glm::vec2(3.f, 1.f), .occluder = true};
+    const float alpha = 0.5f;
+    for (int frames : {4, 6, 10, 20}) {
+        SCOPED_TRACE("fade to black over " + std::to_string(frames) + " frames");
+        Pan fade = scene;
+        fade.light = [frames](int t) {
+            return glm::vec2(t < 4 ? 1.f : std::max(0.f, 1.f - float(t - 4) / float(frames)), 0.f);
+        };
+        auto s = session();
+        ASSERT_TRUE(s);
+        float given = 0.f;
+        for (int t = 0; t < 4 + frames; ++t) { // up to the last frame before black
+            ASSERT_TRUE(s->submit(fade.frame(t).view()));
+            EXPECT_FALSE(s->last_scene_cut()) << "frame " << t;
+            if (t > 0) {
+                given = std::max(given, share_as_given(*s));
+                EXPECT_TRUE(s->interpolate(std::span<const float>(&alpha, 1))) << "frame " << t;
+            }
+        }
+        if (frames <= 10) {
+            EXPECT_GT(given, ref::kCutShareVectors) << "the colour as given leaves most blocks unmatched";
+        }
+    }
+    for (glm::vec2 flash : {glm::vec2(1.f, 0.1f), glm::vec2(1.f, 0.2f), glm::vec2(1.4f, 0.f), glm::vec2(1.8f, 0.f)}) {
+        SCOPED_TRACE("a flash of gain " + std::to_string(flash.x) + ", lift " + std::to_string(flash.y));
+        Pan lit = scene;
+        lit.light = [flash](int t) { return t == 4 ? flash : glm::vec2(1.f, 0.f); };
+        auto s = session();
+        ASSERT_TRUE(s);
+        float given = 0.f;
+        for (int t = 0; t < 7; ++t) {
+            ASSERT_TRUE(s->submit(lit.frame(t).view()));
+            EXPECT_FALSE(s->last_scene_cut()) << "frame " << t;
+            if (t > 0) {
+                given = std::max(given, share_as_given(*s));
+                EXPECT_LT(s->last_cut_share(), 0.45f) << "frame " << t;
+                EXPECT_TRUE(s->interpolate(std::span<const float>(&alpha, 1))) << "frame " << t;
+            }
+        }
+        EXPECT_GT(given, ref::kCutShareVectors) << "the colour as given would have cut";
+    }
+    expect_no_validation_errors();
+}
+
+// A cut is still a cut when the light changes with it: scene B's first frame, reprojected vectors
+// into scene A, at twice and at half the brightness, and after scene A has faded halfway.
+TEST(Cut, CutUnderChangingLightIsStillACut) {
+    const Pan b{.seed = 41, .start = glm::vec2(400.f, -300.f), .velocity = glm::vec2(-3.f, 4.f)};
+    const glm::vec2 reprojected(-211.f, 97.f);
+    for (float gain : {2.f, 0.5f, 1.f}) {
+        SCOPED_TRACE("scene B at gain " + std::to_string(gain));
+        Pan a{.seed = 3, .velocity = glm::vec2(5.f, 2.f)};
+        if (gain == 1.f) a.light = [](int t) { return glm::vec2(1.f - 0.125f * float(t), 0.f); };
+        Pan bl = b;
+        bl.light = [gain](int) { return glm::vec2(gain, 0.f); };
+        auto s = session();
+        ASSERT_TRUE(s);
+        for (int t = 0; t < 5; ++t) {
+            ASSERT_TRUE(s->submit(a.frame(t).view()));
+            EXPECT_FALSE(s->last_scene_cut()) << "scene A, frame " << t;
+        }
+        ASSERT_TRUE(s->submit(bl.frame(5, &reprojected).view()));
+        EXPECT_TRUE(s->last_scene_cut());
+        EXPECT_GT(s->last_cut_share(), 0.5f);
+    }
+    expect_no_validation_errors();
+}
+
+// The fit itself, on blocks made to measure: means that follow a law are fitted to it; means with
+// no relation to the previous frame's (a cut) fit a gain at the clamp's floor.
+TEST(Cut, LightingFitFindsTheLaw) {
+    std::vector<ref::CutBlock> blocks(400);
+    for (size_t i = 0; i < blocks.size(); ++i) {
+        const float p = 0.1f + 0.8f * float((i * 37) % 101) / 100.f;
+        blocks[i].level = glm::vec4(1.3f * p + 0.05f, p, 0.f, 0.f);
+    }
+    ref::LightingFit fit = ref::fit_lighting(blocks);
+    EXPECT_NEAR(fit.gain, 1.3f, 1e-4f);
+    EXPECT_NEAR(fit.offset, 0.05f, 1e-4f);
+    for (size_t i = 0; i < blocks.size(); ++i) blocks[i].level.x = 0.1f + 0.8f * float((i * 53 + 11) % 97) / 96.f;
+    fit = ref::fit_lighting(blocks);
+    EXPECT_EQ(fit.gain, ref::kCutLightGainMin);
 }
 
 } // namespace

@@ -62,11 +62,11 @@ struct DilateCpu {
 struct CutCpu {
     const ref::InternalFrame* f;
     const ref::InternalFrame* prev;
-    std::vector<vec2>* out;
+    std::vector<ref::CutBlock>* out;
     vec4 load_frame_color(uint i) const { return f->color[i]; }
     vec4 load_prev_color(uint i) const { return prev->color[i]; }
     vec2 load_frame_mv(uint i) const { return f->mv[i]; }
-    void store_cut_block(uint b, vec2 v) { (*out)[b] = v; }
+    void store_cut_block(uint b, vec4 sad, vec4 level) { (*out)[b] = {sad, level}; }
 #include "cut.h"
 };
 
@@ -242,8 +242,8 @@ uint32_t cut_blocks(uint32_t width, uint32_t height) {
     return g.x * g.y;
 }
 
-std::vector<glm::vec2> cut_stage(const InternalFrame& f, const InternalFrame& prev) {
-    std::vector<glm::vec2> out(cut_blocks(f.width, f.height));
+std::vector<CutBlock> cut_stage(const InternalFrame& f, const InternalFrame& prev) {
+    std::vector<CutBlock> out(cut_blocks(f.width, f.height));
     IngestParams p{};
     p.width = f.width;
     p.height = f.height;
@@ -252,10 +252,34 @@ std::vector<glm::vec2> cut_stage(const InternalFrame& f, const InternalFrame& pr
     return out;
 }
 
-float cut_share(std::span<const glm::vec2> blocks) {
+LightingFit fit_lighting(std::span<const CutBlock> blocks) {
+    // Least squares of the block means, in double: a frame has up to ~10^5 blocks.
+    double n = 0, sp = 0, sc = 0, spp = 0, spc = 0;
+    for (const CutBlock& b : blocks) {
+        const double c = b.level.x, p = b.level.y;
+        n += 1;
+        sp += p;
+        sc += c;
+        spp += p * p;
+        spc += p * c;
+    }
+    LightingFit fit;
+    if (n == 0) return fit;
+    const double var = spp - sp * sp / n;
+    const double gain = var > 1e-9 * n ? (spc - sp * sc / n) / var : 1.0;
+    fit.gain = std::clamp(float(gain), kCutLightGainMin, kCutLightGainMax);
+    fit.offset = float((sc - double(fit.gain) * sp) / n);
+    return fit;
+}
+
+float cut_share(std::span<const CutBlock> blocks) {
     if (blocks.empty()) return 0.f;
+    const LightingFit fit = fit_lighting(blocks);
     size_t high = 0;
-    for (const glm::vec2& b : blocks) high += block_unmatched(b.x, b.y) ? 1 : 0;
+    for (const CutBlock& b : blocks) {
+        const float bias = std::abs(b.level.x - fit.gain * b.level.y - fit.offset);
+        high += block_unmatched(b.sad.x, b.sad.y) && block_unmatched(b.sad.z + bias, b.sad.y) ? 1 : 0;
+    }
     return float(high) / float(blocks.size());
 }
 

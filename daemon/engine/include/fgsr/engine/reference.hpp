@@ -270,13 +270,33 @@ inline bool is_vector_cut(float share, float typical_share) {
 inline bool block_unmatched(float sad, float contrast) { return sad > kCutSad && sad > kCutContrast * contrast; }
 
 // Scene cuts in sessions with vectors (ingest's cut stage, shaders/cut.h): the number of 8x8
-// blocks of a frame; the stage on the CPU, vec2(SAD, contrast) per block of `f` (ingested, its
-// vectors after the dilate stage) against the previous frame's colour; the share of those blocks
-// that find no match (block_unmatched).
+// blocks of a frame; the stage on the CPU, one CutBlock per block of `f` (ingested, its vectors
+// after the dilate stage) against the previous frame's colour.
+struct CutBlock {
+    glm::vec4 sad;   // SAD, the block's contrast, the SAD with the block's mean difference taken out
+    glm::vec4 level; // the block's mean luma, the mean of the previous frame's at the vectors' positions
+};
+static_assert(sizeof(CutBlock) == 32, "two vec4 per block in cut.comp's buffer");
 glm::uvec2 cut_grid(uint32_t width, uint32_t height); // blocks across, down
 uint32_t cut_blocks(uint32_t width, uint32_t height);
-std::vector<glm::vec2> cut_stage(const InternalFrame& f, const InternalFrame& prev);
-float cut_share(std::span<const glm::vec2> blocks);
+std::vector<CutBlock> cut_stage(const InternalFrame& f, const InternalFrame& prev);
+// A change of the whole frame's lighting (a fade, a flash, an exposure step) leaves the vectors
+// right and the luma wrong everywhere by the same law. The blocks' means fitted as
+// mean = gain x mean_prev + offset (least squares over the blocks, the gain clamped to
+// [kCutLightGainMin, kCutLightGainMax] of display luma, a factor of 1/4 to 4 in linear light): a cut
+// puts unrelated content at each place, whose means the fit does not predict (its gain falls
+// towards zero and is clamped), while a change of lighting moves them together.
+inline constexpr float kCutLightGainMin = 0.5f;
+inline constexpr float kCutLightGainMax = 2.0f;
+struct LightingFit {
+    float gain = 1.f, offset = 0.f;
+};
+LightingFit fit_lighting(std::span<const CutBlock> blocks);
+// The share of blocks that find no match (block_unmatched), both as the colour was given and
+// relit: with the SAD without the block's mean difference plus what the fitted lighting leaves of
+// that difference. Where the lighting does not change, the fit is near (1, 0) and the relit SAD is
+// at least the given one, so the share is that of the given colour.
+float cut_share(std::span<const CutBlock> blocks);
 
 // The passes on the CPU: the pyramid of a frame; one level of matching into `field` (both
 // directions share it, as on the GPU); the flow pass writing f.mv (and f.depth with write_depth).
