@@ -55,6 +55,8 @@ namespace fgsr::gpu {
 // each direction sampled.
 #define CUT_BLOCK 8u
 #define CUT_STEP 2u
+// The integer search of the colour-only sessions' build around each block's matched vector (cut.h).
+#define CUT_MATCH_SEARCH 2
 #define FGSR_BRIGHT_TILE_SHIFT 4u // the dilate stage's over-white flags: per 16x16 tile (shaders/dilate.h)
 // The workgroup of the dilate stage's edge-rule build (one invocation per 16x16 tile): small, so
 // that a small frame's few hundred tiles still spread over every CPU thread of lavapipe (one

@@ -13,9 +13,9 @@ layout(std430, binding = INGEST_MV) readonly buffer Mv { vec2 mv[]; };
 layout(std430, binding = INGEST_PREV_COLOR) readonly buffer PrevColor { uvec2 prev_color[]; }; // pack_color
 layout(std430, binding = INGEST_CUT) writeonly buffer Cut { vec4 cut[]; }; // two per block
 
-vec4 load_frame_color(uint i) { return unpack_color(color[i]); }
-vec4 load_prev_color(uint i) { return unpack_color(prev_color[i]); }
-vec2 load_frame_mv(uint i) { return mv[i]; }
+float load_cut_luma(uint i) { return motion_luma(unpack_color(color[i])); }
+float load_cut_prev_luma(uint i) { return motion_luma(unpack_color(prev_color[i])); }
+vec2 load_cut_mv(uint i) { return mv[i]; }
 void store_cut_block(uint b, vec4 sad, vec4 level) {
     cut[2u * b] = sad;
     cut[2u * b + 1u] = level;
@@ -23,4 +23,4 @@ void store_cut_block(uint b, vec4 sad, vec4 level) {
 
 #include "cut.h"
 
-void main() { cut_block(gl_GlobalInvocationID.xy, pc.p); }
+void main() { cut_block(gl_GlobalInvocationID.xy, pc.p.width, pc.p.height); }

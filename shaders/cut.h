@@ -18,45 +18,72 @@
 // frame a cut where their share is most of the frame and jumps (ref::is_vector_cut). One
 // invocation per block.
 //
+// Sessions that estimate motion run the same block statistics on their finest matched pyramid
+// level, each block under its own matched vector and the integer offsets within CUT_MATCH_SEARCH
+// of it (match.comp's build FGSR_MATCH_CUT), only for a frame that block matching's own SAD makes
+// a cut: that SAD decides as given, and the host relights with these (ref::summarise_motion).
+//
 // Entry provides:
-//   vec4 load_frame_color(uint pixel)   the frame's ingested colour
-//   vec4 load_prev_color(uint pixel)    the previous frame's
-//   vec2 load_frame_mv(uint pixel)      the frame's ingested vectors (to the previous frame)
-//   void store_cut_block(uint block, vec4 sad, vec4 level)   ref::CutBlock
+//   float load_cut_luma(uint pixel)       the frame's display luma (motion_luma)
+//   float load_cut_prev_luma(uint pixel)  the previous frame's
+//   vec2  load_cut_mv(uint pixel)         the pixel's vector to the previous frame
+//   void  store_cut_block(uint block, vec4 sad, vec4 level)   ref::CutBlock
 
-FGSR_INLINE uint cut_blocks_x(IngestParams p) { return (p.width + CUT_BLOCK - 1u) / CUT_BLOCK; }
-FGSR_INLINE uint cut_blocks_y(IngestParams p) { return (p.height + CUT_BLOCK - 1u) / CUT_BLOCK; }
+FGSR_INLINE uint cut_blocks_x(uint width) { return (width + CUT_BLOCK - 1u) / CUT_BLOCK; }
+FGSR_INLINE uint cut_blocks_y(uint height) { return (height + CUT_BLOCK - 1u) / CUT_BLOCK; }
 
-FGSR_INLINE void cut_block(uvec2 block, IngestParams p) {
-    if (block.x >= cut_blocks_x(p) || block.y >= cut_blocks_y(p)) return;
+// CUT_SEARCH (the entry may set it): the previous frame is also read at the integer offsets within
+// +-CUT_SEARCH of each sample's vector, and the block keeps the offset of the smallest SAD without
+// its mean difference. Given vectors are checked as they are (0); block matching's vectors, whose
+// SAD a change of lighting misleads, get a small search (match.comp).
+#ifndef CUT_SEARCH
+#define CUT_SEARCH 0
+#endif
+
+FGSR_INLINE void cut_block(uvec2 block, uint width, uint height) {
+    if (block.x >= cut_blocks_x(width) || block.y >= cut_blocks_y(height)) return;
     const uint n_max = (CUT_BLOCK / CUT_STEP) * (CUT_BLOCK / CUT_STEP);
     float cur[(CUT_BLOCK / CUT_STEP) * (CUT_BLOCK / CUT_STEP)];
-    float prv[(CUT_BLOCK / CUT_STEP) * (CUT_BLOCK / CUT_STEP)];
-    float mean = 0.0f, mean_prev = 0.0f, sad_raw = 0.0f;
+    ivec2 at[(CUT_BLOCK / CUT_STEP) * (CUT_BLOCK / CUT_STEP)]; // each sample's previous position
+    float mean = 0.0f;
     uint n = 0u;
-    ivec2 last = ivec2(int(p.width) - 1, int(p.height) - 1);
+    ivec2 last = ivec2(int(width) - 1, int(height) - 1);
+    ivec2 reach = ivec2(CUT_SEARCH); // within it of the frame: the offsets cannot overflow
     for (uint k = 0u; k < n_max; ++k) {
         uvec2 q = block * CUT_BLOCK + CUT_STEP * uvec2(k % (CUT_BLOCK / CUT_STEP), k / (CUT_BLOCK / CUT_STEP));
-        if (q.x >= p.width || q.y >= p.height) continue;
-        uint i = q.y * p.width + q.x;
-        float l = motion_luma(load_frame_color(i));
-        ivec2 r = clamp(ivec2(floor(vec2(q) + vec2(0.5f) + load_frame_mv(i))), ivec2(0), last);
-        float lp = motion_luma(load_prev_color(uint(r.y) * p.width + uint(r.x)));
-        sad_raw += abs(l - lp);
+        if (q.x >= width || q.y >= height) continue;
+        uint i = q.y * width + q.x;
+        float l = load_cut_luma(i);
+        at[n] = clamp(ivec2(floor(vec2(q) + vec2(0.5f) + load_cut_mv(i))), -reach, last + reach);
         mean += l;
-        mean_prev += lp;
         cur[n] = l;
-        prv[n] = lp;
         ++n;
     }
     float inv = 1.0f / float(max(n, 1u));
     mean *= inv;
-    mean_prev *= inv;
-    float sad = 0.0f, contrast = 0.0f;
-    for (uint k = 0u; k < n; ++k) {
-        sad += abs((cur[k] - mean) - (prv[k] - mean_prev));
-        contrast += abs(cur[k] - mean);
-    }
-    store_cut_block(block.y * cut_blocks_x(p) + block.x, vec4(sad_raw * inv, contrast * inv, sad * inv, 0.0f),
-                    vec4(mean, mean_prev, 0.0f, 0.0f));
+    float contrast = 0.0f;
+    for (uint k = 0u; k < n; ++k) contrast += abs(cur[k] - mean);
+    float best_sad = 3.0e38f, best_raw = 0.0f, best_mean_prev = 0.0f;
+    for (int dy = -CUT_SEARCH; dy <= CUT_SEARCH; ++dy)
+        for (int dx = -CUT_SEARCH; dx <= CUT_SEARCH; ++dx) {
+            float prv[(CUT_BLOCK / CUT_STEP) * (CUT_BLOCK / CUT_STEP)];
+            float mean_prev = 0.0f, sad_raw = 0.0f;
+            for (uint k = 0u; k < n; ++k) {
+                ivec2 r = clamp(at[k] + ivec2(dx, dy), ivec2(0), last);
+                float lp = load_cut_prev_luma(uint(r.y) * width + uint(r.x));
+                sad_raw += abs(cur[k] - lp);
+                mean_prev += lp;
+                prv[k] = lp;
+            }
+            mean_prev *= inv;
+            float sad = 0.0f;
+            for (uint k = 0u; k < n; ++k) sad += abs((cur[k] - mean) - (prv[k] - mean_prev));
+            if (sad < best_sad) {
+                best_sad = sad;
+                best_raw = sad_raw;
+                best_mean_prev = mean_prev;
+            }
+        }
+    store_cut_block(block.y * cut_blocks_x(width) + block.x,
+                    vec4(best_raw * inv, contrast * inv, best_sad * inv, 0.0f), vec4(mean, best_mean_prev, 0.0f, 0.0f));
 }

@@ -344,5 +344,65 @@ TEST(Cut, LightingFitFindsTheLaw) {
     EXPECT_EQ(fit.gain, ref::kCutLightGainMin);
 }
 
+// The same in sessions without vectors (an unmodified application through the layer), where block
+// matching's finest level decides (ref::summarise_motion, with the stage's build on the matched
+// vectors, match.comp FGSR_MATCH_CUT): one-frame flashes (a lift of 0.1 in linear light, a gain of
+// 1.2 and 1.4) are no cut and every pair is generated, while block matching's SAD alone (the rule
+// before) counts enough blocks unmatched at the flash to cut, and the GPU's share equals the CPU
+// reference's (the whole estimation on the same ingested frames, temporal candidates included) to
+// a block at every frame. A cut under changing light is still a cut.
+TEST(Cut, ColourOnlyLightingChangeIsNoCut) {
+    FrameFormat format = internal_format(kW, kH);
+    format.has_vectors = false;
+    format.has_depth = false;
+    auto colour_only = [](const RawFrame& f) {
+        FrameView v = f.view();
+        v.mv = {};
+        v.depth = {};
+        return v;
+    };
+    const Pan scene{.seed = 9, .velocity = glm::vec2(3.f, 1.f), .occluder = true};
+    const float alpha = 0.5f;
+    for (glm::vec2 flash : {glm::vec2(1.f, 0.1f), glm::vec2(1.2f, 0.f), glm::vec2(1.4f, 0.f)}) {
+        SCOPED_TRACE("a flash of gain " + std::to_string(flash.x) + ", lift " + std::to_string(flash.y));
+        Pan lit = scene;
+        lit.light = [flash](int t) { return t == 4 ? flash : glm::vec2(1.f, 0.f); };
+        auto s = engine().create_session(format, Params{});
+        ASSERT_TRUE(s) << s.error().message;
+        std::vector<glm::vec4> field; // the CPU reference's, carried from pair to pair as the GPU's
+        float typical = -1.f, matched_at_flash = 0.f;
+        for (int t = 0; t < 7; ++t) {
+            const RawFrame f = lit.frame(t);
+            ASSERT_TRUE((*s)->submit(colour_only(f)));
+            EXPECT_FALSE((*s)->last_scene_cut()) << "frame " << t;
+            if (t == 0) continue;
+            EXPECT_TRUE((*s)->interpolate(std::span<const float>(&alpha, 1))) << "frame " << t;
+            auto cur = (*s)->read_frame(1), prev = (*s)->read_frame(0);
+            ASSERT_TRUE(cur && prev);
+            ref::InternalFrame c0 = to_internal(*prev, kW, kH), c1 = to_internal(*cur, kW, kH);
+            c1.has_mv = false;
+            const ref::MotionSummary cpu = ref::estimate_motion(c0, c1, true, field, {}, false, typical);
+            typical = ref::update_typical_share(typical, cpu.mismatch_share, cpu.cut);
+            const float block = 1.f / float(ref::cut_blocks(kW, kH));
+            EXPECT_NEAR((*s)->last_cut_share(), cpu.mismatch_share, block + 1e-6f) << "frame " << t;
+            if (t == 4) matched_at_flash = cpu.matched_share;
+        }
+        EXPECT_GT(matched_at_flash, ref::kCutShare) << "block matching's SAD alone cut (3 x typical is less)";
+    }
+    const Pan a{.seed = 3, .velocity = glm::vec2(5.f, 2.f)};
+    for (float gain : {2.f, 0.5f}) {
+        SCOPED_TRACE("scene B at gain " + std::to_string(gain));
+        Pan b{.seed = 41, .start = glm::vec2(400.f, -300.f), .velocity = glm::vec2(-3.f, 4.f)};
+        b.light = [gain](int) { return glm::vec2(gain, 0.f); };
+        auto s = engine().create_session(format, Params{});
+        ASSERT_TRUE(s);
+        for (int t = 0; t < 4; ++t) ASSERT_TRUE((*s)->submit(colour_only(a.frame(t))));
+        EXPECT_FALSE((*s)->last_scene_cut());
+        ASSERT_TRUE((*s)->submit(colour_only(b.frame(4))));
+        EXPECT_TRUE((*s)->last_scene_cut());
+    }
+    expect_no_validation_errors();
+}
+
 } // namespace
 } // namespace fgsr::test

@@ -95,6 +95,13 @@ gpu::MatchParams ref::fill_params(const std::vector<MotionLevel>& levels, bool f
     return m;
 }
 
+gpu::MatchParams ref::cut_match_params(const std::vector<MotionLevel>& levels) {
+    const size_t finest = motion_first_level(levels);
+    gpu::MatchParams m = match_params(levels, finest, false, true, false);
+    m.same_offset = kCutRegion * motion_field_blocks(levels) + 2 * levels[finest].field_offset;
+    return m;
+}
+
 gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth,
                                  VectorCorrection correct, bool coarse) {
     gpu::FlowParams f{};
@@ -169,7 +176,8 @@ gpu::PolishParams ref::polish_coarse_params(const std::vector<MotionLevel>& leve
     return p;
 }
 
-ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, float typical_share) {
+ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, float typical_share,
+                                         std::span<const CutBlock> relit) {
     MotionSummary s;
     if (blocks.empty()) return s;
     // Dominant motion: the block vector with the most others within kMotionModeRadius, over at most
@@ -189,12 +197,18 @@ ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, floa
         if (votes > best_votes) best_votes = votes, mode = c;
     }
     glm::vec2 sum(0.f);
-    size_t count = 0, high = 0;
-    for (const glm::vec4& b : blocks) {
+    size_t count = 0, high = 0, high_matched = 0;
+    const bool relights = relit.size() == n;
+    const LightingFit fit = relights ? fit_lighting(relit) : LightingFit{};
+    for (size_t i = 0; i < n; ++i) {
+        const glm::vec4& b = blocks[i];
         const glm::vec2 d = glm::vec2(b.x, b.y) - mode;
         if (glm::dot(d, d) <= r2) sum += glm::vec2(b.x, b.y), ++count;
-        high += block_unmatched(b.z, b.w) ? 1 : 0;
+        const bool unmatched = block_unmatched(b.z, b.w);
+        high_matched += unmatched ? 1 : 0;
+        high += unmatched && (!relights || relit_unmatched(relit[i], fit)) ? 1 : 0;
     }
+    s.matched_share = float(high_matched) / float(n);
     s.global = count ? sum / float(count) : mode;
     s.mismatch_share = float(high) / float(n);
     s.cut = is_cut(s.mismatch_share, typical_share);
@@ -202,10 +216,15 @@ ref::MotionSummary ref::summarise_motion(std::span<const glm::vec4> blocks, floa
 }
 
 ref::MotionSummary ref::summarise_motion(const std::vector<MotionLevel>& levels, const glm::vec4* field,
-                                         float typical_share) {
+                                         float typical_share, bool relit) {
     const size_t finest = motion_first_level(levels);
     const MotionLevel& l = levels[finest];
-    MotionSummary s = summarise_motion({field + l.field_offset, size_t(l.blocks_x) * l.blocks_y}, typical_share);
+    const size_t n = size_t(l.blocks_x) * l.blocks_y;
+    // The cut statistics (kCutRegion): two vec4 per block, a CutBlock's layout.
+    const auto* cut = reinterpret_cast<const CutBlock*>(field + size_t(kCutRegion) * motion_field_blocks(levels) +
+                                                        2 * size_t(l.field_offset));
+    MotionSummary s = summarise_motion({field + l.field_offset, n}, typical_share,
+                                       relit ? std::span<const CutBlock>(cut, n) : std::span<const CutBlock>());
     s.global *= float(1u << finest);
     return s;
 }
@@ -323,9 +342,19 @@ Result<void> Session::Impl::record_match(int cur, int prev) {
     return {};
 }
 
-ref::MotionSummary Session::Impl::summarise_motion() const {
+Result<void> Session::Impl::record_cut_match(int cur, int prev) {
+    const auto back = make_slots<PassId::match>(at<MATCH_SRC>(estimator.pyramid[size_t(cur)]),
+                                                at<MATCH_DST>(estimator.pyramid[size_t(prev)]),
+                                                at<MATCH_FIELD>(estimator.field));
+    const gpu::MatchParams p = ref::cut_match_params(estimator.levels);
+    FGSR_TRY(rec.dispatch_pixels(Variant::match_cut, back, &p, p.blocks_x, p.blocks_y));
+    rec.barrier(); // also makes the blocks visible to the host
+    return {};
+}
+
+ref::MotionSummary Session::Impl::summarise_motion(bool relit) const {
     const auto* blocks = static_cast<const glm::vec4*>(estimator.field.mapped());
-    return ref::summarise_motion(estimator.levels, blocks, estimator.typical_share);
+    return ref::summarise_motion(estimator.levels, blocks, estimator.typical_share, relit);
 }
 
 Result<void> Session::Impl::record_flow(int cur, int prev, glm::vec2 global, bool coarse) {

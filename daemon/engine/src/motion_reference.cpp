@@ -29,6 +29,28 @@ struct MatchCpu {
 #include "match.h"
 };
 
+// The cut statistics of the finest level's blocks under their matched vectors (match.comp's
+// FGSR_MATCH_CUT build).
+struct CutMatchCpu {
+    const std::vector<float>* src;
+    const std::vector<float>* dst;
+    std::vector<vec4>* field;
+    MatchParams p;
+    float load_cut_luma(uint i) const { return (*src)[p.src_offset + i]; }
+    float load_cut_prev_luma(uint i) const { return (*dst)[p.dst_offset + i]; }
+    vec2 load_cut_mv(uint i) const {
+        const uint x = i % p.width, y = i / p.width;
+        return vec2((*field)[p.field_offset + (y / MOTION_BLOCK) * p.blocks_x + x / MOTION_BLOCK]);
+    }
+    void store_cut_block(uint b, vec4 sad, vec4 level) {
+        (*field)[p.same_offset + 2u * b] = sad;
+        (*field)[p.same_offset + 2u * b + 1u] = level;
+    }
+#define CUT_SEARCH CUT_MATCH_SEARCH
+#include "cut.h"
+#undef CUT_SEARCH
+};
+
 struct FlowCpu {
     const std::vector<float>* cur_luma;
     const std::vector<float>* prev_luma;
@@ -137,7 +159,8 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 }
 
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
-                              std::vector<glm::vec4>& field, VectorCorrection correct, bool fast) {
+                              std::vector<glm::vec4>& field, VectorCorrection correct, bool fast,
+                              float typical_share) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
     const std::vector<float> p0 = luma_pyramid(f0, levels), p1 = luma_pyramid(f1, levels);
     const size_t half = motion_field_blocks(levels);
@@ -151,7 +174,14 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
         match_level(p0, p1, field, match_params(levels, k, true, false, temporal));
         match_level(p1, p0, field, match_params(levels, k, false, true, temporal));
     }
-    const MotionSummary s = summarise_motion(levels, field.data());
+    MotionSummary s = summarise_motion(levels, field.data(), typical_share);
+    if (s.cut) { // a cut as matched: relit, as the engine does (ref::summarise_motion)
+        gpu::CutMatchCpu cut{&p1, &p0, &field, cut_match_params(levels)};
+        for (uint32_t y = 0; y < cut.p.blocks_y; ++y)
+            for (uint32_t x = 0; x < cut.p.blocks_x; ++x)
+                cut.cut_block(glm::uvec2(x, y), cut.p.width, cut.p.height);
+        s = summarise_motion(levels, field.data(), typical_share, true);
+    }
     if (s.cut) {
         field.clear();
         return s;

@@ -63,9 +63,9 @@ struct CutCpu {
     const ref::InternalFrame* f;
     const ref::InternalFrame* prev;
     std::vector<ref::CutBlock>* out;
-    vec4 load_frame_color(uint i) const { return f->color[i]; }
-    vec4 load_prev_color(uint i) const { return prev->color[i]; }
-    vec2 load_frame_mv(uint i) const { return f->mv[i]; }
+    float load_cut_luma(uint i) const { return motion_luma(f->color[i]); }
+    float load_cut_prev_luma(uint i) const { return motion_luma(prev->color[i]); }
+    vec2 load_cut_mv(uint i) const { return f->mv[i]; }
     void store_cut_block(uint b, vec4 sad, vec4 level) { (*out)[b] = {sad, level}; }
 #include "cut.h"
 };
@@ -244,11 +244,9 @@ uint32_t cut_blocks(uint32_t width, uint32_t height) {
 
 std::vector<CutBlock> cut_stage(const InternalFrame& f, const InternalFrame& prev) {
     std::vector<CutBlock> out(cut_blocks(f.width, f.height));
-    IngestParams p{};
-    p.width = f.width;
-    p.height = f.height;
     gpu::CutCpu cpu{&f, &prev, &out};
-    for_each_pixel(cpu.cut_blocks_x(p), cpu.cut_blocks_y(p), [&](glm::ivec2 b) { cpu.cut_block(glm::uvec2(b), p); });
+    const glm::uvec2 g = cut_grid(f.width, f.height);
+    for_each_pixel(g.x, g.y, [&](glm::ivec2 b) { cpu.cut_block(glm::uvec2(b), f.width, f.height); });
     return out;
 }
 
@@ -276,10 +274,7 @@ float cut_share(std::span<const CutBlock> blocks) {
     if (blocks.empty()) return 0.f;
     const LightingFit fit = fit_lighting(blocks);
     size_t high = 0;
-    for (const CutBlock& b : blocks) {
-        const float bias = std::abs(b.level.x - fit.gain * b.level.y - fit.offset);
-        high += block_unmatched(b.sad.x, b.sad.y) && block_unmatched(b.sad.z + bias, b.sad.y) ? 1 : 0;
-    }
+    for (const CutBlock& b : blocks) high += block_unmatched(b.sad.x, b.sad.y) && relit_unmatched(b, fit) ? 1 : 0;
     return float(high) / float(blocks.size());
 }
 

@@ -343,9 +343,19 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         s.estimator.timings.push_back(timing_of(PassId::luma, first_times[1]));
         if (!restart) {
             s.estimator.timings.push_back(timing_of(PassId::match, first_times[2]));
-            const ref::MotionSummary summary = s.summarise_motion();
+            ref::MotionSummary summary = s.summarise_motion(false);
+            if (summary.cut) {
+                // Before it counts as a cut: is it a change of the whole frame's lighting? The
+                // blocks relit (ref::summarise_motion, shaders/cut.h), in a command buffer of its
+                // own, only on such frames.
+                FGSR_TRY(s.rec.begin());
+                FGSR_TRY(s.record_cut_match(slot, s.newest));
+                FGSR_TRY(s.rec.finish());
+                summary = s.summarise_motion(true);
+            }
             s.estimator.last_cut = summary.cut;
             s.estimator.global = summary.global;
+            s.last_cut_share = summary.mismatch_share;
             if (correcting)
                 flow_skipped = summary.cut || !has_mv;
             else

@@ -203,7 +203,9 @@ struct Session::Impl {
     Result<void> init_motion();
     Result<void> record_luma(int slot);
     Result<void> record_match(int cur, int prev);
-    ref::MotionSummary summarise_motion() const;
+    ref::MotionSummary summarise_motion(bool relit) const;
+    // The cut statistics of the finest level's blocks (match.comp FGSR_MATCH_CUT, kCutRegion).
+    Result<void> record_cut_match(int cur, int prev);
     // coarse: flow reads the coarse levels' field (record_polish_coarse, recorded before it).
     Result<void> record_flow(int cur, int prev, glm::vec2 global, bool coarse);
     // The variational refinement's sweeps over the estimated vectors (after record_flow and a barrier).

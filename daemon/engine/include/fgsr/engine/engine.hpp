@@ -351,9 +351,13 @@ class Session {
     // FrameView::reset: frames before it are not interpolated from): by block matching in sessions
     // without vectors, by the cut stage in sessions with them (Params::vector_cuts).
     bool last_scene_cut() const;
-    // Sessions with vectors: the share of the last submit's 8x8 blocks whose vectors did not explain
-    // their colour (the cut stage, shaders/cut.h); negative where the stage did not run (the first
-    // frame or a reset, no vectors, Params::vector_cuts off).
+    // The share of the last submit's 8x8 blocks that found no match, as the scene-cut test counts
+    // them (both as given and relit: a change of the whole frame's lighting is no cut): in sessions
+    // with vectors those whose vectors did not explain their colour (the cut stage, shaders/cut.h),
+    // in sessions that estimate motion (without vectors, or correcting them) those of block
+    // matching's finest level, relit only where they make a cut as matched. Negative where no test
+    // ran (the first frame or a reset; given vectors with Params::vector_cuts off; a session with
+    // vectors whose frame has none).
     float last_cut_share() const;
     // The last submit's noise estimate (Params::denoise; zeros without it).
     NoiseEstimate last_noise_estimate() const;

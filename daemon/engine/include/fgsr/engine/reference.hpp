@@ -173,7 +173,12 @@ uint32_t motion_field_blocks(const std::vector<MotionLevel>& levels); // blocks 
 // the flow pass still chooses per pixel at full resolution. Measured in docs/MOTION.md.
 inline constexpr uint32_t kMotionHalfResPixels = 1280 * 720 - 1;
 size_t motion_first_level(const std::vector<MotionLevel>& levels);
-inline constexpr uint32_t kFieldRegions = 5;
+// The field buffer's regions, each motion_field_blocks vec4: 0, 1 the final current -> previous and
+// previous -> current blocks; 2, 3 the first passes' (then the fill stage's); 4 the previous
+// submit's current -> previous (temporal candidates); 5 and 6 the cut statistics of the finest
+// level's blocks (kCutRegion: two vec4 per block, ref::CutBlock, at twice the level's offset).
+inline constexpr uint32_t kFieldRegions = 7;
+inline constexpr uint32_t kCutRegion = 5;
 // Push constants of level k's first pass (propagate false) or propagation pass (forward:
 // previous -> current; temporal: the temporal region holds the previous submit's field), and of
 // the flow pass.
@@ -192,6 +197,9 @@ FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global,
                        VectorCorrection correct = {}, bool coarse = false);
 // The fill stage of the first level (match.h fill_block): final blocks in, first-pass region out.
 MatchParams fill_params(const std::vector<MotionLevel>& levels, bool forward);
+// The cut statistics of the first level's blocks (match.comp's FGSR_MATCH_CUT, shaders/cut.h):
+// its current -> previous blocks in, CutBlocks out at same_offset.
+MatchParams cut_match_params(const std::vector<MotionLevel>& levels);
 // Variational refinement of estimated vectors (shaders/polish.h; not when correcting given ones):
 // kPolishIterations red-black sweeps (two dispatches each). Chosen on the train captures only
 // (docs/MOTION.md, "Variational refinement").
@@ -231,20 +239,65 @@ uint32_t polish_coarse_vectors(const std::vector<MotionLevel>& levels);
 PolishParams polish_coarse_params(const std::vector<MotionLevel>& levels, uint32_t level, uint32_t parity,
                                   bool seed);
 
+// A block that finds no match: SAD above kCutSad and above kCutContrast times its contrast.
+inline bool block_unmatched(float sad, float contrast) { return sad > kCutSad && sad > kCutContrast * contrast; }
+// Scene cuts relit (shaders/cut.h): ingest's cut stage in sessions with vectors, match's cut build
+// on the matched blocks in sessions that estimate motion. The number of 8x8 blocks of a frame; the
+// stage on the CPU, one CutBlock per block of `f` (ingested, its vectors after the dilate stage)
+// against the previous frame's colour.
+struct CutBlock {
+    glm::vec4 sad;   // SAD, the block's contrast, the SAD with the block's mean difference taken out
+    glm::vec4 level; // the block's mean luma, the mean of the previous frame's at the vectors' positions
+};
+static_assert(sizeof(CutBlock) == 32, "two vec4 per block in cut.comp's buffer");
+glm::uvec2 cut_grid(uint32_t width, uint32_t height); // blocks across, down
+uint32_t cut_blocks(uint32_t width, uint32_t height);
+std::vector<CutBlock> cut_stage(const InternalFrame& f, const InternalFrame& prev);
+// A change of the whole frame's lighting (a fade, a flash, an exposure step) leaves the vectors
+// right and the luma wrong everywhere by the same law. The blocks' means fitted as
+// mean = gain x mean_prev + offset (least squares over the blocks, the gain clamped to
+// [kCutLightGainMin, kCutLightGainMax] of display luma, a factor of 1/4 to 4 in linear light): a cut
+// puts unrelated content at each place, whose means the fit does not predict (its gain falls
+// towards zero and is clamped), while a change of lighting moves them together.
+inline constexpr float kCutLightGainMin = 0.5f;
+inline constexpr float kCutLightGainMax = 2.0f;
+struct LightingFit {
+    float gain = 1.f, offset = 0.f;
+};
+LightingFit fit_lighting(std::span<const CutBlock> blocks);
+// A block that finds no match relit: its SAD without its mean difference plus what the fit leaves
+// of that difference.
+inline bool relit_unmatched(const CutBlock& b, const LightingFit& fit) {
+    const float bias = b.level.x - fit.gain * b.level.y - fit.offset;
+    return block_unmatched(b.sad.z + (bias < 0.f ? -bias : bias), b.sad.y);
+}
+// The share of blocks that find no match (block_unmatched), both as the colour was given and
+// relit: with the SAD without the block's mean difference plus what the fitted lighting leaves of
+// that difference. Where the lighting does not change, the fit is near (1, 0) and the relit SAD is
+// at least the given one, so the share is that of the given colour.
+float cut_share(std::span<const CutBlock> blocks);
+
 // What the host reads from the level-0 current -> previous blocks between the match and flow
 // passes: the dominant motion (mean of the vectors within kMotionModeRadius of the most common
 // one) and whether the frame is a scene cut.
 struct MotionSummary {
     glm::vec2 global{0.f};
-    float mismatch_share = 0; // level-0 blocks that found no match (kCutSad, kCutContrast)
+    float mismatch_share = 0; // level-0 blocks that found no match (kCutSad, kCutContrast), relit too
+    float matched_share = 0;  // ... as matched alone (before 2026-12-05 the cut rule's share)
     bool cut = false;
 };
-// typical_share: the session's running mean share (negative: no history yet).
-MotionSummary summarise_motion(std::span<const glm::vec4> blocks, float typical_share = -1.f);
+// typical_share: the session's running mean share (negative: no history yet). relit: the blocks'
+// cut statistics (kCutRegion; none: the SAD as matched alone): a block counts where it finds no
+// match both as matched and relit (relit_unmatched), so that a change of the whole frame's
+// lighting is no cut (cut_share).
+MotionSummary summarise_motion(std::span<const glm::vec4> blocks, float typical_share = -1.f,
+                               std::span<const CutBlock> relit = {});
 // The same over the final current -> previous blocks of motion_first_level in `field` (the whole
-// field buffer), with the dominant motion in pixels of the frame.
+// field buffer), with the dominant motion in pixels of the frame; relit: with the cut statistics
+// of kCutRegion. The estimator computes those only for a frame that is a cut as matched (a stage
+// of its own, after the host's first summary), so that other frames pay nothing for them.
 MotionSummary summarise_motion(const std::vector<MotionLevel>& levels, const glm::vec4* field,
-                               float typical_share = -1.f);
+                               float typical_share = -1.f, bool relit = false);
 // The running mean after a frame: updated by frames that were not cuts; a cut re-seeds it with its
 // own share (the new scene's baseline: content that never matches well is cut once and then
 // judged against itself, not cut at every frame). It outlives restarts.
@@ -266,37 +319,6 @@ inline constexpr float kCutShareVectors = 0.5f;
 inline bool is_vector_cut(float share, float typical_share) {
     return typical_share >= 0.f && share > std::max(kCutShareVectors, kCutJump * typical_share);
 }
-// A block that finds no match: SAD above kCutSad and above kCutContrast times its contrast.
-inline bool block_unmatched(float sad, float contrast) { return sad > kCutSad && sad > kCutContrast * contrast; }
-
-// Scene cuts in sessions with vectors (ingest's cut stage, shaders/cut.h): the number of 8x8
-// blocks of a frame; the stage on the CPU, one CutBlock per block of `f` (ingested, its vectors
-// after the dilate stage) against the previous frame's colour.
-struct CutBlock {
-    glm::vec4 sad;   // SAD, the block's contrast, the SAD with the block's mean difference taken out
-    glm::vec4 level; // the block's mean luma, the mean of the previous frame's at the vectors' positions
-};
-static_assert(sizeof(CutBlock) == 32, "two vec4 per block in cut.comp's buffer");
-glm::uvec2 cut_grid(uint32_t width, uint32_t height); // blocks across, down
-uint32_t cut_blocks(uint32_t width, uint32_t height);
-std::vector<CutBlock> cut_stage(const InternalFrame& f, const InternalFrame& prev);
-// A change of the whole frame's lighting (a fade, a flash, an exposure step) leaves the vectors
-// right and the luma wrong everywhere by the same law. The blocks' means fitted as
-// mean = gain x mean_prev + offset (least squares over the blocks, the gain clamped to
-// [kCutLightGainMin, kCutLightGainMax] of display luma, a factor of 1/4 to 4 in linear light): a cut
-// puts unrelated content at each place, whose means the fit does not predict (its gain falls
-// towards zero and is clamped), while a change of lighting moves them together.
-inline constexpr float kCutLightGainMin = 0.5f;
-inline constexpr float kCutLightGainMax = 2.0f;
-struct LightingFit {
-    float gain = 1.f, offset = 0.f;
-};
-LightingFit fit_lighting(std::span<const CutBlock> blocks);
-// The share of blocks that find no match (block_unmatched), both as the colour was given and
-// relit: with the SAD without the block's mean difference plus what the fitted lighting leaves of
-// that difference. Where the lighting does not change, the fit is near (1, 0) and the relit SAD is
-// at least the given one, so the share is that of the given colour.
-float cut_share(std::span<const CutBlock> blocks);
 
 // The passes on the CPU: the pyramid of a frame; one level of matching into `field` (both
 // directions share it, as on the GPU); the flow pass writing f.mv (and f.depth with write_depth).
@@ -321,9 +343,10 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 // (the engine's temporal candidates), or empty for a first frame; it is resized and updated. With
 // correct.on, f1's given vectors are corrected instead (a cut leaves them as they are). fast: no
 // refinement at any size (Params::fast_motion).
+// typical_share: the session's (summarise_motion; negative: none yet).
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
                               std::vector<glm::vec4>& field, VectorCorrection correct = {},
-                              bool fast = false);
+                              bool fast = false, float typical_share = -1.f);
 inline MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
     std::vector<glm::vec4> field;
     return estimate_motion(f0, f1, write_depth, field);
