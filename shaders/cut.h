@@ -84,6 +84,6 @@ FGSR_INLINE void cut_block(uvec2 block, uint width, uint height) {
                 best_mean_prev = mean_prev;
             }
         }
-    store_cut_block(block.y * cut_blocks_x(width) + block.x,
-                    vec4(best_raw * inv, contrast * inv, best_sad * inv, 0.0f), vec4(mean, best_mean_prev, 0.0f, 0.0f));
+    store_cut_block(block.y * cut_blocks_x(width) + block.x, vec4(best_raw * inv, contrast * inv, best_sad * inv, 0.0f),
+                    vec4(mean, best_mean_prev, 0.0f, 0.0f));
 }

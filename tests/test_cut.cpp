@@ -96,7 +96,8 @@ TEST(Cut, StageMatchesTheCpuReference) {
     ASSERT_TRUE(s->submit(f2.view()));
     auto cur = s->read_frame(1), prev = s->read_frame(0);
     ASSERT_TRUE(cur && prev);
-    const std::vector<ref::CutBlock> blocks = ref::cut_stage(to_internal(*cur, kW, kH), to_internal(*prev, kW, kH));
+    const std::vector<ref::CutBlock> blocks =
+        ref::cut_stage(to_internal(*cur, kW, kH), to_internal(*prev, kW, kH));
     ASSERT_EQ(blocks.size(), size_t(ref::cut_blocks(kW, kH)));
     const float cpu = ref::cut_share(blocks);
     EXPECT_GT(cpu, 0.35f) << "the right half's blocks find no match";
@@ -256,9 +257,9 @@ float share_as_given(Session& s) {
 // the moving scene with its occluder: the colour as given leaves most blocks unmatched at some
 // frame of each but the slowest fade (the test's own check that these are hard cases: change 22's
 // rule alone cut all but that one and the 10-frame fade, whose share rose slowly enough for the
-// session's typical share to follow), and no frame is a cut, so every pair is generated. The last step of a fade, into
-// a frame with nothing left to match (all black), is not asserted: it reads as a cut into a
-// featureless shot, which it is as far as the colour can tell.
+// session's typical share to follow), and no frame is a cut, so every pair is generated. The last
+// step of a fade, into a frame with nothing left to match (all black), is not asserted: it reads
+// as a cut into a featureless shot, which it is as far as the colour can tell.
 TEST(Cut, LightingChangeIsNoCut) {
     const Pan scene{.seed = 9, .velocity = glm::vec2(3.f, 1.f), .occluder = true};
     const float alpha = 0.5f;
@@ -283,7 +284,8 @@ TEST(Cut, LightingChangeIsNoCut) {
             EXPECT_GT(given, ref::kCutShareVectors) << "the colour as given leaves most blocks unmatched";
         }
     }
-    for (glm::vec2 flash : {glm::vec2(1.f, 0.1f), glm::vec2(1.f, 0.2f), glm::vec2(1.4f, 0.f), glm::vec2(1.8f, 0.f)}) {
+    for (glm::vec2 flash :
+         {glm::vec2(1.f, 0.1f), glm::vec2(1.f, 0.2f), glm::vec2(1.4f, 0.f), glm::vec2(1.8f, 0.f)}) {
         SCOPED_TRACE("a flash of gain " + std::to_string(flash.x) + ", lift " + std::to_string(flash.y));
         Pan lit = scene;
         lit.light = [flash](int t) { return t == 4 ? flash : glm::vec2(1.f, 0.f); };
@@ -328,20 +330,32 @@ TEST(Cut, CutUnderChangingLightIsStillACut) {
     expect_no_validation_errors();
 }
 
-// The fit itself, on blocks made to measure: means that follow a law are fitted to it; means with
-// no relation to the previous frame's (a cut) fit a gain at the clamp's floor.
+// The fit itself, on blocks made to measure (every block's texture matches once its mean difference
+// is out: bias-free SAD 0, contrast 0.05): means that follow a law are fitted to it and every block
+// counts as matched relit; means with no relation to the previous frame's (a cut) fit a gain at
+// the clamp's floor and leave most blocks unmatched relit.
 TEST(Cut, LightingFitFindsTheLaw) {
     std::vector<ref::CutBlock> blocks(400);
+    auto relit_unmatched = [&](const ref::LightingFit& fit) {
+        size_t high = 0;
+        for (const ref::CutBlock& b : blocks) high += ref::relit_unmatched(b, fit) ? 1 : 0;
+        return high;
+    };
     for (size_t i = 0; i < blocks.size(); ++i) {
         const float p = 0.1f + 0.8f * float((i * 37) % 101) / 100.f;
+        blocks[i].sad = glm::vec4(0.5f, 0.05f, 0.f, 0.f);
         blocks[i].level = glm::vec4(1.3f * p + 0.05f, p, 0.f, 0.f);
     }
     ref::LightingFit fit = ref::fit_lighting(blocks);
     EXPECT_NEAR(fit.gain, 1.3f, 1e-4f);
     EXPECT_NEAR(fit.offset, 0.05f, 1e-4f);
-    for (size_t i = 0; i < blocks.size(); ++i) blocks[i].level.x = 0.1f + 0.8f * float((i * 53 + 11) % 97) / 96.f;
+    EXPECT_EQ(relit_unmatched(fit), 0u);
+    EXPECT_GT(relit_unmatched(ref::LightingFit{}), blocks.size() / 2) << "unlit, the law's change is a mismatch";
+    for (size_t i = 0; i < blocks.size(); ++i)
+        blocks[i].level.x = 0.1f + 0.8f * float((i * 53 + 11) % 97) / 96.f;
     fit = ref::fit_lighting(blocks);
     EXPECT_EQ(fit.gain, ref::kCutLightGainMin);
+    EXPECT_GT(relit_unmatched(fit), blocks.size() / 2) << "a cut's means follow no law";
 }
 
 // The same in sessions without vectors (an unmodified application through the layer), where block

@@ -221,10 +221,10 @@ ref::MotionSummary ref::summarise_motion(const std::vector<MotionLevel>& levels,
     const MotionLevel& l = levels[finest];
     const size_t n = size_t(l.blocks_x) * l.blocks_y;
     // The cut statistics (kCutRegion): two vec4 per block, a CutBlock's layout.
-    const auto* cut = reinterpret_cast<const CutBlock*>(field + size_t(kCutRegion) * motion_field_blocks(levels) +
-                                                        2 * size_t(l.field_offset));
-    MotionSummary s = summarise_motion({field + l.field_offset, n}, typical_share,
-                                       relit ? std::span<const CutBlock>(cut, n) : std::span<const CutBlock>());
+    const glm::vec4* stats = field + size_t(kCutRegion) * motion_field_blocks(levels) + 2 * size_t(l.field_offset);
+    std::span<const CutBlock> cut;
+    if (relit) cut = {reinterpret_cast<const CutBlock*>(stats), n};
+    MotionSummary s = summarise_motion({field + l.field_offset, n}, typical_share, cut);
     s.global *= float(1u << finest);
     return s;
 }

@@ -274,7 +274,8 @@ float cut_share(std::span<const CutBlock> blocks) {
     if (blocks.empty()) return 0.f;
     const LightingFit fit = fit_lighting(blocks);
     size_t high = 0;
-    for (const CutBlock& b : blocks) high += block_unmatched(b.sad.x, b.sad.y) && relit_unmatched(b, fit) ? 1 : 0;
+    for (const CutBlock& b : blocks)
+        high += block_unmatched(b.sad.x, b.sad.y) && relit_unmatched(b, fit) ? 1 : 0;
     return float(high) / float(blocks.size());
 }
 

@@ -33,8 +33,8 @@ Result<void> Session::Impl::init() {
     const VkDeviceSize tile = 1u << FGSR_BRIGHT_TILE_SHIFT;
     FGSR_TRY(make(bright, (format.width + tile - 1) / tile * ((format.height + tile - 1) / tile) * 4, false));
     if (format.has_vectors)
-        FGSR_TRY(make(cut_blocks,
-                      VkDeviceSize(ref::cut_blocks(format.width, format.height)) * sizeof(ref::CutBlock), true));
+        FGSR_TRY(make(cut_blocks, VkDeviceSize(ref::cut_blocks(format.width, format.height)) * sizeof(ref::CutBlock),
+                      true));
     for (GpuFrame& f : frames) {
         FGSR_TRY(make(f.color, px * 8, false)); // pack_color: 4 halves
         FGSR_TRY(make(f.depth, px * 4, false));
@@ -296,8 +296,8 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         auto t1 = s.rec.read_times(0, q - 1);
         if (!t1) return t1.error();
         first_times = std::move(*t1);
-        const float share = ref::cut_share(
-            {static_cast<const ref::CutBlock*>(s.cut_blocks.mapped()), ref::cut_blocks(s.format.width, s.format.height)});
+        const float share = ref::cut_share({static_cast<const ref::CutBlock*>(s.cut_blocks.mapped()),
+                                            ref::cut_blocks(s.format.width, s.format.height)});
         // ref::is_vector_cut. The session's first comparison only sets the typical share: aliased,
         // point-sampled input (jittered or not) leaves 0.5-0.99 of its blocks without a match at
         // every frame (orbit-sr, street-sr, rotor-sr), so an absolute threshold would cut its second
