@@ -222,6 +222,10 @@ struct DenoiseParams {
 #define MOTION_BLOCK 8u       // block side in pixels of its pyramid level
 #define MOTION_MAX_LEVELS 6u  // pyramid levels, the finest (full resolution) included
 #define MOTION_MIN_SIDE 16u   // a coarser level is added while its smaller side stays >= this
+#define LUMA_GAIN_LANES 64u   // lanes of the lighting gain's histogram stage (luma.h; one workgroup)
+#define LUMA_GAIN_BINS 256u   // bins of the lighting gain's histogram (luma.h)
+#define LUMA_GAIN_ROW 1024u   // the gain's scaling: invocations per row (the pyramid's floats as rows)
+#define LUMA_GAIN_DISPATCH 4u // the gain buffer: the gain (word 0), the scaling's groups (words 4-6)
 
 struct LumaParams {
     uint src_width; // level 0: the frame; else the finer level

@@ -5,10 +5,30 @@
 // level k is level k - 1 low-passed and decimated by 2, of size ceil(size / 2). Every level lives in one float
 // buffer per frame at offsets the host computes. One invocation per pixel of the level written.
 //
+// Lighting gain (luma_gain_lane, luma_gain; before block matching of a pair): block matching, the
+// flow pass and the refinement compare luma, and a change of the whole frame's brightness (a fade,
+// a flash, an exposure change) breaks that constancy: under a fade the matched vectors strayed by
+// 1-18 px and its last steps were cut; a flash misled most blocks. The previous frame's pyramid,
+// every level, is therefore scaled by k where k is more than LUMA_GAIN_GATE from 1: the median of
+// the ratios current / previous of the coarsest level's texels (0.2-0.5 % of the pixels, already
+// low-passed, so that the motion between two frames moves them little), counted in a histogram of
+// 1/64-octave bins. A gain of linear light g is a gain of sqrt(g) of this luma at every pixel, so
+// under a change of lighting most texels measure it; content that enters, leaves or is uncovered
+// changes the frame's mean but only a minority of the texels, and the median stays at 1 (the
+// frames' mean ratio, tried first, measured up to 4.5 % on train captures without any change of
+// lighting, and scaling by it lost up to 0.3 dB there; docs/MOTION.md, "Fades and flashes").
+// Texels darker than LUMA_GAIN_MIN measure nothing (near black the ratio is noise), and fewer
+// than half the texels measuring leaves k = 1. The previous frame's pyramid is not read again
+// after this pair (the next pair's previous frame is the current one), so it is scaled in place.
+// A scene cut's ratios scatter: whatever k they give, its blocks still match nothing.
+//
 // Entry provides:
 //   vec4  load_color(uint pixel)              the frame's colour (level 0)
-//   float load_level(uint index)              the pyramid (levels > 0 read the finer level)
+//   float load_level(uint index)              the pyramid (levels > 0 read the finer level; the
+//                                             gain: the current frame's)
 //   void  store_level(uint index, float value)
+//   float load_prev_level(uint index)         the gain: the previous frame's pyramid
+//   void  add_to_bin(uint bin), uint load_bin(uint bin)   the gain's histogram
 
 // motion_luma (common.h): that luma of one colour.
 
@@ -44,4 +64,41 @@ FGSR_INLINE void luma_pixel(uvec2 q, LumaParams p) {
         }
     }
     store_level(p.dst_offset + q.y * p.dst_width + q.x, v);
+}
+
+#define LUMA_GAIN_MIN 0.05f // luma (display-referred, as the pyramid) below which a texel measures no gain
+#define LUMA_GAIN_OCTAVES 2.0f // the histogram spans ratios of 2^-2 .. 2^2 ...
+#define LUMA_GAIN_BIN_SCALE 64.0f // ... in bins of 1/64 octave (1.1 %)
+#define LUMA_GAIN_GATE 0.02f // |k - 1| at or below this: no gain (k = 1), the pyramid untouched
+
+// The histogram bin of one coarsest-level texel's ratio now / before (current / previous);
+// negative where either is too dark to measure (or not finite).
+FGSR_INLINE int luma_gain_bin(float now, float before) {
+    if (!(now >= LUMA_GAIN_MIN && before >= LUMA_GAIN_MIN)) return -1;
+    float b = floor((log2(now / before) + LUMA_GAIN_OCTAVES) * LUMA_GAIN_BIN_SCALE);
+    return int(clamp(b, 0.0f, float(LUMA_GAIN_BINS - 1u)));
+}
+
+// Adds the bins of one lane's texels (lane, lane + LUMA_GAIN_LANES, ... of the coarsest level;
+// p.src_offset: the level's offset, p.src_width: its texels) to the histogram.
+FGSR_INLINE void luma_gain_lane(uint lane, LumaParams p) {
+    for (uint i = lane; i < p.src_width; i += LUMA_GAIN_LANES) {
+        int b = luma_gain_bin(load_level(p.src_offset + i), load_prev_level(p.src_offset + i));
+        if (b >= 0) add_to_bin(uint(b));
+    }
+}
+
+// The gain from the histogram: the median ratio (the centre of the bin that holds it), where at
+// least half the texels measured one; 1 within LUMA_GAIN_GATE of 1 or without enough texels.
+FGSR_INLINE float luma_gain(uint texels) {
+    uint measured = 0u;
+    for (uint b = 0u; b < LUMA_GAIN_BINS; ++b) measured += load_bin(b);
+    if (measured == 0u || 2u * measured < texels) return 1.0f;
+    uint below = 0u, bin = 0u;
+    for (; bin < LUMA_GAIN_BINS; ++bin) {
+        below += load_bin(bin);
+        if (2u * below >= measured) break;
+    }
+    float k = exp2((float(bin) + 0.5f) / LUMA_GAIN_BIN_SCALE - LUMA_GAIN_OCTAVES);
+    return abs(k - 1.0f) > LUMA_GAIN_GATE ? k : 1.0f;
 }

@@ -358,30 +358,43 @@ TEST(Cut, LightingFitFindsTheLaw) {
     EXPECT_GT(relit_unmatched(fit), blocks.size() / 2) << "a cut's means follow no law";
 }
 
-// The same in sessions without vectors (an unmodified application through the layer), where block
-// matching's finest level decides (ref::summarise_motion, with the stage's build on the matched
-// vectors, match.comp FGSR_MATCH_CUT): one-frame flashes (a lift of 0.1 in linear light, a gain of
-// 1.2 and 1.4) are no cut and every pair is generated, while block matching's SAD alone (the rule
-// before) counts enough blocks unmatched at the flash to cut, and the GPU's share equals the CPU
-// reference's (the whole estimation on the same ingested frames, temporal candidates included) to
-// a block at every frame. A cut under changing light is still a cut.
-TEST(Cut, ColourOnlyLightingChangeIsNoCut) {
+FrameView colour_only(const RawFrame& f) {
+    FrameView v = f.view();
+    v.mv = {};
+    v.depth = {};
+    return v;
+}
+
+FrameFormat colour_only_format() {
     FrameFormat format = internal_format(kW, kH);
     format.has_vectors = false;
     format.has_depth = false;
-    auto colour_only = [](const RawFrame& f) {
-        FrameView v = f.view();
-        v.mv = {};
-        v.depth = {};
-        return v;
-    };
+    return format;
+}
+
+// The same in sessions without vectors (an unmodified application through the layer), where block
+// matching's finest level decides (ref::summarise_motion, with the stage's build on the matched
+// vectors, match.comp FGSR_MATCH_CUT): one-frame flashes are no cut and every pair is generated.
+// A gain of the light (1.2, 1.4) or a small lift (0.1 in linear light) is matched as such once the
+// previous frame's luma takes the lighting gain (shaders/luma.h); a larger lift (0.16) and a haze
+// (half the contrast, a lift of 0.1) still leave block matching's SAD alone enough blocks
+// unmatched to cut, and the relit count keeps them (the stage is exercised). The GPU's share
+// equals the CPU reference's (the whole estimation on the same ingested frames, temporal
+// candidates included) to a block at every frame. A cut under changing light is still a cut.
+TEST(Cut, ColourOnlyLightingChangeIsNoCut) {
     const Pan scene{.seed = 9, .velocity = glm::vec2(3.f, 1.f), .occluder = true};
     const float alpha = 0.5f;
-    for (glm::vec2 flash : {glm::vec2(1.f, 0.1f), glm::vec2(1.2f, 0.f), glm::vec2(1.4f, 0.f)}) {
-        SCOPED_TRACE("a flash of gain " + std::to_string(flash.x) + ", lift " + std::to_string(flash.y));
+    struct Flash {
+        glm::vec2 light; // (gain, lift)
+        bool relit;      // block matching's SAD alone cuts it
+    };
+    for (Flash flash : {Flash{{1.f, 0.1f}, false}, Flash{{1.2f, 0.f}, false}, Flash{{1.4f, 0.f}, false},
+                        Flash{{1.f, 0.16f}, true}, Flash{{0.5f, 0.1f}, true}}) {
+        SCOPED_TRACE("a flash of gain " + std::to_string(flash.light.x) + ", lift " +
+                     std::to_string(flash.light.y));
         Pan lit = scene;
-        lit.light = [flash](int t) { return t == 4 ? flash : glm::vec2(1.f, 0.f); };
-        auto s = engine().create_session(format, Params{});
+        lit.light = [flash](int t) { return t == 4 ? flash.light : glm::vec2(1.f, 0.f); };
+        auto s = engine().create_session(colour_only_format(), Params{});
         ASSERT_TRUE(s) << s.error().message;
         std::vector<glm::vec4> field; // the CPU reference's, carried from pair to pair as the GPU's
         float typical = -1.f, matched_at_flash = 0.f;
@@ -401,19 +414,85 @@ TEST(Cut, ColourOnlyLightingChangeIsNoCut) {
             EXPECT_NEAR((*s)->last_cut_share(), cpu.mismatch_share, block + 1e-6f) << "frame " << t;
             if (t == 4) matched_at_flash = cpu.matched_share;
         }
-        EXPECT_GT(matched_at_flash, ref::kCutShare) << "block matching's SAD alone cut (3 x typical is less)";
+        if (flash.relit) {
+            EXPECT_GT(matched_at_flash, ref::kCutShare) << "block matching's SAD alone cut (3 x typical is less)";
+        } else {
+            EXPECT_LT(matched_at_flash, ref::kCutShare) << "matched under the lighting gain";
+        }
     }
     const Pan a{.seed = 3, .velocity = glm::vec2(5.f, 2.f)};
     for (float gain : {2.f, 0.5f}) {
         SCOPED_TRACE("scene B at gain " + std::to_string(gain));
         Pan b{.seed = 41, .start = glm::vec2(400.f, -300.f), .velocity = glm::vec2(-3.f, 4.f)};
         b.light = [gain](int) { return glm::vec2(gain, 0.f); };
-        auto s = engine().create_session(format, Params{});
+        auto s = engine().create_session(colour_only_format(), Params{});
         ASSERT_TRUE(s);
         for (int t = 0; t < 4; ++t) ASSERT_TRUE((*s)->submit(colour_only(a.frame(t))));
         EXPECT_FALSE((*s)->last_scene_cut());
         ASSERT_TRUE((*s)->submit(colour_only(b.frame(4))));
         EXPECT_TRUE((*s)->last_scene_cut());
+    }
+    expect_no_validation_errors();
+}
+
+// A fade, out to black or in from it, in a session without vectors: the previous frame's luma
+// takes the lighting gain (shaders/luma.h), so block matching still finds the scene's motion at
+// every step, and no step is a cut until the frame is black. Fades over 4, 6 and 10 frames after
+// three steady ones (light = 1 - (t - 3) / n), and in from 2 % over 4 and 6 frames. Ground truth:
+// the pan's vectors, away from the occluder and 8 px from the border (the scene enters there).
+// Without the gain the vectors strayed by 0.5-18 px on average from a fade's first step on, and
+// the fades over 4 and 6 frames were cut at their second or fourth step, the fades in at their
+// first. The gain is 1 on the steady frames, and the GPU's equals the CPU reference's (the same
+// histogram on the same pyramids) at every frame.
+TEST(Cut, ColourOnlyFadeKeepsTheVectors) {
+    struct Fade {
+        int frames;
+        bool in;
+    };
+    for (Fade fade : {Fade{4, false}, Fade{6, false}, Fade{10, false}, Fade{4, true}, Fade{6, true}}) {
+        SCOPED_TRACE(std::string(fade.in ? "in" : "out") + " over " + std::to_string(fade.frames) +
+                     " frames");
+        Pan scene{.seed = 9, .velocity = glm::vec2(3.f, 1.f), .occluder = true};
+        scene.light = [fade](int t) {
+            const float f =
+                fade.in ? float(t - 1) / float(fade.frames) : 1.f - float(t - 3) / float(fade.frames);
+            return glm::vec2(std::clamp(f, fade.in ? 0.02f : 0.f, 1.f), 0.f);
+        };
+        const int last = fade.frames + 2; // out: the frame before black; in: one steady frame after
+        auto s = engine().create_session(colour_only_format(), Params{});
+        ASSERT_TRUE(s) << s.error().message;
+        const std::vector<ref::MotionLevel> levels = ref::motion_levels(kW, kH);
+        int measured = 0;
+        for (int t = 0; t <= last; ++t) {
+            ASSERT_TRUE((*s)->submit(colour_only(scene.frame(t))));
+            EXPECT_FALSE((*s)->last_scene_cut()) << "frame " << t;
+            if (t == 0) continue;
+            auto cur = (*s)->read_frame(1), prev = (*s)->read_frame(0);
+            ASSERT_TRUE(cur && prev);
+            const float gain =
+                ref::luma_gain_of(ref::luma_pyramid(to_internal(*cur, kW, kH), levels),
+                                  ref::luma_pyramid(to_internal(*prev, kW, kH), levels), levels);
+            EXPECT_NEAR((*s)->last_lighting_gain(), gain, 1e-6f) << "frame " << t;
+            const bool steady = scene.light(t) == scene.light(t - 1);
+            if (steady) {
+                EXPECT_EQ((*s)->last_lighting_gain(), 1.f) << "frame " << t;
+            }
+            measured += gain != 1.f;
+            double error = 0;
+            size_t n = 0;
+            for (uint32_t y = 8; y < kH - 8; ++y)
+                for (uint32_t x = 8; x < kW - 8; ++x) {
+                    const glm::vec2 c(float(x) + 0.5f, float(y) + 0.5f);
+                    if (scene.on_square(c, float(t)) || scene.on_square(c, float(t - 1))) continue;
+                    const size_t i = size_t(y) * kW + x;
+                    const glm::vec2 mv(cur->mv[2 * i], cur->mv[2 * i + 1]);
+                    error += glm::length(mv - (scene.offset(float(t)) - scene.offset(float(t - 1))));
+                    ++n;
+                }
+            EXPECT_LT(error / double(n), 0.15)
+                << "frame " << t << ": mean vector error (px) of the background";
+        }
+        EXPECT_GE(measured, fade.frames - 2) << "steps of the fade that measured a gain";
     }
     expect_no_validation_errors();
 }

@@ -245,6 +245,10 @@ Result<void> Session::Impl::init_motion() {
         *ctx, VkDeviceSize(ref::motion_field_blocks(estimator.levels)) * ref::kFieldRegions * 16, true);
     if (!f) return f.error();
     estimator.field = std::move(*f);
+    // The lighting gain of the last pair (read by the host) and its scaling's dispatch (luma.h).
+    auto g = vk::Buffer::create(*ctx, (LUMA_GAIN_DISPATCH + 3) * 4, true);
+    if (!g) return g.error();
+    estimator.gain = std::move(*g);
     // polish reads the vectors with texelFetch (and writes them through a storage binding).
     for (GpuFrame& fr : frames) FGSR_TRY(fr.mv.make_texel_view(VK_FORMAT_R32G32_SFLOAT));
     // The coarse levels' fields: polish writes and reads them as the vectors, flow reads level 1.
@@ -273,6 +277,20 @@ Result<void> Session::Impl::record_luma(int slot) {
             FGSR_TRY(rec.dispatch_pixels(Variant::luma_level0, b, &p, l.width, l.height));
     }
     return {};
+}
+
+Result<void> Session::Impl::record_luma_gain(int cur, int prev) {
+    const vk::Buffer& pyr = estimator.pyramid[size_t(prev)];
+    const auto b = make_slots<PassId::luma>(at<LUMA_COLOR>(estimator.gain), at<LUMA_PYRAMID>(pyr),
+                                            at<LUMA_PYRAMID_TEXELS>(estimator.pyramid[size_t(cur)]));
+    const ref::MotionLevel& top = estimator.levels.back();
+    const uint32_t floats = top.offset + top.width * top.height;
+    const gpu::LumaParams p{top.width * top.height, 0u, floats, 0u, top.offset, 0u, 0u, 0u};
+    FGSR_TRY(rec.dispatch(Variant::luma_gain_sum, b, &p, 1, 1));
+    rec.barrier();
+    // No workgroups where the gain is 1 (the stage above writes the dispatch).
+    return rec.dispatch_indirect(Variant::luma_gain_apply, b, &p, estimator.gain,
+                                 VkDeviceSize(LUMA_GAIN_DISPATCH) * 4);
 }
 
 namespace {
@@ -414,6 +432,10 @@ bool Session::last_scene_cut() const {
 
 float Session::last_cut_share() const {
     return impl_->last_cut_share;
+}
+
+float Session::last_lighting_gain() const {
+    return impl_->last_lighting_gain;
 }
 
 } // namespace fgsr

@@ -3,6 +3,7 @@
 #include <fgsr/engine/reference.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 // clang-format off
@@ -12,9 +13,14 @@ namespace {
 struct LumaCpu {
     const ref::InternalFrame* f;
     std::vector<float>* pyr;
+    const std::vector<float>* prev = nullptr; // the gain: the previous frame's pyramid
+    std::array<uint, LUMA_GAIN_BINS> bins{};    // ... and its histogram
     vec4 load_color(uint i) const { return f->color[i]; }
     float load_level(uint i) const { return (*pyr)[i]; }
     void store_level(uint i, float v) { (*pyr)[i] = v; }
+    float load_prev_level(uint i) const { return (*prev)[i]; }
+    void add_to_bin(uint b) { ++bins[b]; }
+    uint load_bin(uint b) const { return bins[b]; }
 #include "luma.h"
 };
 
@@ -107,6 +113,15 @@ std::vector<float> luma_pyramid(const InternalFrame& f, const std::vector<Motion
     return pyr;
 }
 
+float luma_gain_of(const std::vector<float>& cur, const std::vector<float>& prev,
+                   const std::vector<MotionLevel>& levels) {
+    const MotionLevel& top = levels.back();
+    const LumaParams p{top.width * top.height, 0u, 0u, 0u, top.offset, 0u, 0u, 0u};
+    gpu::LumaCpu cpu{nullptr, const_cast<std::vector<float>*>(&cur), &prev};
+    for (uint32_t l = 0; l < LUMA_GAIN_LANES; ++l) cpu.luma_gain_lane(l, p);
+    return cpu.luma_gain(p.src_width);
+}
+
 void match_level(const std::vector<float>& src, const std::vector<float>& dst, std::vector<glm::vec4>& field,
                  const MatchParams& p) {
     gpu::MatchCpu cpu{&src, &dst, &field};
@@ -162,7 +177,11 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
                               std::vector<glm::vec4>& field, VectorCorrection correct, bool fast,
                               float typical_share) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
-    const std::vector<float> p0 = luma_pyramid(f0, levels), p1 = luma_pyramid(f1, levels);
+    const std::vector<float> p1 = luma_pyramid(f1, levels);
+    std::vector<float> p0 = luma_pyramid(f0, levels);
+    const float gain = luma_gain_of(p1, p0, levels);
+    if (gain != 1.f)
+        for (float& v : p0) v *= gain;
     const size_t half = motion_field_blocks(levels);
     const bool temporal = field.size() == half * kFieldRegions;
     field.resize(half * kFieldRegions);

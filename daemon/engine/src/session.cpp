@@ -279,6 +279,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     std::vector<PassTiming> first_times;
     bool vector_cut = false;
     s.last_cut_share = -1.f;
+    s.last_lighting_gain = -1.f;
     if (checks_cut) {
         if (denoise) {
             FGSR_TRY(s.record_denoise(f.color));
@@ -331,6 +332,10 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (s.estimates_motion()) {
         FGSR_TRY(s.record_luma(slot));
         s.rec.barrier();
+        if (!restart) { // timed with luma
+            FGSR_TRY(s.record_luma_gain(slot, s.newest));
+            s.rec.barrier();
+        }
         s.rec.timestamp(q++);
         if (!restart) {
             FGSR_TRY(s.record_match(slot, s.newest));
@@ -341,6 +346,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         if (!t1) return t1.error();
         first_times = std::move(*t1);
         s.estimator.timings.push_back(timing_of(PassId::luma, first_times[1]));
+        s.last_lighting_gain = restart ? -1.f : static_cast<const float*>(s.estimator.gain.mapped())[0];
         if (!restart) {
             s.estimator.timings.push_back(timing_of(PassId::match, first_times[2]));
             ref::MotionSummary summary = s.summarise_motion(false);

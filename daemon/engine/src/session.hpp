@@ -96,6 +96,7 @@ struct Session::Impl {
     vk::Buffer cut_blocks;
     float cut_typical_share = -1.f;
     float last_cut_share = -1.f;
+    float last_lighting_gain = -1.f; // Session::last_lighting_gain
     struct GpuFrame {
         vk::Buffer color, depth, mv;
         bool has_mv = false;
@@ -159,6 +160,7 @@ struct Session::Impl {
         std::array<vk::Buffer, 2> pyramid; // luma pyramid of frames[i]
         vk::Buffer field;                  // host-visible block vectors, both directions
         vk::Buffer coarse;                 // the coarse levels' refined fields (polish_coarse)
+        vk::Buffer gain;                   // host-visible: the pair's lighting gain, its dispatch (luma.h)
         std::vector<PassTiming> timings;   // of the last submit: luma, match, flow, polish (those run)
         bool last_cut = false;
         bool field_valid = false;   // the field holds the previous submit's vectors (temporal candidates)
@@ -202,6 +204,8 @@ struct Session::Impl {
     }
     Result<void> init_motion();
     Result<void> record_luma(int slot);
+    // The lighting gain of frames cur and prev (shaders/luma.h): prev's pyramid scaled in place.
+    Result<void> record_luma_gain(int cur, int prev);
     Result<void> record_match(int cur, int prev);
     ref::MotionSummary summarise_motion(bool relit) const;
     // The cut statistics of the finest level's blocks (match.comp FGSR_MATCH_CUT, kCutRegion).

@@ -359,6 +359,11 @@ class Session {
     // ran (the first frame or a reset; given vectors with Params::vector_cuts off; a session with
     // vectors whose frame has none).
     float last_cut_share() const;
+    // Sessions that estimate motion: the gain the last submit's motion estimation applied to the
+    // previous frame's luma for a change of the whole frame's brightness (a fade, a flash;
+    // shaders/luma.h), 1 where none was measured or it was within LUMA_GAIN_GATE of 1. Negative
+    // where no pair was estimated (the first frame, a reset, a session with given vectors).
+    float last_lighting_gain() const;
     // The last submit's noise estimate (Params::denoise; zeros without it).
     NoiseEstimate last_noise_estimate() const;
     // Super-resolution sessions: the aliasing measure of the input's first frames (fgsr/engine/

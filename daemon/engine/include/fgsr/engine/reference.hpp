@@ -323,6 +323,10 @@ inline bool is_vector_cut(float share, float typical_share) {
 // The passes on the CPU: the pyramid of a frame; one level of matching into `field` (both
 // directions share it, as on the GPU); the flow pass writing f.mv (and f.depth with write_depth).
 std::vector<float> luma_pyramid(const InternalFrame& f, const std::vector<MotionLevel>& levels);
+// The lighting gain of a pair (shaders/luma.h, the GPU's histogram): the factor that scales the
+// previous frame's pyramid, 1 for none.
+float luma_gain_of(const std::vector<float>& cur, const std::vector<float>& prev,
+                   const std::vector<MotionLevel>& levels);
 void match_level(const std::vector<float>& src, const std::vector<float>& dst, std::vector<glm::vec4>& field,
                  const MatchParams& p);
 void fill_level(std::vector<glm::vec4>& field, const MatchParams& p);
