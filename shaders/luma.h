@@ -8,15 +8,16 @@
 // Lighting gain (luma_gain_lane, luma_gain; before block matching of a pair): block matching, the
 // flow pass and the refinement compare luma, and a change of the whole frame's brightness (a fade,
 // a flash, an exposure change) breaks that constancy: under a fade the matched vectors strayed by
-// 1-18 px and its last steps were cut; a flash misled most blocks. The previous frame's pyramid,
+// 0.5-18 px and its last steps were cut; a flash misled most blocks. The previous frame's pyramid,
 // every level, is therefore scaled by k where k is more than LUMA_GAIN_GATE from 1: the median of
-// the ratios current / previous of the coarsest level's texels (0.2-0.5 % of the pixels, already
+// the ratios current / previous of the coarsest level's texels (0.1-0.4 % of the pixels, already
 // low-passed, so that the motion between two frames moves them little), counted in a histogram of
-// 1/64-octave bins. A gain of linear light g is a gain of sqrt(g) of this luma at every pixel, so
-// under a change of lighting most texels measure it; content that enters, leaves or is uncovered
-// changes the frame's mean but only a minority of the texels, and the median stays at 1 (the
-// frames' mean ratio, tried first, measured up to 4.5 % on train captures without any change of
-// lighting, and scaling by it lost up to 0.3 dB there; docs/MOTION.md, "Fades and flashes").
+// 1/64-octave bins (ratios beyond 1/4 and 4 count in the end bins). A gain of linear light g is a
+// gain of sqrt(g) of this luma at every pixel, so under a change of lighting most texels measure
+// it; content that enters, leaves or is uncovered changes the frame's mean but only a minority of
+// the texels, and the median stays at 1 (the frames' mean ratio, tried first, measured up to 4.5 %
+// on train captures without any change of lighting, and scaling by it lost up to 0.32 dB there;
+// docs/MOTION.md, "Fades and flashes").
 // Texels darker than LUMA_GAIN_MIN measure nothing (near black the ratio is noise), and fewer
 // than half the texels measuring leaves k = 1. The previous frame's pyramid is not read again
 // after this pair (the next pair's previous frame is the current one), so it is scaled in place.
