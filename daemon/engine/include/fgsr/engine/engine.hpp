@@ -362,7 +362,8 @@ class Session {
     // Sessions that estimate motion: the gain the last submit's motion estimation applied to the
     // previous frame's luma for a change of the whole frame's brightness (a fade, a flash;
     // shaders/luma.h), 1 where none was measured or it was within LUMA_GAIN_GATE of 1. Negative
-    // where no pair was estimated (the first frame, a reset, a session with given vectors).
+    // where no pair was estimated (the first frame, a reset, a session with given vectors
+    // that it does not correct: Params::correct_vectors).
     float last_lighting_gain() const;
     // The last submit's noise estimate (Params::denoise; zeros without it).
     NoiseEstimate last_noise_estimate() const;
