@@ -346,7 +346,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         if (!t1) return t1.error();
         first_times = std::move(*t1);
         s.estimator.timings.push_back(timing_of(PassId::luma, first_times[1]));
-        s.last_lighting_gain = restart ? -1.f : static_cast<const float*>(s.estimator.gain.mapped())[0];
+        if (!restart) s.last_lighting_gain = static_cast<const float*>(s.estimator.gain.mapped())[0];
         if (!restart) {
             s.estimator.timings.push_back(timing_of(PassId::match, first_times[2]));
             ref::MotionSummary summary = s.summarise_motion(false);
