@@ -346,8 +346,8 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         if (!t1) return t1.error();
         first_times = std::move(*t1);
         s.estimator.timings.push_back(timing_of(PassId::luma, first_times[1]));
-        if (!restart) s.last_lighting_gain = static_cast<const float*>(s.estimator.gain.mapped())[0];
         if (!restart) {
+            s.last_lighting_gain = static_cast<const float*>(s.estimator.gain.mapped())[0];
             s.estimator.timings.push_back(timing_of(PassId::match, first_times[2]));
             ref::MotionSummary summary = s.summarise_motion(false);
             if (summary.cut) {
