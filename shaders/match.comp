@@ -35,8 +35,12 @@ void main() { cut_block(gl_GlobalInvocationID.xy, pc.p.width, pc.p.height); }
 #else
 #include "match.h"
 
-#ifdef FGSR_MATCH_FILL
+#if defined(FGSR_MATCH_FILL)
 void main() { fill_block(gl_GlobalInvocationID.xy, pc.p); }
+#elif defined(FGSR_MATCH_CONSENSUS) && FGSR_MATCH_CONSENSUS == 1
+void main() { ambiguity_block(gl_GlobalInvocationID.xy, pc.p); }
+#elif defined(FGSR_MATCH_CONSENSUS)
+void main() { consensus_block(gl_GlobalInvocationID.xy, pc.p); }
 #else
 void main() { match_block(gl_GlobalInvocationID.xy, pc.p); }
 #endif

@@ -349,3 +349,125 @@ FGSR_INLINE void fill_block(uvec2 b, MatchParams p) {
     }
     store_field(p.field_offset + b.y * p.blocks_x + b.x, result);
 }
+
+// Stages ambiguity and consensus (the match_ambiguity and match_consensus builds; once after the
+// propagation pass of every level but the finest; Params::motion_consensus): a periodic
+// texture (a checker, stripes, tiles) matches one period off about as well as at its motion, and
+// on the integer grid of a coarse level the wrong period can even match better; the temporal
+// candidate then carries such a lock from frame to frame and the finer levels keep it
+// (docs/MOTION.md, "The consensus of unambiguous blocks"). Costs are match_cost's, over the
+// block's checkerboard half (a quarter of a full-block SAD's reads; the train captures scored the
+// same). Each block is one of three kinds:
+//   - unreliable: its own match is poor against its texture (cost above MATCH_CONSENSUS_RELIABLE x
+//     the half's contrast: shading that moves on its own, blades thinner than a block, an
+//     occlusion): it keeps its vector and does not vote (without this, a moving shadow's blocks
+//     took the still ground's motion: sundial and rotor of the train set lost 0.15-0.56 dB);
+//   - ambiguous: a vector of a block within MATCH_CONSENSUS_RADIUS that lies more than
+//     MATCH_CONSENSUS_NEAR texels from its own matches it about as well (cost within
+//     MATCH_CONSENSUS_RATIO x its own + MATCH_CONSENSUS_SLACK);
+//   - unambiguous: the others; they vote.
+// An ambiguous block takes, among its own vector and the vectors of the blocks within the radius
+// that match it about as well, the one that the most unambiguous blocks within the radius agree with
+// (within MATCH_CONSENSUS_NEAR), keeping its sub-texel fraction; the first such in scan order, its
+// own on a tie. Vectors are compared rounded to the integer grid, as the next level's candidates
+// read them.
+// ambiguity: the level's final blocks at field_offset in, their copy at same_offset (the level's
+// first-pass region, which the propagation has finished with) out: z the alternatives' bound, w 0
+// unambiguous, 1 ambiguous, 2 unreliable. consensus: the copy in, the level's final blocks out (w
+// 0: no level but the finest stores a contrast).
+#define MATCH_CONSENSUS_RADIUS 2
+#define MATCH_CONSENSUS_RATIO 1.25f
+#define MATCH_CONSENSUS_SLACK 0.005f
+#define MATCH_CONSENSUS_NEAR 1.5f
+#define MATCH_CONSENSUS_RELIABLE 0.5f
+
+FGSR_INLINE ivec2 match_rounded(vec4 f) {
+    return ivec2(floor(vec2(f.x, f.y) + 0.5f));
+}
+
+// The mean absolute deviation of a block's checkerboard half (match_cost's blk) from its mean.
+FGSR_INLINE float match_half_contrast(float blk[32]) {
+    float mean = 0.0f;
+    FGSR_UNROLL for (int k = 0; k < 32; ++k) mean += blk[k];
+    mean *= 1.0f / 32.0f;
+    float contrast = 0.0f;
+    FGSR_UNROLL for (int k = 0; k < 32; ++k) contrast += abs(blk[k] - mean);
+    return contrast * (1.0f / 32.0f);
+}
+
+FGSR_INLINE void ambiguity_block(uvec2 b, MatchParams p) {
+    if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
+    vec4 own = load_field(p.field_offset + b.y * p.blocks_x + b.x);
+    ivec2 v = match_rounded(own);
+    ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
+    float blk[32];
+    FGSR_UNROLL for (int y = 0; y < 8; ++y)
+        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) blk[y * 4 + (x >> 1)] = match_src(origin, x, y, p);
+    float contrast = match_half_contrast(blk);
+    float cost = match_cost(blk, origin, v, p);
+    // The copy's z: the alternatives' bound.
+    float limit = MATCH_CONSENSUS_RATIO * cost + MATCH_CONSENSUS_SLACK;
+    float kind = 0.0f;
+    if (cost > MATCH_CONSENSUS_RELIABLE * contrast) kind = 2.0f; // unreliable
+    int w = 2 * MATCH_CONSENSUS_RADIUS + 1;
+    FGSR_DONT_UNROLL for (int k = 0; k < w * w && kind == 0.0f; ++k) {
+        ivec2 c = ivec2(b) + ivec2(k % w, k / w) - MATCH_CONSENSUS_RADIUS;
+        if (c.x < 0 || c.y < 0 || c.x >= int(p.blocks_x) || c.y >= int(p.blocks_y)) continue;
+        ivec2 u = match_rounded(load_field(p.field_offset + uint(c.y) * p.blocks_x + uint(c.x)));
+        // Only a far alternative makes a block ambiguous (the block itself is never one).
+        if (length(vec2(u - v)) <= MATCH_CONSENSUS_NEAR) continue;
+        if (match_cost(blk, origin, u, p) <= limit) kind = 1.0f;
+    }
+    store_field(p.same_offset + b.y * p.blocks_x + b.x, vec4(own.x, own.y, limit, kind));
+}
+
+// How many unambiguous blocks within the radius of block b have a vector within
+// MATCH_CONSENSUS_NEAR of u (the copy at same_offset).
+FGSR_INLINE int consensus_support(ivec2 b, ivec2 u, MatchParams p) {
+    int w = 2 * MATCH_CONSENSUS_RADIUS + 1;
+    int support = 0;
+    FGSR_DONT_UNROLL for (int k = 0; k < w * w; ++k) {
+        ivec2 c = b + ivec2(k % w, k / w) - MATCH_CONSENSUS_RADIUS;
+        if (c.x < 0 || c.y < 0 || c.x >= int(p.blocks_x) || c.y >= int(p.blocks_y)) continue;
+        vec4 f = load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x));
+        if (f.w == 0.0f && length(vec2(f.x, f.y) - vec2(u)) <= MATCH_CONSENSUS_NEAR) ++support;
+    }
+    return support;
+}
+
+FGSR_INLINE void consensus_block(uvec2 b, MatchParams p) {
+    if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
+    uint at = b.y * p.blocks_x + b.x;
+    vec4 copy = load_field(p.same_offset + at);
+    vec4 own = load_field(p.field_offset + at); // this invocation's own block: no other reads it
+    vec4 result = vec4(own.x, own.y, own.z, 0.0f);
+    if (copy.w == 1.0f) {
+        ivec2 v = match_rounded(copy);
+        ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
+        ivec2 best = v;
+        int best_support = consensus_support(ivec2(b), v, p);
+        float blk[32];
+        bool read = false; // blk, read at the first candidate that needs its cost
+        int w = 2 * MATCH_CONSENSUS_RADIUS + 1;
+        // The alternatives in scan order; the cost only for a vector with more support than the
+        // best so far (it alone could replace it).
+        FGSR_DONT_UNROLL for (int k = 0; k < w * w; ++k) {
+            ivec2 c = ivec2(b) + ivec2(k % w, k / w) - MATCH_CONSENSUS_RADIUS;
+            if (c.x < 0 || c.y < 0 || c.x >= int(p.blocks_x) || c.y >= int(p.blocks_y)) continue;
+            ivec2 u = match_rounded(load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x)));
+            int support = consensus_support(ivec2(b), u, p);
+            if (support <= best_support) continue;
+            if (!read) {
+                FGSR_UNROLL for (int y = 0; y < 8; ++y)
+                    FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) blk[y * 4 + (x >> 1)] = match_src(origin, x, y, p);
+                read = true;
+            }
+            if (match_cost(blk, origin, u, p) <= copy.z) {
+                best = u;
+                best_support = support;
+            }
+        }
+        if (best != v) result = vec4(vec2(best) + (vec2(own.x, own.y) - vec2(v)), own.z, 0.0f);
+    }
+    store_field(p.field_offset + at, result);
+}

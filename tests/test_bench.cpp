@@ -172,6 +172,9 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_TRUE(p.vector_cuts); // every preset checks for scene cuts
     ASSERT_TRUE(fgsr::apply_switch(p, "vector_cuts=off"));
     EXPECT_FALSE(p.vector_cuts);
+    EXPECT_TRUE(p.motion_consensus); // every preset has the block matching's consensus
+    ASSERT_TRUE(fgsr::apply_switch(p, "motion_consensus=off"));
+    EXPECT_FALSE(p.motion_consensus);
     const fgsr::Params before = p;
     auto e = fgsr::apply_switch(p, "motion=cubic");
     ASSERT_FALSE(e);
@@ -185,10 +188,11 @@ TEST(Presets, SwitchesApplyAndToggle) {
     const fgsr::Params base = *fgsr::preset_params("balanced");
     const std::vector<std::string> toggles = fgsr::switch_toggles(base);
     const std::set<std::string> expected{
-        "motion=linear",  "resample=catmull_rom", "resample=lut",    "fill_gaps=off",   "fill_holes=off",
-        "blend=select",   "dilate_mvs=on",        "denoise=off",     "passes=separate", "correct_vectors=on",
-        "fast_motion=on", "dilate_edges=on",      "accel_search=on", "accel_median=on", "accel_depth=on",
-        "cover_edges=off", "vector_cuts=off"};
+        "motion=linear",   "resample=catmull_rom", "resample=lut",   "fill_gaps=off",
+        "fill_holes=off",  "blend=select",         "dilate_mvs=on",  "denoise=off",
+        "passes=separate", "correct_vectors=on",   "fast_motion=on", "dilate_edges=on",
+        "accel_search=on", "accel_median=on",      "accel_depth=on", "cover_edges=off",
+        "vector_cuts=off", "motion_consensus=off"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

@@ -126,6 +126,10 @@ int main(int argc, char** argv) {
     eval->add_flag("--fast-motion", eo.params.fast_motion,
                    "fgsr-colour: estimate motion without refining the estimate (session flag "
                    "FGSR_SESSION_FAST_MOTION; about half the motion passes' time)");
+    eval->add_option("--motion-consensus", eo.params.motion_consensus,
+                     "fgsr-colour: the consensus of unambiguous blocks on the coarse levels of the block "
+                     "matching (false: each block keeps its own best match)")
+        ->capture_default_str();
     std::string lut_file;
     eval->add_option("--lut", lut_file,
                      "SR: history resampling table (.lut file, fgsr lut-train) instead of the shipped one");
@@ -317,6 +321,7 @@ int main(int argc, char** argv) {
             if (eval->count("--correct-depth")) p.correct_depth = eo.params.correct_depth;
             if (eval->count("--dilate")) p.dilate_mvs = true;
             if (eval->count("--fast-motion")) p.fast_motion = true;
+            if (eval->count("--motion-consensus")) p.motion_consensus = eo.params.motion_consensus;
             if (eval->count("--denoise-strength")) p.denoise_strength = eo.params.denoise_strength;
             if (eval->count("--noise-floor")) p.noise_floor = eo.params.noise_floor;
             if (eval->count("--denoise-gamma")) p.denoise_gamma = eo.params.denoise_gamma;

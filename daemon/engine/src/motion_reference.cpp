@@ -129,6 +129,15 @@ void match_level(const std::vector<float>& src, const std::vector<float>& dst, s
         for (uint32_t x = 0; x < p.blocks_x; ++x) cpu.match_block(glm::uvec2(x, y), p);
 }
 
+void consensus_level(const std::vector<float>& src, const std::vector<float>& dst,
+                     std::vector<glm::vec4>& field, const MatchParams& p) {
+    gpu::MatchCpu cpu{&src, &dst, &field};
+    for (uint32_t y = 0; y < p.blocks_y; ++y)
+        for (uint32_t x = 0; x < p.blocks_x; ++x) cpu.ambiguity_block(glm::uvec2(x, y), p);
+    for (uint32_t y = 0; y < p.blocks_y; ++y)
+        for (uint32_t x = 0; x < p.blocks_x; ++x) cpu.consensus_block(glm::uvec2(x, y), p);
+}
+
 void fill_level(std::vector<glm::vec4>& field, const MatchParams& p) {
     gpu::MatchCpu cpu{nullptr, nullptr, &field};
     for (uint32_t y = 0; y < p.blocks_y; ++y)
@@ -175,7 +184,7 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
                               std::vector<glm::vec4>& field, VectorCorrection correct, bool fast,
-                              float typical_share) {
+                              float typical_share, bool consensus) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
     const std::vector<float> p1 = luma_pyramid(f1, levels);
     std::vector<float> p0 = luma_pyramid(f0, levels);
@@ -188,10 +197,13 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     if (temporal)
         std::copy(field.begin(), field.begin() + std::ptrdiff_t(half),
                   field.begin() + std::ptrdiff_t(4 * half));
-    for (size_t k = levels.size(); k-- > motion_first_level(levels);) {
+    const size_t finest = motion_first_level(levels);
+    for (size_t k = levels.size(); k-- > finest;) {
         match_level(p1, p0, field, match_params(levels, k, false, false, temporal));
         match_level(p0, p1, field, match_params(levels, k, true, false, temporal));
-        match_level(p1, p0, field, match_params(levels, k, false, true, temporal));
+        const MatchParams propagation = match_params(levels, k, false, true, temporal);
+        match_level(p1, p0, field, propagation);
+        if (consensus && !correct.on && k != finest) consensus_level(p1, p0, field, propagation);
     }
     MotionSummary s = summarise_motion(levels, field.data(), typical_share);
     if (s.cut) { // a cut as matched: relit, as the engine does (ref::summarise_motion)

@@ -120,7 +120,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 16> kSwitches{{
+inline constexpr std::array<SwitchInfo, 17> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -137,6 +137,7 @@ inline constexpr std::array<SwitchInfo, 16> kSwitches{{
     {"accel_depth", {"on", "off", ""}, "quadratic motion: frame-0 depth test expects the depth change the motion implies"},
     {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
     {"vector_cuts", {"on", "off", ""}, "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
+    {"motion_consensus", {"on", "off", ""}, "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
@@ -158,6 +159,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "accel_depth") return onoff(p.accel_depth_motion);
     if (key == "cover_edges") return onoff(p.cover_edges);
     if (key == "vector_cuts") return onoff(p.vector_cuts);
+    if (key == "motion_consensus") return onoff(p.motion_consensus);
     return "";
 }
 
@@ -175,7 +177,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
                 "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, "
-                "cover_edges, vector_cuts)");
+                "cover_edges, vector_cuts, motion_consensus)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -202,6 +204,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "accel_depth") p.accel_depth_motion = on;
     if (key == "cover_edges") p.cover_edges = on;
     if (key == "vector_cuts") p.vector_cuts = on;
+    if (key == "motion_consensus") p.motion_consensus = on;
     return {};
 }
 

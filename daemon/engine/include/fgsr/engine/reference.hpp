@@ -335,6 +335,11 @@ void fill_level(std::vector<glm::vec4>& field, const MatchParams& p);
 void flow(const std::vector<float>& cur, const std::vector<float>& prev, const std::vector<glm::vec4>& field,
           const FlowParams& p, InternalFrame& f, const InternalFrame* prev_frame = nullptr,
           const std::vector<glm::vec2>* coarse = nullptr);
+// The consensus of unambiguous blocks on one level above the finest (match.h ambiguity_block, then
+// consensus_block); p: the level's propagation pass (match_params), whose first-pass region the
+// stages use for the blocks' copy.
+void consensus_level(const std::vector<float>& src, const std::vector<float>& dst,
+                     std::vector<glm::vec4>& field, const MatchParams& p);
 // The refinement's sweeps (both colours, kPolishIterations times) over f.mv (whatever its size:
 // estimate_motion applies polishes()).
 void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f);
@@ -347,10 +352,12 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 // (the engine's temporal candidates), or empty for a first frame; it is resized and updated. With
 // correct.on, f1's given vectors are corrected instead (a cut leaves them as they are). fast: no
 // refinement at any size (Params::fast_motion).
-// typical_share: the session's (summarise_motion; negative: none yet).
+// typical_share: the session's (summarise_motion; negative: none yet). consensus: the consensus of
+// unambiguous blocks on the levels above the finest (Params::motion_consensus, consensus_level);
+// never while correcting (as the engine).
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
-                              std::vector<glm::vec4>& field, VectorCorrection correct = {},
-                              bool fast = false, float typical_share = -1.f);
+                              std::vector<glm::vec4>& field, VectorCorrection correct = {}, bool fast = false,
+                              float typical_share = -1.f, bool consensus = true);
 inline MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
     std::vector<glm::vec4> field;
     return estimate_motion(f0, f1, write_depth, field);
