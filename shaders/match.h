@@ -57,6 +57,18 @@ FGSR_INLINE float match_src(ivec2 origin, int x, int y, MatchParams p) {
     return load_src(p.src_offset + uint(q.y) * p.width + uint(q.x));
 }
 
+// Pixel k (0..31) of the block's checkerboard half as match_cost holds it (blk): row y = k / 4, its
+// pixels x = (y & 1) + 2i at blk[4y + i].
+FGSR_INLINE float match_half_src(ivec2 origin, int k, MatchParams p) {
+    int y = k >> 2;
+    return match_src(origin, (y & 1) + 2 * (k & 3), y, p);
+}
+
+// Whether block c lies in the level's block grid.
+FGSR_INLINE bool match_inside(ivec2 c, MatchParams p) {
+    return c.x >= 0 && c.y >= 0 && c.x < int(p.blocks_x) && c.y < int(p.blocks_y);
+}
+
 // The block's contrast (mean absolute deviation): what a cut's mismatch is measured against, and
 // what tells the fill stage which blocks have texture.
 FGSR_INLINE float match_contrast(ivec2 origin, MatchParams p) {
@@ -189,8 +201,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
     ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
     float blk[32];
-    FGSR_UNROLL for (int y = 0; y < 8; ++y)
-        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) blk[y * 4 + (x >> 1)] = match_src(origin, x, y, p);
+    FGSR_UNROLL for (int k = 0; k < 32; ++k) blk[k] = match_half_src(origin, k, p);
     uint at = p.field_offset + b.y * p.blocks_x + b.x;
     // Each candidate's cost is evaluated once: `raw` keeps the best one's match cost, so that a new
     // prediction only changes the regularising term.
@@ -326,7 +337,7 @@ FGSR_INLINE void fill_block(uvec2 b, MatchParams p) {
         for (int y = -MOTION_FILL_RADIUS; y <= MOTION_FILL_RADIUS; ++y)
             for (int x = -MOTION_FILL_RADIUS; x <= MOTION_FILL_RADIUS; ++x) {
                 ivec2 c = ivec2(b) + ivec2(x, y);
-                if (c.x < 0 || c.y < 0 || c.x >= int(p.blocks_x) || c.y >= int(p.blocks_y)) continue;
+                if (!match_inside(c, p)) continue;
                 vec4 f = load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x));
                 float t = max(f.w - MOTION_FILL_CONTRAST, 0.0f);
                 sum += t * t * vec2(f.x, f.y);
@@ -385,6 +396,14 @@ FGSR_INLINE ivec2 match_rounded(vec4 f) {
     return ivec2(floor(vec2(f.x, f.y) + 0.5f));
 }
 
+// Neighbour k (0 .. (2R + 1)^2 - 1, row-major, b itself in the middle) of block b within
+// MATCH_CONSENSUS_RADIUS R; match_inside says whether it is in the grid.
+FGSR_INLINE ivec2 consensus_neighbour(ivec2 b, int k) {
+    int w = 2 * MATCH_CONSENSUS_RADIUS + 1;
+    return b + ivec2(k % w, k / w) - MATCH_CONSENSUS_RADIUS;
+}
+#define MATCH_CONSENSUS_NEIGHBOURS ((2 * MATCH_CONSENSUS_RADIUS + 1) * (2 * MATCH_CONSENSUS_RADIUS + 1))
+
 // The mean absolute deviation of a block's checkerboard half (match_cost's blk) from its mean.
 FGSR_INLINE float match_half_contrast(float blk[32]) {
     float mean = 0.0f;
@@ -401,18 +420,16 @@ FGSR_INLINE void ambiguity_block(uvec2 b, MatchParams p) {
     ivec2 v = match_rounded(own);
     ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
     float blk[32];
-    FGSR_UNROLL for (int y = 0; y < 8; ++y)
-        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) blk[y * 4 + (x >> 1)] = match_src(origin, x, y, p);
+    FGSR_UNROLL for (int k = 0; k < 32; ++k) blk[k] = match_half_src(origin, k, p);
     float contrast = match_half_contrast(blk);
     float cost = match_cost(blk, origin, v, p);
     // The copy's z: the alternatives' bound.
     float limit = MATCH_CONSENSUS_RATIO * cost + MATCH_CONSENSUS_SLACK;
     float kind = 0.0f;
     if (cost > MATCH_CONSENSUS_RELIABLE * contrast) kind = 2.0f; // unreliable
-    int w = 2 * MATCH_CONSENSUS_RADIUS + 1;
-    FGSR_DONT_UNROLL for (int k = 0; k < w * w && kind == 0.0f; ++k) {
-        ivec2 c = ivec2(b) + ivec2(k % w, k / w) - MATCH_CONSENSUS_RADIUS;
-        if (c.x < 0 || c.y < 0 || c.x >= int(p.blocks_x) || c.y >= int(p.blocks_y)) continue;
+    FGSR_DONT_UNROLL for (int k = 0; k < MATCH_CONSENSUS_NEIGHBOURS && kind == 0.0f; ++k) {
+        ivec2 c = consensus_neighbour(ivec2(b), k);
+        if (!match_inside(c, p)) continue;
         ivec2 u = match_rounded(load_field(p.field_offset + uint(c.y) * p.blocks_x + uint(c.x)));
         // Only a far alternative makes a block ambiguous (the block itself is never one).
         if (length(vec2(u - v)) <= MATCH_CONSENSUS_NEAR) continue;
@@ -424,11 +441,10 @@ FGSR_INLINE void ambiguity_block(uvec2 b, MatchParams p) {
 // How many unambiguous blocks within the radius of block b have a vector within
 // MATCH_CONSENSUS_NEAR of u (the copy at same_offset).
 FGSR_INLINE int consensus_support(ivec2 b, ivec2 u, MatchParams p) {
-    int w = 2 * MATCH_CONSENSUS_RADIUS + 1;
     int support = 0;
-    FGSR_DONT_UNROLL for (int k = 0; k < w * w; ++k) {
-        ivec2 c = b + ivec2(k % w, k / w) - MATCH_CONSENSUS_RADIUS;
-        if (c.x < 0 || c.y < 0 || c.x >= int(p.blocks_x) || c.y >= int(p.blocks_y)) continue;
+    FGSR_DONT_UNROLL for (int k = 0; k < MATCH_CONSENSUS_NEIGHBOURS; ++k) {
+        ivec2 c = consensus_neighbour(b, k);
+        if (!match_inside(c, p)) continue;
         vec4 f = load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x));
         if (f.w == 0.0f && length(vec2(f.x, f.y) - vec2(u)) <= MATCH_CONSENSUS_NEAR) ++support;
     }
@@ -448,18 +464,16 @@ FGSR_INLINE void consensus_block(uvec2 b, MatchParams p) {
         int best_support = consensus_support(ivec2(b), v, p);
         float blk[32];
         bool read = false; // blk, read at the first candidate that needs its cost
-        int w = 2 * MATCH_CONSENSUS_RADIUS + 1;
         // The alternatives in scan order; the cost only for a vector with more support than the
         // best so far (it alone could replace it).
-        FGSR_DONT_UNROLL for (int k = 0; k < w * w; ++k) {
-            ivec2 c = ivec2(b) + ivec2(k % w, k / w) - MATCH_CONSENSUS_RADIUS;
-            if (c.x < 0 || c.y < 0 || c.x >= int(p.blocks_x) || c.y >= int(p.blocks_y)) continue;
+        FGSR_DONT_UNROLL for (int k = 0; k < MATCH_CONSENSUS_NEIGHBOURS; ++k) {
+            ivec2 c = consensus_neighbour(ivec2(b), k);
+            if (!match_inside(c, p)) continue;
             ivec2 u = match_rounded(load_field(p.same_offset + uint(c.y) * p.blocks_x + uint(c.x)));
             int support = consensus_support(ivec2(b), u, p);
             if (support <= best_support) continue;
             if (!read) {
-                FGSR_UNROLL for (int y = 0; y < 8; ++y)
-                    FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) blk[y * 4 + (x >> 1)] = match_src(origin, x, y, p);
+                FGSR_UNROLL for (int j = 0; j < 32; ++j) blk[j] = match_half_src(origin, j, p);
                 read = true;
             }
             if (match_cost(blk, origin, u, p) <= copy.z) {

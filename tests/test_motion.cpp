@@ -514,21 +514,10 @@ TEST(Motion, ConsensusUndoesAWrongPeriodLockOnAPeriodicWall) {
     }
     double share[2] = {0, 0}, epe[2] = {0, 0};
     for (int consensus = 0; consensus < 2; ++consensus) {
-        std::vector<glm::vec4> field(half * ref::kFieldRegions, glm::vec4(0.f));
+        std::vector<glm::vec4> field; // the first pair has no temporal candidates
         size_t right = 0, counted = 0;
         for (int k = 1; k < frames; ++k) {
-            const bool temporal = k > 1;
-            if (temporal)
-                std::copy(field.begin(), field.begin() + std::ptrdiff_t(half),
-                          field.begin() + std::ptrdiff_t(4 * half));
-            const std::vector<float>&p1 = pyramids[size_t(k)], &p0 = pyramids[size_t(k) - 1];
-            for (size_t l = levels.size(); l-- > finest;) {
-                ref::match_level(p1, p0, field, ref::match_params(levels, l, false, false, temporal));
-                ref::match_level(p0, p1, field, ref::match_params(levels, l, true, false, temporal));
-                const gpu::MatchParams propagation = ref::match_params(levels, l, false, true, temporal);
-                ref::match_level(p1, p0, field, propagation);
-                if (consensus && l != finest) ref::consensus_level(p1, p0, field, propagation);
-            }
+            ref::match_pyramids(pyramids[size_t(k)], pyramids[size_t(k) - 1], levels, field, consensus != 0);
             ref::fill_level(field, ref::fill_params(levels, false));
             const ref::MotionLevel& l0 = levels[finest];
             const float post = wall.post(float(k), w);

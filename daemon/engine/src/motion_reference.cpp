@@ -182,6 +182,24 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
     return coarse;
 }
 
+void match_pyramids(const std::vector<float>& cur, const std::vector<float>& prev,
+                    const std::vector<MotionLevel>& levels, std::vector<glm::vec4>& field, bool consensus) {
+    const size_t half = motion_field_blocks(levels);
+    const bool temporal = field.size() == half * kFieldRegions;
+    field.resize(half * kFieldRegions);
+    if (temporal)
+        std::copy(field.begin(), field.begin() + std::ptrdiff_t(half),
+                  field.begin() + std::ptrdiff_t(4 * half));
+    const size_t finest = motion_first_level(levels);
+    for (size_t k = levels.size(); k-- > finest;) {
+        match_level(cur, prev, field, match_params(levels, k, false, false, temporal));
+        match_level(prev, cur, field, match_params(levels, k, true, false, temporal));
+        const MatchParams propagation = match_params(levels, k, false, true, temporal);
+        match_level(cur, prev, field, propagation);
+        if (consensus && k != finest) consensus_level(cur, prev, field, propagation);
+    }
+}
+
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
                               std::vector<glm::vec4>& field, VectorCorrection correct, bool fast,
                               float typical_share, bool consensus) {
@@ -191,20 +209,7 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     const float gain = luma_gain_of(p1, p0, levels);
     if (gain != 1.f)
         for (float& v : p0) v *= gain;
-    const size_t half = motion_field_blocks(levels);
-    const bool temporal = field.size() == half * kFieldRegions;
-    field.resize(half * kFieldRegions);
-    if (temporal)
-        std::copy(field.begin(), field.begin() + std::ptrdiff_t(half),
-                  field.begin() + std::ptrdiff_t(4 * half));
-    const size_t finest = motion_first_level(levels);
-    for (size_t k = levels.size(); k-- > finest;) {
-        match_level(p1, p0, field, match_params(levels, k, false, false, temporal));
-        match_level(p0, p1, field, match_params(levels, k, true, false, temporal));
-        const MatchParams propagation = match_params(levels, k, false, true, temporal);
-        match_level(p1, p0, field, propagation);
-        if (consensus && !correct.on && k != finest) consensus_level(p1, p0, field, propagation);
-    }
+    match_pyramids(p1, p0, levels, field, consensus && !correct.on);
     MotionSummary s = summarise_motion(levels, field.data(), typical_share);
     if (s.cut) { // a cut as matched: relit, as the engine does (ref::summarise_motion)
         gpu::CutMatchCpu cut{&p1, &p0, &field, cut_match_params(levels)};

@@ -184,7 +184,7 @@ struct Params {
     // also matches a vector of a nearby block far from its own takes the one the most nearby
     // unambiguous blocks agree with (shaders/match.h, stages ambiguity and consensus): periodic
     // texture (checkers, stripes, tiles) otherwise locks one period off. fgsr-colour +1.6 dB on
-    // the panning checker walls (pan seed 2, pan), +0.9 / +0.3 on builtin; about 3.5 ms a frame
+    // the panning checker walls (pan seed 2, pan), +0.9 / +0.3 on builtin; about 3.7 ms a frame
     // at 480x270 on lavapipe (docs/MOTION.md, "The consensus of unambiguous blocks"). Not with
     // correct_vectors (it would pull moving shadows onto the still ground's vector). Not carried
     // by the wire protocol.

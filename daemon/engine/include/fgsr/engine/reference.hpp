@@ -340,6 +340,12 @@ void flow(const std::vector<float>& cur, const std::vector<float>& prev, const s
 // stages use for the blocks' copy.
 void consensus_level(const std::vector<float>& src, const std::vector<float>& dst,
                      std::vector<glm::vec4>& field, const MatchParams& p);
+// Block matching of a pair's pyramids, coarse to fine, both directions, each level's propagation
+// (and with `consensus` its consensus stages), as the engine's match pass runs it. `field`: the
+// previous pair's (its current -> previous levels become the temporal candidates), or empty for a
+// first pair; it is resized to kFieldRegions regions.
+void match_pyramids(const std::vector<float>& cur, const std::vector<float>& prev,
+                    const std::vector<MotionLevel>& levels, std::vector<glm::vec4>& field, bool consensus);
 // The refinement's sweeps (both colours, kPolishIterations times) over f.mv (whatever its size:
 // estimate_motion applies polishes()).
 void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f);
