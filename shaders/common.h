@@ -285,6 +285,7 @@ struct FlowParams {
     uint coarse_level;
     uint coarse_width;
     uint coarse_height;
+    float correct_front; // ... nor in front of it by more than this (relative): a disocclusion
 };
 
 // polish.h: one red-black half-sweep of the variational refinement of estimated vectors.
@@ -383,7 +384,7 @@ static_assert(sizeof(IngestParams) == 68 && sizeof(GenParams) == 48 && sizeof(Sr
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
-static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 64 && sizeof(FlowParams) == 76 &&
+static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 64 && sizeof(FlowParams) == 80 &&
                   sizeof(PolishParams) == 72,
               "motion push constants");
 } // namespace fgsr::gpu

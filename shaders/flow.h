@@ -224,7 +224,12 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         if (any(lessThan(pq, ivec2(0))) || pq.x >= int(p.width) || pq.y >= int(p.height)) return;
         float d1 = load_depth(i);
         float d0 = load_prev_depth(uint(pq.y) * p.width + uint(pq.x));
+        //    The band is wide (a camera approaching the ground changes its depth by more than 10 %
+        //    between frames) but one-sided in front: uncovered background's previous position shows
+        //    the occluder, nearer than the pixel, at any depth ratio (a cube on the floor, seen from
+        //    afar, is within 30 % of the floor behind it).
         if (!(abs(d0 - d1) <= p.correct_depth * min(d0, d1))) return;
+        if (!(d0 * (1.0f + p.correct_front) >= d1)) return;
         //    Nor next to a depth edge of the current frame, where the colour mismatch is the edge's
         //    (antialiasing, the moving silhouette): shading moves over smooth surfaces.
         for (int k = 0; k < 4; ++k) {

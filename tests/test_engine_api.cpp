@@ -130,12 +130,13 @@ TEST(EngineApi, VectorCorrectionParametersAreChecked) {
     Params p;
     p.correct_vectors = true;
     EXPECT_TRUE(engine().create_session(f, p));
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 5; ++k) {
         Params q = p;
         if (k == 0) q.correct_ratio = 1.5f;
         if (k == 1) q.correct_margin = -0.1f;
         if (k == 2) q.correct_depth = std::numeric_limits<float>::quiet_NaN();
         if (k == 3) q.scale = 2.f;
+        if (k == 4) q.correct_front = -0.5f;
         auto r = engine().create_session(f, q);
         ASSERT_FALSE(r) << k;
         EXPECT_EQ(r.error().code, Errc::invalid_argument) << k;

@@ -123,6 +123,11 @@ int main(int argc, char** argv) {
                      "--correct-vectors: only where the depth at the given vector's previous position is "
                      "within this relative difference (inf: anywhere)")
         ->capture_default_str();
+    eval->add_option(
+            "--correct-front", eo.params.correct_front,
+            "--correct-vectors: ... and no nearer than the pixel by more than this relative difference "
+            "(there the mismatch is uncovered background; inf: any)")
+        ->capture_default_str();
     eval->add_flag("--fast-motion", eo.params.fast_motion,
                    "fgsr-colour: estimate motion without refining the estimate (session flag "
                    "FGSR_SESSION_FAST_MOTION; about half the motion passes' time)");
@@ -319,6 +324,7 @@ int main(int argc, char** argv) {
             if (eval->count("--correct-ratio")) p.correct_ratio = eo.params.correct_ratio;
             if (eval->count("--correct-margin")) p.correct_margin = eo.params.correct_margin;
             if (eval->count("--correct-depth")) p.correct_depth = eo.params.correct_depth;
+            if (eval->count("--correct-front")) p.correct_front = eo.params.correct_front;
             if (eval->count("--dilate")) p.dilate_mvs = true;
             if (eval->count("--fast-motion")) p.fast_motion = true;
             if (eval->count("--motion-consensus")) p.motion_consensus = eo.params.motion_consensus;

@@ -123,6 +123,7 @@ gpu::FlowParams ref::flow_params(const std::vector<MotionLevel>& levels, glm::ve
     f.correct_ratio = correct.ratio;
     f.correct_margin = correct.margin;
     f.correct_depth = correct.depth;
+    f.correct_front = correct.front;
     if (coarse && !correct.on && polish_coarse_top(levels) > 0) {
         f.coarse_level = 1;
         f.coarse_width = levels[1].width;
@@ -438,7 +439,7 @@ std::vector<PassTiming> Session::last_motion_timings() const {
 }
 
 bool Session::last_scene_cut() const {
-    return impl_->estimator.last_cut;
+    return impl_->last_scene_cut;
 }
 
 float Session::last_cut_share() const {

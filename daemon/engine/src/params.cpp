@@ -30,6 +30,7 @@ Result<void> validate(const Params& p) {
     if (!(std::isfinite(p.correct_margin) && p.correct_margin >= 0.f))
         return bad("correct_margin", p.correct_margin, "[0, inf)");
     if (!(p.correct_depth >= 0.f)) return bad("correct_depth", p.correct_depth, "[0, inf]");
+    if (!(p.correct_front >= 0.f)) return bad("correct_front", p.correct_front, "[0, inf]");
     if (!(p.denoise_strength >= 0.f && p.denoise_strength <= 64.f))
         return bad("denoise_strength", p.denoise_strength, "[0, 64]");
     if (!(std::isfinite(p.noise_floor) && p.noise_floor >= 0.f))
@@ -142,8 +143,7 @@ IngestParams ingest_params(const FrameFormat& f, bool has_mv) {
 }
 
 void set_dilate(IngestParams& p, const FrameFormat& f, const Params& params, bool has_previous) {
-    // Not when correcting vectors: the correction replaces them after ingest (flow.h step 4).
-    const bool given = f.has_vectors && f.has_depth && p.has_mv != 0u && !params.correct_vectors;
+    const bool given = f.has_vectors && f.has_depth && p.has_mv != 0u;
     const bool on = given && params.dilate_bright > 0.f && f.color_format != ColorFormat::rgba8_srgb;
     p.bright = on ? params.dilate_bright : 0.f;
     p.edge_ratio = given && has_previous ? params.dilate_edges : 0.f;

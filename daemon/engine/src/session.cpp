@@ -219,8 +219,9 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
                                               at<INGEST_DEPTH>(f.depth), at<INGEST_MV>(f.mv),
                                               at<INGEST_BRIGHT>(s.bright), at<INGEST_PREV_COLOR>(prev.color),
                                               at<INGEST_CUT>(s.cut_blocks.handle() ? BufRef(s.cut_blocks) : unused(color_in)));
-    // The dilate stage (shaders/dilate.h): with the client's vectors and depth, uncorrected; its
-    // edge rule reads the previous frame's colour.
+    // The dilate stage (shaders/dilate.h): with the client's vectors and depth; its edge rule reads
+    // the previous frame's colour. The correction of given vectors (flow.h step 4) then works on
+    // the dilated ones.
     params::set_dilate(p, s.format, s.params, !restart);
     FGSR_TRY(s.rec.begin());
     // Timestamps: 0, after ingest (and its dilate stage), [after denoise], [after classify], after sr.
@@ -270,13 +271,18 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // sessions that filter it runs first, and the stage compares the filtered frame with the
     // filtered previous one (unfiltered against filtered, the filter alone left half the blocks of
     // a static stretch of orbit-sr without a match). The stage is timed with ingest (its ms added).
-    // (Sessions that do not estimate motion have vectors, and their cut_blocks buffer.)
-    const bool checks_cut = s.params.vector_cuts && has_mv && !restart && !s.estimates_motion();
+    // (Sessions with vectors have their cut_blocks buffer.) Sessions that correct the client's
+    // vectors run it too: their block matching's cut test only skips the correction, and without
+    // the stage they carried vectors across cuts (cut-fg -0.84 / -1.21 dB with the correction;
+    // docs/ACCURACY.md, change 27).
+    const bool checks_cut =
+        s.params.vector_cuts && has_mv && !restart && (!s.estimates_motion() || s.correction().on);
     s.rec.timestamp(q++);
     // Without vectors (motion.cpp): the pyramid, then against the previous frame matching in a
     // first command buffer, the host's summary (dominant motion, scene cut), and the per-pixel
     // vectors at the start of the second one. Timings gathered per command buffer.
     std::vector<PassTiming> first_times;
+    PassTiming cut_ingest{}; // ingest with the cut stage, where the motion chain's times follow
     bool vector_cut = false;
     s.last_cut_share = -1.f;
     s.last_lighting_gain = -1.f;
@@ -297,6 +303,8 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         auto t1 = s.rec.read_times(0, q - 1);
         if (!t1) return t1.error();
         first_times = std::move(*t1);
+        cut_ingest = timing_of(PassId::ingest, first_times[0]);
+        cut_ingest.ms += first_times.back().ms; // the cut stage
         const float share = ref::cut_share({static_cast<const ref::CutBlock*>(s.cut_blocks.mapped()),
                                             ref::cut_blocks(s.format.width, s.format.height)});
         // ref::is_vector_cut. The session's first comparison only sets the typical share: aliased,
@@ -311,12 +319,14 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         q = 0;
         s.rec.timestamp(q++);
     }
-    // With Params::correct_vectors the same chain corrects the client's vectors: a cut it detects
-    // then only skips the correction (the client says when to reset). A frame that starts the
+    // With Params::correct_vectors the same chain corrects the client's vectors: a cut its block
+    // matching detects only skips the correction; the cut stage above restarts the session, as
+    // where nothing is corrected (with Params::vector_cuts). A frame that starts the
     // session afresh at a cut, announced (FrameView::reset) or detected, keeps no vectors: they
     // point into the shot before it, and the next pair would read them as frame-0 motion. (A
     // session's first frame keeps its own: the stream it describes goes on.)
     bool frame_has_mv = has_mv && !vector_cut && !announced_cut;
+    s.last_scene_cut = vector_cut;
     const bool correcting = s.correction().on;
     bool flow_skipped = false;
     // The refinement (both its coarse levels and level 0) fits the colour: on jittered frames that
@@ -345,10 +355,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         auto t1 = s.rec.read_times(0, q - 1);
         if (!t1) return t1.error();
         first_times = std::move(*t1);
-        s.estimator.timings.push_back(timing_of(PassId::luma, first_times[1]));
+        // After the cut stage's command buffer the motion chain's starts at luma, else at ingest.
+        const size_t luma_at = checks_cut ? 0 : 1;
+        s.estimator.timings.push_back(timing_of(PassId::luma, first_times[luma_at]));
         if (!restart) {
             s.last_lighting_gain = static_cast<const float*>(s.estimator.gain.mapped())[0];
-            s.estimator.timings.push_back(timing_of(PassId::match, first_times[2]));
+            s.estimator.timings.push_back(timing_of(PassId::match, first_times[luma_at + 1]));
             ref::MotionSummary summary = s.summarise_motion(false);
             if (summary.cut) {
                 // Before it counts as a cut: is it a change of the whole frame's lighting? The
@@ -394,7 +406,10 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
                 s.rec.timestamp(q++);
             }
         }
-        if (!correcting) frame_has_mv = !restart;
+        if (!correcting) {
+            frame_has_mv = !restart;
+            s.last_scene_cut = s.estimator.last_cut;
+        }
         s.estimator.field_valid = !restart && !s.estimator.last_cut;
     }
     if (denoise && !checks_cut) {
@@ -426,7 +441,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     if (!t) return t.error();
     size_t ti = 0;
     if (s.estimates_motion()) {
-        s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
+        s.ingest_timing = checks_cut ? cut_ingest : timing_of(PassId::ingest, first_times[0]);
         const bool coarse = !flow_skipped && polishing;
         const PassTiming coarse_time = coarse ? timing_of(PassId::polish, (*t)[ti++]) : PassTiming{};
         if (!flow_skipped) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
@@ -437,8 +452,7 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
             s.estimator.timings.push_back(sweeps);
         }
     } else if (checks_cut) {
-        s.ingest_timing = timing_of(PassId::ingest, first_times[0]);
-        s.ingest_timing.ms += first_times.back().ms; // the cut stage
+        s.ingest_timing = cut_ingest;
     } else {
         s.ingest_timing = timing_of(PassId::ingest, (*t)[ti++]);
     }

@@ -96,6 +96,9 @@ struct Session::Impl {
     vk::Buffer cut_blocks;
     float cut_typical_share = -1.f;
     float last_cut_share = -1.f;
+    // Session::last_scene_cut: the last submit restarted at a cut it found (block matching's in
+    // colour-only sessions, the cut stage's in sessions with vectors, corrected or not).
+    bool last_scene_cut = false;
     float last_lighting_gain = -1.f; // Session::last_lighting_gain
     struct GpuFrame {
         vk::Buffer color, depth, mv;
@@ -162,7 +165,7 @@ struct Session::Impl {
         vk::Buffer coarse;                 // the coarse levels' refined fields (polish_coarse)
         vk::Buffer gain;                   // host-visible: the pair's lighting gain, its dispatch (luma.h)
         std::vector<PassTiming> timings;   // of the last submit: luma, match, flow, polish (those run)
-        bool last_cut = false;
+        bool last_cut = false;             // block matching found a cut (sessions that correct: no restart)
         bool field_valid = false;   // the field holds the previous submit's vectors (temporal candidates)
         float typical_share = -1.f; // running mean of unmatched blocks since the restart (scene cuts)
         glm::vec2 global{0.f};
@@ -200,7 +203,7 @@ struct Session::Impl {
     // Given vectors corrected by colour (Params::correct_vectors) rather than estimated.
     ref::VectorCorrection correction() const {
         return {format.has_vectors && params.correct_vectors, params.correct_ratio, params.correct_margin,
-                params.correct_depth};
+                params.correct_depth, params.correct_front};
     }
     Result<void> init_motion();
     Result<void> record_luma(int slot);

@@ -173,6 +173,7 @@ struct Params {
     float correct_ratio = defaults::correct_ratio;   // [0, 1]
     float correct_margin = defaults::correct_margin; // >= 0, luma units
     float correct_depth = defaults::correct_depth;   // >= 0, relative depth difference
+    float correct_front = defaults::correct_front;   // >= 0, relative: the previous position in front
     // Sessions without vectors: estimate motion without the variational refinement of the
     // estimated vectors (shaders/polish.h), for CPU devices that cannot afford it. The refinement
     // is otherwise on up to 960x540 (ref::kPolishMaxPixels) on unjittered input; off, on lavapipe
@@ -220,9 +221,9 @@ struct Params {
 
 // Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b, sr_clip
 // and sr_disagree finite and >= 0, correct_ratio in [0, 1], correct_margin finite and >= 0,
-// correct_depth >= 0 (correct_vectors only with scale 1), scale finite in [1, 4], lut empty or
-// kLutSize finite weights, denoise_strength in [0, 64], noise_floor finite and >= 0, denoise_gamma
-// in [0, 2], known enum values.
+// correct_depth and correct_front >= 0 (correct_vectors only with scale 1), scale finite in
+// [1, 4], lut empty or kLutSize finite weights, denoise_strength in [0, 64], noise_floor finite and
+// >= 0, denoise_gamma in [0, 2], known enum values.
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);
 

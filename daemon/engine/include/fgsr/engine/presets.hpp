@@ -12,9 +12,10 @@
 //                LUT for SR history, depth-informed vector dilation, the dilate stage's edge rule
 //                (as the default Params), fused passes (the separate
 //                passes give the same frames, only slower). Not the correction of given vectors by
-//                colour (switch correct_vectors): it gains where shading moves on its own and
-//                loses up to 0.25 dB elsewhere (docs/ACCURACY.md, change 4), at several times the
-//                cost of a frame on CPU devices.
+//                colour (switch correct_vectors): it gains where shading moves on its own
+//                (street-fg interp +1.77 dB, shadow-fg +0.27 / +0.41) and loses up to 0.08 dB
+//                elsewhere (pan, spin, cut; docs/ACCURACY.md, changes 4 and 27), at several times
+//                the cost of a frame on CPU devices, and is refused with super resolution.
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
 // pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing),
 // and so is the scene-cut test of sessions with vectors (vector_cuts). The frame-0 depth test's

@@ -191,6 +191,7 @@ struct VectorCorrection {
     float ratio = 0.f;
     float margin = 0.f;
     float depth = 0.f; // relative depth difference within which a surface counts as the same (T_D)
+    float front = 0.f; // ... and within which the previous position may lie in front of the pixel
 };
 // coarse: flow reads the coarse-to-fine field's level 1 (polish_coarse) as a candidate.
 FlowParams flow_params(const std::vector<MotionLevel>& levels, glm::vec2 global, bool write_depth,
