@@ -77,7 +77,8 @@ inline constexpr float correct_depth = 0.3f;
 // ... but the given vector's previous position no nearer than the pixel by more than 10 % (2 T_D):
 // there the colour mismatch is background the motion uncovered, whatever the depth ratio
 // (docs/ACCURACY.md, change 27; orbit-fg interp lost 0.18 dB without it). Train sums over the 22
-// fgsr interp / extrap figures with the correction: 0.05 +4.12, 0.1 +4.44, 0.2 +4.36 dB.
+// fgsr interp / extrap figures with the correction: no such test +4.28 (orbit-fg -0.18), 0.05
+// +4.12 (twirl-fg +0.27 instead of +0.52), 0.1 +4.44, 0.2 +4.36 dB.
 inline constexpr float correct_front = 0.1f;
 // Since change 17 of docs/ACCURACY.md the noise is measured relative to the local brightness to
 // the power gamma (shaders/denoise.h): sunlit and shaded parts of one frame carry noise in
