@@ -172,10 +172,50 @@ FGSR_INLINE vec2 flow_cost_window_pair(ivec2 q, vec2 a, vec2 b, FlowParams p) {
     return vec2(flow_cost_window(cur, q, a, p), flow_cost_window(cur, q, b, p));
 }
 
+// Step 4's tests that need no candidate: the colour cost a candidate must beat (ratio x the given
+// vector's, less the margin), or 0 where the pixel keeps its given vector whatever the candidates:
+// the given vector explains its colour within the ratio and margin, its previous position is not
+// the same surface, or a depth edge is near. Run before steps 1 and 2, whose costs most pixels then
+// skip.
+FGSR_INLINE float flow_correction_limit(ivec2 q, vec2 pos, vec2 given, uint i, FlowParams p) {
+    float limit = p.correct_ratio * flow_cost_subpixel(q, given, p) - p.correct_margin;
+    if (limit <= 0.0f) return 0.0f;
+    ivec2 pq = ivec2(floor(pos + given));
+    if (any(lessThan(pq, ivec2(0))) || pq.x >= int(p.width) || pq.y >= int(p.height)) return 0.0f;
+    float d1 = load_depth(i);
+    float d0 = load_prev_depth(uint(pq.y) * p.width + uint(pq.x));
+    //    The band is wide (a camera approaching the ground changes its depth by more than 10 %
+    //    between frames) but one-sided in front: uncovered background's previous position shows
+    //    the occluder, nearer than the pixel, at any depth ratio (a cube on the floor, seen from
+    //    afar, is within 30 % of the floor behind it).
+    if (!(abs(d0 - d1) <= p.correct_depth * min(d0, d1))) return 0.0f;
+    if (!(d0 * (1.0f + p.correct_front) >= d1)) return 0.0f;
+    //    Nor next to a depth edge of the current frame, where the colour mismatch is the edge's
+    //    (antialiasing, the moving silhouette): shading moves over smooth surfaces.
+    for (int k = 0; k < 4; ++k) {
+        ivec2 n = flow_clamp(q + flow_cross(k, FLOW_EDGE_REACH), p);
+        float dn = load_depth(uint(n.y) * p.width + uint(n.x));
+        if (!(abs(dn - d1) <= FLOW_EDGE_DEPTH * min(dn, d1))) return 0.0f;
+    }
+    return limit;
+}
+
 FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     if (u.x >= p.width || u.y >= p.height) return;
     ivec2 q = ivec2(u);
     vec2 pos = vec2(q) + 0.5f;
+    uint i = u.y * p.width + u.x;
+    // 4. Correction of given vectors: a candidate replaces the client's vector only where its
+    //    colour match is clearly better (shading that moves on its own), and only where the given
+    //    vector's previous position shows the same surface (depths agree): elsewhere a colour
+    //    mismatch is a disocclusion, which the given vector describes right.
+    vec2 given = vec2(0.0f);
+    float limit = 0.0f;
+    if (FLOW_CORRECTS(p)) {
+        given = load_given(i);
+        limit = flow_correction_limit(q, pos, given, i, p);
+        if (limit <= 0.0f) return;
+    }
     vec2 g = vec2(p.global_x, p.global_y);
     vec2 b = pos * (1.0f / float(MOTION_BLOCK << p.block_shift)) - 0.5f;
     vec2 fb = floor(b);
@@ -210,36 +250,11 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
     }
     vec2 back = flow_bilinear(pos + best, p.fwd_offset, p);
     bool occluded = length(best + back) > p.fb_tolerance + 0.1f * length(best);
-    uint i = u.y * p.width + u.x;
     if (FLOW_CORRECTS(p)) {
-        // 4. Correction of given vectors: a candidate replaces the client's vector only where its
-        //    colour match is clearly better (shading that moves on its own), and only where the
-        //    given vector's previous position shows the same surface (depths agree): elsewhere a
-        //    colour mismatch is a disocclusion, which the given vector describes right.
-        vec2 given = load_given(i);
-        float cg = flow_cost_subpixel(q, given, p);
-        float limit = p.correct_ratio * cg - p.correct_margin;
-        if (limit <= 0.0f) return;
-        ivec2 pq = ivec2(floor(pos + given));
-        if (any(lessThan(pq, ivec2(0))) || pq.x >= int(p.width) || pq.y >= int(p.height)) return;
-        float d1 = load_depth(i);
-        float d0 = load_prev_depth(uint(pq.y) * p.width + uint(pq.x));
-        //    The band is wide (a camera approaching the ground changes its depth by more than 10 %
-        //    between frames) but one-sided in front: uncovered background's previous position shows
-        //    the occluder, nearer than the pixel, at any depth ratio (a cube on the floor, seen from
-        //    afar, is within 30 % of the floor behind it).
-        if (!(abs(d0 - d1) <= p.correct_depth * min(d0, d1))) return;
-        if (!(d0 * (1.0f + p.correct_front) >= d1)) return;
-        //    Nor next to a depth edge of the current frame, where the colour mismatch is the edge's
-        //    (antialiasing, the moving silhouette): shading moves over smooth surfaces.
-        for (int k = 0; k < 4; ++k) {
-            ivec2 n = flow_clamp(q + flow_cross(k, FLOW_EDGE_REACH), p);
-            float dn = load_depth(uint(n.y) * p.width + uint(n.x));
-            if (!(abs(dn - d1) <= FLOW_EDGE_DEPTH * min(dn, d1))) return;
-        }
-        //    Candidates: the estimate where it passed the forward-backward test, the four block
-        //    vectors where they pass it too, and without that test the screen's two rigid motions,
-        //    none (shading fixed to the camera) and the dominant one (fixed to the scene).
+        //    Step 4 goes on (flow_correction_limit passed). Candidates: the estimate where it passed
+        //    the forward-backward test, the four block vectors where they pass it too, and without
+        //    that test the screen's two rigid motions, none (shading fixed to the camera) and the
+        //    dominant one (fixed to the scene).
         vec2 e = best;
         float ce = occluded ? 1e30f : flow_cost_subpixel(q, best, p);
         for (int k = 0; k < 6; ++k) {
