@@ -172,13 +172,18 @@ FGSR_INLINE vec2 flow_cost_window_pair(ivec2 q, vec2 a, vec2 b, FlowParams p) {
     return vec2(flow_cost_window(cur, q, a, p), flow_cost_window(cur, q, b, p));
 }
 
-// Step 4's tests that need no candidate: the colour cost a candidate must beat (ratio x the given
-// vector's, less the margin), or 0 where the pixel keeps its given vector whatever the candidates:
-// the given vector explains its colour within the ratio and margin, its previous position is not
-// the same surface, or a depth edge is near. Run before steps 1 and 2, whose costs most pixels then
-// skip.
+// Step 4: the colour cost at pixel q that a candidate must beat, ratio x the given vector's less
+// the margin (at most 0: the given vector explains the colour well enough).
+FGSR_INLINE float flow_correction_bound(ivec2 q, vec2 given, FlowParams p) {
+    return p.correct_ratio * flow_cost_subpixel(q, given, p) - p.correct_margin;
+}
+
+// Step 4's tests that need no candidate: the pixel's bound (flow_correction_bound), or 0 where the
+// pixel keeps its given vector whatever the candidates: the given vector explains its colour, its
+// previous position is not the same surface, or a depth edge is near. Run before steps 1 and 2,
+// whose costs most pixels then skip.
 FGSR_INLINE float flow_correction_limit(ivec2 q, vec2 pos, vec2 given, uint i, FlowParams p) {
-    float limit = p.correct_ratio * flow_cost_subpixel(q, given, p) - p.correct_margin;
+    float limit = flow_correction_bound(q, given, p);
     if (limit <= 0.0f) return 0.0f;
     ivec2 pq = ivec2(floor(pos + given));
     if (any(lessThan(pq, ivec2(0))) || pq.x >= int(p.width) || pq.y >= int(p.height)) return 0.0f;
@@ -276,8 +281,7 @@ FGSR_INLINE void flow_pixel(uvec2 u, FlowParams p) {
         int agree = 0;
         for (int k = 0; k < 4; ++k) {
             ivec2 n = flow_clamp(q + flow_cross(k, FLOW_EDGE_REACH), p);
-            float limit_n = p.correct_ratio * flow_cost_subpixel(n, given, p) - p.correct_margin;
-            agree += flow_cost_subpixel(n, e, p) < limit_n ? 1 : 0;
+            agree += flow_cost_subpixel(n, e, p) < flow_correction_bound(n, given, p) ? 1 : 0;
         }
         if (agree >= FLOW_AGREE_NEIGHBOURS) store_flow(i, e, 0.0f, false);
         return;

@@ -326,7 +326,6 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // point into the shot before it, and the next pair would read them as frame-0 motion. (A
     // session's first frame keeps its own: the stream it describes goes on.)
     bool frame_has_mv = has_mv && !vector_cut && !announced_cut;
-    s.last_scene_cut = vector_cut;
     const bool correcting = s.correction().on;
     bool flow_skipped = false;
     // The refinement (both its coarse levels and level 0) fits the colour: on jittered frames that
@@ -406,12 +405,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
                 s.rec.timestamp(q++);
             }
         }
-        if (!correcting) {
-            frame_has_mv = !restart;
-            s.last_scene_cut = s.estimator.last_cut;
-        }
+        if (!correcting) frame_has_mv = !restart;
         s.estimator.field_valid = !restart && !s.estimator.last_cut;
     }
+    // What restarted the session: block matching's cut in colour-only sessions, the cut stage's in
+    // sessions with vectors (a cut block matching finds there only skips the correction).
+    s.last_scene_cut = s.estimates_motion() && !correcting ? s.estimator.last_cut : vector_cut;
     if (denoise && !checks_cut) {
         FGSR_TRY(s.record_denoise(f.color));
         s.rec.barrier();
