@@ -6,8 +6,47 @@
 // Interpolation (occlusion: visible at alpha, covered by time 1, so only frame 0 sees it): the
 // surface is the background next to the hole; take the vectors of the farthest splatted pixel on
 // a sparse ring pattern (8 directions, radii 1, 2, 4, 8, 16) around t. Blend then reads frame 0
-// only. Only splat keys are read, so the pass needs no other pass's output but splat's.
+// only. Only splat keys are read (and, at the frame's edge, frame 0's vectors: leaving_frame0),
+// so the pass needs no other pass's output but splat's.
 // Entry provides refine.h's and motion.h's loads.
+
+// Does frame 0's content at t + v0 (its vector to frame -1: mv0) reach t by alpha? Its own
+// velocity, taken as constant, moves it by -alpha * mv0, so it does where v0 = alpha * mv0 within
+// 2 px plus half of that displacement (acceleration, and frame 0's field being that of a
+// neighbour's surface).
+FGSR_INLINE bool frame0_reaches(vec2 v0, vec2 mv0, GenParams g) {
+    return length(v0 - g.alpha * mv0) <= 2.0f + 0.5f * g.alpha * length(mv0);
+}
+
+// Is position p (pixels) on the frame (warp.h's on_screen, which this pass does not include)?
+FGSR_INLINE bool hole_on_frame(vec2 p, GenParams g) {
+    return p.x >= 0.0f && p.y >= 0.0f && p.x <= float(g.width) && p.y <= float(g.height);
+}
+
+// Interpolation, content leaving the frame (docs/ACCURACY.md, change 28): a hole whose fill (the
+// background's vectors v = (v0, v1)) reaches frame 1 off screen shows content that frame 1 no
+// longer has, so only frame 0 can give it. Where a faster surface crosses the edge (a near post
+// under a panning camera), the background's v0 lands frame 0's sample on that surface, which has
+// left by alpha: frame 0's own vector there says so (frame0_reaches fails). The hole then takes
+// the frame-0 content that does reach t, by one fixed-point step v0' = alpha * mv0(t + v0), where
+// that content moves (at least a pixel a frame: still content is the background's own case) and
+// its own vector agrees. Otherwise the fill stays as it was. Needs frame 0's vectors.
+FGSR_INLINE vec4 leaving_frame0(ivec2 t, vec4 v, GenParams g) {
+    vec2 centre = vec2(t) + vec2(0.5f);
+    if (hole_on_frame(centre + vec2(v.z, v.w), g) || g.frame0_has_mv == 0u) return v;
+    ivec2 last = ivec2(int(g.width) - 1, int(g.height) - 1);
+    vec2 v0 = vec2(v.x, v.y);
+    vec2 p0 = centre + v0;
+    if (!hole_on_frame(p0, g)) return v;
+    vec2 m = load_mv0(clamp(ivec2(floor(p0)), ivec2(0), last));
+    if (frame0_reaches(v0, m, g)) return v;
+    vec2 moved = g.alpha * m;
+    vec2 p = centre + moved;
+    if (!hole_on_frame(p, g)) return v;
+    vec2 m2 = load_mv0(clamp(ivec2(floor(p)), ivec2(0), last));
+    if (length(m2) < 1.0f || !frame0_reaches(moved, m2, g)) return v;
+    return vec4(moved, v.z, v.w);
+}
 
 FGSR_INLINE FieldSample fill_hole(ivec2 t, GenParams g) {
     if (g.extrapolate != 0u) {
@@ -28,7 +67,8 @@ FGSR_INLINE FieldSample fill_hole(ivec2 t, GenParams g) {
                 }
             }
         }
-    if (farthest > 0.0f) return field_sample(load_motion(best), farthest, FIELD_HOLE_FILLED);
+    if (farthest > 0.0f)
+        return field_sample(leaving_frame0(t, load_motion(best), g), farthest, FIELD_HOLE_FILLED);
     return field_sample(vec4(0.0f), FGSR_FAR_DEPTH, FIELD_HOLE_FILLED);
 }
 
