@@ -7,16 +7,18 @@
 // motion to the generated instant is exactly zero under motion.h for every alpha: mv1(p) == 0 and,
 // where the frame-0 vector m0 is read (quadratic model with frame-0 vectors), every frame-0 vector
 // motion.h may pick is zero (p's own when its depth agrees within 4 T_D, else its 4 edge
-// neighbours'). Such a pixel splats onto itself, key (depth1 << 32 | index), field vectors 0. A
+// neighbours'); and in interpolation with frame-0 vectors, frame-0 pixel p does not splat itself
+// as content leaving the frame (splat.h: m0 is zero or frame 1 shows p's frame-0 surface at p).
+// Such a pixel splats onto itself, key (depth1 << 32 | index), field vectors 0. A
 // tile whose pixels are all static sources is TILE_STATIC: splat runs only over the other tiles,
 // and the passes after it read a static tile's key as the nearer of that own key and what splat
-// left there (tiles.h, FGSR_TILED_KEYS), which is exactly the key of a full splat. Splat marks a static tile TILE_DIRTY when a moving source lands
-// in it (and appends it to the generate list). Every pixel of a static tile that is not dirty has
-// its own key, so refine, disocc and warp reduce to reading both frames at the pixel itself: the
-// generated frame there is copy_through() below, which classify writes for every static pixel
-// (the passes over the generate list overwrite moving and dirty tiles) (no motion and no depth
-// change give the input colour itself; a depth or shading change without motion gives what blend
-// would give). Depth changes without motion therefore need no generation either.
+// left there (tiles.h, FGSR_TILED_KEYS), which is exactly the key of a full splat. Splat marks a static tile
+// TILE_DIRTY when a moving source lands in it (and appends it to the generate list). Every pixel of a static
+// tile that is not dirty has its own key, so refine, disocc and warp reduce to reading both frames at the
+// pixel itself: the generated frame there is copy_through() below, which classify writes for every static
+// pixel (the passes over the generate list overwrite moving and dirty tiles) (no motion and no depth change
+// give the input colour itself; a depth or shading change without motion gives what blend would give). Depth
+// changes without motion therefore need no generation either.
 //
 // SR mode (the `sr` pass of a frame with history): an LR pixel is static when its vector is zero
 // (with dilation: every vector of its 3x3 neighbourhood, the frontmost of which sr.h uses) and its
@@ -44,6 +46,11 @@
 #define STATIC_IF_NEIGHBOURS 2u
 FGSR_INLINE uint static_source_own(vec2 m1, float d0, float d1, vec2 m0, GenParams g) {
     if (m1 != vec2(0.0f)) return STATIC_NO;
+    // A frame-0 pixel that may leave the frame splats itself (splat.h, splat_leaving): one that
+    // moves where frame 1 shows another surface. (Whether it leaves the frame is not asked here.)
+    if (g.extrapolate == 0u && g.frame0_has_mv != 0u && m0 != vec2(0.0f) &&
+        relative_depth_difference(d0, d1) > g.t_depth)
+        return STATIC_NO;
     if (g.quadratic == 0u || g.frame0_has_mv == 0u) return STATIC_YES;
     if (relative_depth_difference(d0, d1) < 4.0f * g.t_depth) return m0 == vec2(0.0f) ? STATIC_YES : STATIC_NO;
     return STATIC_IF_NEIGHBOURS;

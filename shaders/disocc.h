@@ -99,9 +99,9 @@ FGSR_INLINE FieldSample hole_cover(ivec2 t, FieldSample f, GenParams g) {
         float dq = key_depth(k);
         if (!(hole_depth - dq > g.t_depth * dq) || !(dq < front)) continue;
         uint src = key_source(k);
-        uint sy = udiv(src, g.width);
         vec4 v = load_motion(src);
-        vec2 landed = vec2(float(src - sy * g.width), float(sy)) + vec2(0.5f) - vec2(v.z, v.w);
+        vec2 own = src >= frame_pixels(g) ? vec2(v.x, v.y) : vec2(v.z, v.w); // to its own frame
+        vec2 landed = vec2(source_pixel(src, g)) + vec2(0.5f) - own;
         vec2 d = abs(landed - centre);
         if (!(d.x < 1.0f && d.y < 1.0f)) continue; // the footprints do not overlap
         front = dq;

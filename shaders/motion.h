@@ -237,7 +237,24 @@ FGSR_INLINE vec4 field_vectors_at(ivec2 p1, uint source, GenParams g) {
     vec2 pt = vec2(pos.x, pos.y);
     return vec4(vec2(pos.z, pos.w) - pt, c1 - pt);
 }
+// Sources from frame 0 (splat.h, splat_leaving): content that leaves the frame before frame 1,
+// keyed as source frame_pixels(g) + its frame-0 pixel. It moves at its own frame-0 velocity
+// -mv0 (no acceleration: its frame-1 position is unknown), so at alpha it lies at c0 - alpha mv0:
+// v0 = alpha mv0, and v1 = -(1 - alpha) mv0 reaches frame 1 off screen.
+FGSR_INLINE uint frame_pixels(GenParams g) {
+    return g.width * g.height;
+}
+FGSR_INLINE vec4 leaving_field_vectors(ivec2 p0, GenParams g) {
+    vec2 m = load_mv0(p0);
+    return vec4(g.alpha * m, (g.alpha - 1.0f) * m);
+}
+// The pixel of a source in its own frame (frame 0 for leaving content).
+FGSR_INLINE ivec2 source_pixel(uint source, GenParams g) {
+    uint s = source >= frame_pixels(g) ? source - frame_pixels(g) : source;
+    uint y = udiv(s, g.width);
+    return ivec2(int(s - y * g.width), int(y));
+}
 FGSR_INLINE vec4 source_field_vectors(uint source, GenParams g) {
-    uint y = udiv(source, g.width);
-    return field_vectors_at(ivec2(int(source - y * g.width), int(y)), source, g);
+    if (source >= frame_pixels(g)) return leaving_field_vectors(source_pixel(source, g), g);
+    return field_vectors_at(source_pixel(source, g), source, g);
 }

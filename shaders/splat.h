@@ -18,6 +18,29 @@
 //   void  splat_min(uint slice, uint target_index, uint64_t key)
 //   void  store_source_motion(uint source_index, vec4 motion)  (m1, m0)
 
+// Interpolation: frame-0 content that leaves the frame before frame 1 (its own velocity -mv0
+// takes it off screen by then) has no frame-1 pixel to splat it, so its frame-0 pixel splats
+// itself, at c0 - alpha mv0 with its frame-0 depth, keyed as source frame_pixels(g) + p0
+// (motion.h, leaving_field_vectors). It competes with frame 1's sources by depth as they do with
+// each other: a near post crossing the edge covers the background there until it has gone.
+// (docs/ACCURACY.md, change 29.)
+FGSR_INLINE void splat_leaving(ivec2 p0, GenParams g) {
+    vec2 m = load_mv0(p0);
+    vec2 c0 = vec2(p0) + vec2(0.5f);
+    vec2 end = c0 - m;
+    if (end.x >= 0.0f && end.y >= 0.0f && end.x <= float(g.width) && end.y <= float(g.height)) return;
+    float d = load_depth0(p0);
+    if (relative_depth_difference(d, load_depth1(p0)) <= g.t_depth) return;
+    uint src = frame_pixels(g) + uint(p0.y) * g.width + uint(p0.x);
+    float d0 = d * (1.0f + g.t_depth);
+    uint64_t key = (uint64_t(floatBitsToUint(d0)) << 32) | uint64_t(src);
+    for (uint k = 0u; k < splat_count(); ++k) {
+        vec2 pt = c0 - splat_alpha(k) * m;
+        ivec2 t = ivec2(floor(pt));
+        if (inside(t, g) && d0 < load_depth1(t)) splat_min(k, uint(t.y) * g.width + uint(t.x), key);
+    }
+}
+
 FGSR_INLINE void splat_pixel(ivec2 p1, GenParams g) {
     if (!inside(p1, g)) return;
     float d1 = load_depth1(p1);
@@ -26,6 +49,7 @@ FGSR_INLINE void splat_pixel(ivec2 p1, GenParams g) {
     uint src = uint(p1.y) * g.width + uint(p1.x);
     uint64_t key = (uint64_t(floatBitsToUint(d1)) << 32) | uint64_t(src);
     store_source_motion(src, m);
+    if (g.extrapolate == 0u && g.frame0_has_mv != 0u) splat_leaving(p1, g);
     for (uint k = 0u; k < splat_count(); ++k) {
         vec4 pos = motion_at(c1, m, splat_alpha(k), g);
         vec2 pt = vec2(pos.x, pos.y);

@@ -83,6 +83,7 @@ uint64_t load_key(ivec2 q) {
     return min(k, own);
 }
 vec4 load_motion(uint i) {
+    if (i >= frame_pixels(pc.g)) return source_field_vectors(i, pc.g); // frame 0's leaving content
     uint y = udiv(i, pc.g.width);
     ivec2 q = ivec2(int(i - y * pc.g.width), int(y));
     return (tile_flags[tile_index(q, pc.g.width, tile_list[4])] & TILE_STATIC) != 0u ? vec4(0.0f)
