@@ -18,12 +18,15 @@
 //   void  splat_min(uint slice, uint target_index, uint64_t key)
 //   void  store_source_motion(uint source_index, vec4 motion)  (m1, m0)
 
-// Interpolation: frame-0 content that leaves the frame before frame 1 (its own velocity -mv0
-// takes it off screen by then) has no frame-1 pixel to splat it, so its frame-0 pixel splats
-// itself, at c0 - alpha mv0 with its frame-0 depth, keyed as source frame_pixels(g) + p0
-// (motion.h, leaving_field_vectors). It competes with frame 1's sources by depth as they do with
-// each other: a near post crossing the edge covers the background there until it has gone.
-// (docs/ACCURACY.md, change 29.)
+// Interpolation: frame-0 content that leaves the frame before frame 1 (its own velocity -mv0,
+// taken as uniform, takes it off screen by then) has no frame-1 pixel to splat it, so its frame-0
+// pixel splats itself at c0 - alpha mv0, keyed as source frame_pixels(g) + p0 (motion.h,
+// leaving_field_vectors): a near post crossing the edge then covers the background there until
+// it has gone. Only where frame 1 no longer shows its surface at p0 (depths differ by more than
+// T_D; frame-0 vectors that are a cut's reprojection would otherwise move still content out), and
+// only in front of what frame 1 shows where it lands, with its depth raised by T_D in the key:
+// frame 1's own splat of the same surface (an accelerating wall, whose frame-0 velocity is too
+// slow) wins over this copy. (docs/ACCURACY.md, change 29.)
 FGSR_INLINE void splat_leaving(ivec2 p0, GenParams g) {
     vec2 m = load_mv0(p0);
     vec2 c0 = vec2(p0) + vec2(0.5f);
@@ -36,6 +39,7 @@ FGSR_INLINE void splat_leaving(ivec2 p0, GenParams g) {
     uint64_t key = (uint64_t(floatBitsToUint(d0)) << 32) | uint64_t(src);
     for (uint k = 0u; k < splat_count(); ++k) {
         vec2 pt = c0 - splat_alpha(k) * m;
+        if (!(abs(pt.x) < 1.0e7f && abs(pt.y) < 1.0e7f)) continue; // as splat_pixel: finite, far off
         ivec2 t = ivec2(floor(pt));
         if (inside(t, g) && d0 < load_depth1(t)) splat_min(k, uint(t.y) * g.width + uint(t.x), key);
     }
