@@ -238,15 +238,24 @@ FGSR_INLINE vec4 field_vectors_at(ivec2 p1, uint source, GenParams g) {
     return vec4(vec2(pos.z, pos.w) - pt, c1 - pt);
 }
 // Sources from frame 0 (splat.h, splat_leaving): content that leaves the frame before frame 1,
-// keyed as source frame_pixels(g) + its frame-0 pixel. It moves at its own frame-0 velocity
-// -mv0 (no acceleration: its frame-1 position is unknown), so at alpha it lies at c0 - alpha mv0:
-// v0 = alpha mv0, and v1 = -(1 - alpha) mv0 reaches frame 1 off screen.
+// keyed as source frame_pixels(g) + its frame-0 pixel p0. Its forward velocities: u0 = -mv0(p0)
+// over [-1, 0], and u1 over [0, 1] = -mv1(p0) where frame 1 still shows the same surface at p0
+// (depths within T_D), else u0 (the content has moved on; its frame-1 velocity is unknown). From
+// its frame-0 position c0 it moves as the paper's model moves a point from p0 (uniform
+// acceleration between u0 and u1): displacement 0.5 a (u1 + u0) + 0.5 a^2 (u1 - u0) at alpha a.
 FGSR_INLINE uint frame_pixels(GenParams g) {
     return g.width * g.height;
 }
+FGSR_INLINE vec2 leaving_displacement(vec2 u0, vec2 u1, float a) {
+    return 0.5f * a * (u1 + u0) + 0.5f * a * a * (u1 - u0);
+}
+// The field vectors (v0, v1) of a frame-0 source at alpha: to its frame-0 position and to where
+// it is at time 1 (off the frame).
 FGSR_INLINE vec4 leaving_field_vectors(ivec2 p0, GenParams g) {
-    vec2 m = load_mv0(p0);
-    return vec4(g.alpha * m, (g.alpha - 1.0f) * m);
+    vec2 u0 = -load_mv0(p0);
+    vec2 u1 = relative_depth_difference(load_depth0(p0), load_depth1(p0)) <= g.t_depth ? -load_mv1(p0) : u0;
+    vec2 disp = leaving_displacement(u0, u1, g.alpha);
+    return vec4(-disp, u1 - disp);
 }
 // The pixel of a source in its own frame (frame 0 for leaving content).
 FGSR_INLINE ivec2 source_pixel(uint source, GenParams g) {

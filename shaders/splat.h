@@ -18,30 +18,43 @@
 //   void  splat_min(uint slice, uint target_index, uint64_t key)
 //   void  store_source_motion(uint source_index, vec4 motion)  (m1, m0)
 
-// Interpolation: frame-0 content that leaves the frame before frame 1 (its own velocity -mv0,
-// taken as uniform, takes it off screen by then) has no frame-1 pixel to splat it, so its frame-0
-// pixel splats itself at c0 - alpha mv0, keyed as source frame_pixels(g) + p0 (motion.h,
-// leaving_field_vectors): a near post crossing the edge then covers the background there until
-// it has gone. Only where frame 1 no longer shows its surface at p0 (depths differ by more than
-// T_D; frame-0 vectors that are a cut's reprojection would otherwise move still content out), and
-// only in front of what frame 1 shows where it lands, with its depth raised by T_D in the key:
-// frame 1's own splat of the same surface (an accelerating wall, whose frame-0 velocity is too
-// slow) wins over this copy. (docs/ACCURACY.md, change 29.)
+// Interpolation: frame-0 content that leaves the frame before frame 1 has no frame-1 pixel to
+// splat it, so its frame-0 pixel p0 splats itself, keyed as source frame_pixels(g) + p0 and moved
+// as motion.h's leaving_field_vectors says (docs/ACCURACY.md, changes 29 and 30). Its depth in
+// the key is raised by T_D, so that frame 1's own splat of the same surface wins over the copy.
+// Two kinds, by what frame 1 shows at p0:
+// - Another surface (depths differ by more than T_D): the content has moved on, at its frame-0
+//   velocity (uniform: its frame-1 velocity is unknown). Splatted only where it lies in front of
+//   what frame 1 shows at the landing pixel: a near post crossing the edge covers the background
+//   until it has gone. (Frame-0 vectors that are a cut's reprojection leave frame 1 showing the
+//   same surfaces at p0, so they move nothing out this way.)
+// - The same surface, with frame 1's velocity at p0: the background leaving the frame's edge,
+//   which no frame-1 pixel shows at alpha (the edge's holes). Only where the motion is nearly
+//   uniform, in time (u1 against u0) and along the way (frame 1's vector where it lands against
+//   u1), within 0.5 px + a tenth of |u1|: an accelerating, expanding field (a camera approaching
+//   a wall) is left to the hole fill (disocc.h), whose neighbour's motion follows it better.
+FGSR_INLINE bool leaving_uniform(vec2 a, vec2 b) {
+    return length(a - b) <= 0.5f + 0.1f * length(b);
+}
 FGSR_INLINE void splat_leaving(ivec2 p0, GenParams g) {
-    vec2 m = load_mv0(p0);
-    vec2 c0 = vec2(p0) + vec2(0.5f);
-    vec2 end = c0 - m;
-    if (end.x >= 0.0f && end.y >= 0.0f && end.x <= float(g.width) && end.y <= float(g.height)) return;
+    vec2 u0 = -load_mv0(p0);
     float d = load_depth0(p0);
-    if (relative_depth_difference(d, load_depth1(p0)) <= g.t_depth) return;
+    bool same = relative_depth_difference(d, load_depth1(p0)) <= g.t_depth;
+    vec2 u1 = same ? -load_mv1(p0) : u0;
+    if (same && !leaving_uniform(u0, u1)) return;
+    vec2 c0 = vec2(p0) + vec2(0.5f);
+    vec2 end = c0 + u1;
+    if (end.x >= 0.0f && end.y >= 0.0f && end.x <= float(g.width) && end.y <= float(g.height)) return;
     uint src = frame_pixels(g) + uint(p0.y) * g.width + uint(p0.x);
     float d0 = d * (1.0f + g.t_depth);
     uint64_t key = (uint64_t(floatBitsToUint(d0)) << 32) | uint64_t(src);
     for (uint k = 0u; k < splat_count(); ++k) {
-        vec2 pt = c0 - splat_alpha(k) * m;
+        vec2 pt = c0 + leaving_displacement(u0, u1, splat_alpha(k));
         if (!(abs(pt.x) < 1.0e7f && abs(pt.y) < 1.0e7f)) continue; // as splat_pixel: finite, far off
         ivec2 t = ivec2(floor(pt));
-        if (inside(t, g) && d0 < load_depth1(t)) splat_min(k, uint(t.y) * g.width + uint(t.x), key);
+        if (!inside(t, g)) continue;
+        if (same ? !leaving_uniform(-load_mv1(t), u1) : !(d0 < load_depth1(t))) continue;
+        splat_min(k, uint(t.y) * g.width + uint(t.x), key);
     }
 }
 
