@@ -339,6 +339,12 @@ FGSR_INLINE bool inside(ivec2 q, GenParams g) {
     return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);
 }
 
+// A position in pixels (centres at +0.5) on the frame, its far edges included (warp.h, disocc.h,
+// splat.h).
+FGSR_INLINE bool on_screen(vec2 pos, GenParams g) {
+    return pos.x >= 0.0f && pos.y >= 0.0f && pos.x <= float(g.width) && pos.y <= float(g.height);
+}
+
 // Edge neighbour k (0..3: left, right, up, down) of a pixel, as an offset: the frame-0 lookup of
 // motion.h and classify.h's mirror of it search these.
 FGSR_INLINE ivec2 edge_neighbour_offset(int k) { return k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5); }

@@ -18,11 +18,6 @@ FGSR_INLINE bool frame0_reaches(vec2 v0, vec2 mv0, GenParams g) {
     return length(v0 - g.alpha * mv0) <= 2.0f + 0.5f * g.alpha * length(mv0);
 }
 
-// Is position p (pixels) on the frame (warp.h's on_screen, which this pass does not include)?
-FGSR_INLINE bool hole_on_frame(vec2 p, GenParams g) {
-    return p.x >= 0.0f && p.y >= 0.0f && p.x <= float(g.width) && p.y <= float(g.height);
-}
-
 // Interpolation, content leaving the frame (docs/ACCURACY.md, change 28): a hole whose fill (the
 // background's vectors v = (v0, v1)) reaches frame 1 off screen shows content that frame 1 no
 // longer has, so only frame 0 can give it. Where a faster surface crosses the edge (a near post
@@ -33,16 +28,16 @@ FGSR_INLINE bool hole_on_frame(vec2 p, GenParams g) {
 // its own vector agrees. Otherwise the fill stays as it was. Needs frame 0's vectors.
 FGSR_INLINE vec4 leaving_frame0(ivec2 t, vec4 v, GenParams g) {
     vec2 centre = vec2(t) + vec2(0.5f);
-    if (hole_on_frame(centre + vec2(v.z, v.w), g) || g.frame0_has_mv == 0u) return v;
+    if (on_screen(centre + vec2(v.z, v.w), g) || g.frame0_has_mv == 0u) return v;
     ivec2 last = ivec2(int(g.width) - 1, int(g.height) - 1);
     vec2 v0 = vec2(v.x, v.y);
     vec2 p0 = centre + v0;
-    if (!hole_on_frame(p0, g)) return v;
+    if (!on_screen(p0, g)) return v;
     vec2 m = load_mv0(clamp(ivec2(floor(p0)), ivec2(0), last));
     if (frame0_reaches(v0, m, g)) return v;
     vec2 moved = g.alpha * m;
     vec2 p = centre + moved;
-    if (!hole_on_frame(p, g)) return v;
+    if (!on_screen(p, g)) return v;
     vec2 m2 = load_mv0(clamp(ivec2(floor(p)), ivec2(0), last));
     if (length(m2) < 1.0f || !frame0_reaches(moved, m2, g)) return v;
     return vec4(moved, v.z, v.w);

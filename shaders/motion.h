@@ -246,6 +246,10 @@ FGSR_INLINE vec4 field_vectors_at(ivec2 p1, uint source, GenParams g) {
 FGSR_INLINE uint frame_pixels(GenParams g) {
     return g.width * g.height;
 }
+// Frame 1 still shows frame-0 pixel p0's surface at p0 (d0, d1: the two frames' depths there).
+FGSR_INLINE bool leaving_same_surface(float d0, float d1, GenParams g) {
+    return relative_depth_difference(d0, d1) <= g.t_depth;
+}
 FGSR_INLINE vec2 leaving_displacement(vec2 u0, vec2 u1, float a) {
     return 0.5f * a * (u1 + u0) + 0.5f * a * a * (u1 - u0);
 }
@@ -253,7 +257,7 @@ FGSR_INLINE vec2 leaving_displacement(vec2 u0, vec2 u1, float a) {
 // it is at time 1 (off the frame).
 FGSR_INLINE vec4 leaving_field_vectors(ivec2 p0, GenParams g) {
     vec2 u0 = -load_mv0(p0);
-    vec2 u1 = relative_depth_difference(load_depth0(p0), load_depth1(p0)) <= g.t_depth ? -load_mv1(p0) : u0;
+    vec2 u1 = leaving_same_surface(load_depth0(p0), load_depth1(p0), g) ? -load_mv1(p0) : u0;
     vec2 disp = leaving_displacement(u0, u1, g.alpha);
     return vec4(-disp, u1 - disp);
 }

@@ -36,15 +36,15 @@
 FGSR_INLINE bool leaving_uniform(vec2 a, vec2 b) {
     return length(a - b) <= 0.5f + 0.1f * length(b);
 }
-FGSR_INLINE void splat_leaving(ivec2 p0, GenParams g) {
+// d1 and m1: frame 1's depth and forward motion (-mv1) at the same pixel, which splat_pixel has read.
+FGSR_INLINE void splat_leaving(ivec2 p0, float d1, vec2 m1, GenParams g) {
     vec2 u0 = -load_mv0(p0);
     float d = load_depth0(p0);
-    bool same = relative_depth_difference(d, load_depth1(p0)) <= g.t_depth;
-    vec2 u1 = same ? -load_mv1(p0) : u0;
+    bool same = leaving_same_surface(d, d1, g);
+    vec2 u1 = same ? m1 : u0;
     if (same && !leaving_uniform(u0, u1)) return;
     vec2 c0 = vec2(p0) + vec2(0.5f);
-    vec2 end = c0 + u1;
-    if (end.x >= 0.0f && end.y >= 0.0f && end.x <= float(g.width) && end.y <= float(g.height)) return;
+    if (on_screen(c0 + u1, g)) return;
     uint src = frame_pixels(g) + uint(p0.y) * g.width + uint(p0.x);
     float d0 = d * (1.0f + g.t_depth);
     uint64_t key = (uint64_t(floatBitsToUint(d0)) << 32) | uint64_t(src);
@@ -66,7 +66,7 @@ FGSR_INLINE void splat_pixel(ivec2 p1, GenParams g) {
     uint src = uint(p1.y) * g.width + uint(p1.x);
     uint64_t key = (uint64_t(floatBitsToUint(d1)) << 32) | uint64_t(src);
     store_source_motion(src, m);
-    if (g.extrapolate == 0u && g.frame0_has_mv != 0u) splat_leaving(p1, g);
+    if (g.extrapolate == 0u && g.frame0_has_mv != 0u) splat_leaving(p1, d1, vec2(m.x, m.y), g);
     for (uint k = 0u; k < splat_count(); ++k) {
         vec4 pos = motion_at(c1, m, splat_alpha(k), g);
         vec2 pt = vec2(pos.x, pos.y);

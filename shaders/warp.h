@@ -11,10 +11,6 @@ FGSR_INLINE ivec2 clamp_pixel(ivec2 q, GenParams g) {
     return clamp(q, ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
 }
 
-FGSR_INLINE bool on_screen(vec2 pos, GenParams g) {
-    return pos.x >= 0.0f && pos.y >= 0.0f && pos.x <= float(g.width) && pos.y <= float(g.height);
-}
-
 // Bilinear colour of frame `frame` at `pos` (pixel units, centres at +0.5).
 FGSR_INLINE vec4 sample_color(uint frame, vec2 pos, GenParams g) {
     vec2 x = pos - vec2(0.5f);
