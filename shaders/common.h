@@ -255,6 +255,7 @@ struct MatchParams {
     uint temporal_offset; // MOTION_NONE, or this level's blocks of the previous submit
     uint store; // MATCH_STORE_* bits: what the pass stores besides the integer vector and its cost
     float zero_bias; // cost added to the zero displacement (below the coarsest level; match.h)
+    float light_cap; // the most a block's change of brightness adds to its cost (match.h match_cost)
 };
 #define MATCH_STORE_CONTRAST 1u // the block's contrast (read by the fill stage, flow.h's check field)
 #define MATCH_STORE_SUBPIXEL 2u // a sub-pixel vector (else integer: a first pass's, read rounded)
@@ -390,7 +391,7 @@ static_assert(sizeof(IngestParams) == 68 && sizeof(GenParams) == 48 && sizeof(Sr
               "push constants are 4-byte scalars");
 static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
-static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 64 && sizeof(FlowParams) == 80 &&
+static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
                   sizeof(PolishParams) == 72,
               "motion push constants");
 } // namespace fgsr::gpu

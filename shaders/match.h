@@ -13,9 +13,10 @@
 //      (propagation; the other direction only checks it, flow.h): the candidates are
 //      the first pass's vectors of the block and its four neighbours, so that a good match
 //      spreads along structures (poles, floors) that single blocks miss;
-//   2. cost of a displacement d: mean absolute luma difference over the block (SAD / 64) plus
-//      lambda x |d - prediction| (the parent's vector), which keeps flat regions, where every
-//      displacement costs the same, on the coarse motion;
+//   2. cost of a displacement d: mean absolute luma difference over the block (SAD / 64; or, where
+//      lower, with the means removed plus light_cap: a local change of brightness costs at most
+//      that) plus lambda x |d - prediction| (the parent's vector), which keeps flat regions, where
+//      every displacement costs the same, on the coarse motion;
 //   3. a full integer search of +-radius around the best candidate (the coarsest level searches
 //      widely, the finer ones +-1);
 //   4. sub-pixel refinement by equiangular (V-shaped) line fits through the SAD at the best
@@ -85,15 +86,35 @@ FGSR_INLINE float match_dst(ivec2 q, MatchParams p) {
     return load_dst(p.dst_offset + uint(q.y) * p.width + uint(q.x));
 }
 
-// Mean absolute difference over the block's checkerboard half (32 pixels, held in blk: row y's
-// pixels x = (y & 1) + 2i at blk[4y + i]): the cost candidates and the search compare (half the
-// reads; a displacement that fits one half of an 8x8 block fits the other). Only this half is
-// kept in registers: 64 live values made llvmpipe's register allocation take seconds per build.
+// The mean of a block's checkerboard half (blk).
+FGSR_INLINE float match_half_mean(float blk[32]) {
+    float m = 0.0f;
+    FGSR_UNROLL for (int k = 0; k < 32; ++k) m += blk[k];
+    return m * (1.0f / 32.0f);
+}
+
+// The cost of displacement d: the mean absolute difference over the block's checkerboard half (32
+// pixels, held in blk: row y's pixels x = (y & 1) + 2i at blk[4y + i]; half the reads, and a
+// displacement that fits one half of an 8x8 block fits the other), or, where lower, the same with
+// the two halves' means removed plus p.light_cap: a change of the block's brightness between the
+// frames (a light or a shadow falling on it, a surface nearing a lamp) costs at most light_cap,
+// however large. Without it, on dark content of little texture the brightness change outweighs
+// the texture, and the match goes wherever the mean brightness fits (docs/MOTION.md, "Local changes
+// of brightness"). Only this half is kept in registers: 64 live values made llvmpipe's register
+// allocation take seconds per build.
 FGSR_INLINE float match_cost(float blk[32], ivec2 origin, ivec2 d, MatchParams p) {
-    float s = 0.0f;
+    float mv = 0.0f;
     FGSR_UNROLL for (int y = 0; y < 8; ++y)
-        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) s += abs(blk[y * 4 + (x >> 1)] - match_dst(origin + ivec2(x, y) + d, p));
-    return s * (1.0f / 32.0f);
+        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) mv += match_dst(origin + ivec2(x, y) + d, p);
+    float off = match_half_mean(blk) - mv * (1.0f / 32.0f);
+    float s = 0.0f, z = 0.0f;
+    FGSR_UNROLL for (int y = 0; y < 8; ++y)
+        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) {
+            float v = match_dst(origin + ivec2(x, y) + d, p);
+            z += abs(blk[y * 4 + (x >> 1)] - off - v);
+            s += abs(blk[y * 4 + (x >> 1)] - v);
+        }
+    return min(s * (1.0f / 32.0f), z * (1.0f / 32.0f) + p.light_cap);
 }
 
 // Mean absolute difference of the whole block against the destination at origin + d.
@@ -123,14 +144,32 @@ FGSR_INLINE float match_subpixel(float cm, float c0, float cp) {
 }
 
 #if defined(FGSR_MATCH_RADIUS)
-// One candidate's terms of one block row: its four checkerboard pixels b0..b3 against the
-// destination pixels v0..v3 it compares them with, added to acc in match_cost's order.
-FGSR_INLINE float match_row_terms(float acc, float b0, float b1, float b2, float b3, float v0, float v1, float v2,
+// One candidate's terms of one block row: its four checkerboard pixels b0..b3, less the offset o
+// between the two halves' means, against the destination pixels v0..v3 it compares them with,
+// added to acc in match_cost's order.
+FGSR_INLINE float match_row_terms(float acc, float b0, float b1, float b2, float b3, float o, float v0, float v1,
+                                  float v2, float v3) {
+    acc += abs(b0 - o - v0);
+    acc += abs(b1 - o - v1);
+    acc += abs(b2 - o - v2);
+    acc += abs(b3 - o - v3);
+    return acc;
+}
+// The same without the offset.
+FGSR_INLINE float match_row_plain(float acc, float b0, float b1, float b2, float b3, float v0, float v1, float v2,
                                   float v3) {
     acc += abs(b0 - v0);
     acc += abs(b1 - v1);
     acc += abs(b2 - v2);
     acc += abs(b3 - v3);
+    return acc;
+}
+// The sum of the destination pixels v0..v3 one candidate compares, added to acc in match_cost's order.
+FGSR_INLINE float match_row_sum(float acc, float v0, float v1, float v2, float v3) {
+    acc += v0;
+    acc += v1;
+    acc += v2;
+    acc += v3;
     return acc;
 }
 #endif
@@ -139,29 +178,55 @@ FGSR_INLINE float match_row_terms(float acc, float b0, float b1, float b2, float
 // One block row's terms of the costs of the three horizontally adjacent candidates dx = -1, 0, 1
 // (acc.x, .y, .z; acc.w and e unused): the row's four checkerboard pixels b0..b3 against the 9
 // destination pixels from `at` on (the row's first checkerboard pixel displaced by the centre,
-// minus 1), each read once.
-FGSR_INLINE vec4 match_row(float b0, float b1, float b2, float b3, ivec2 at, vec4 acc, inout float e, MatchParams p) {
+// minus 1), each read once. With `sums`, each candidate's sum of those pixels instead (b0..b3 and
+// o unused); else the terms less each candidate's offset o between the means (acc) and, in pl, the
+// plain terms (match_cost's two sums).
+FGSR_INLINE vec4 match_row(float b0, float b1, float b2, float b3, ivec2 at, vec4 acc, inout float e, vec4 o, float oe,
+                           bool sums, inout vec4 pl, inout float ple, MatchParams p) {
     float v0 = match_dst(at, p), v1 = match_dst(at + ivec2(1, 0), p), v2 = match_dst(at + ivec2(2, 0), p);
     float v3 = match_dst(at + ivec2(3, 0), p), v4 = match_dst(at + ivec2(4, 0), p), v5 = match_dst(at + ivec2(5, 0), p);
     float v6 = match_dst(at + ivec2(6, 0), p), v7 = match_dst(at + ivec2(7, 0), p), v8 = match_dst(at + ivec2(8, 0), p);
-    acc.x = match_row_terms(acc.x, b0, b1, b2, b3, v0, v2, v4, v6);
-    acc.y = match_row_terms(acc.y, b0, b1, b2, b3, v1, v3, v5, v7);
-    acc.z = match_row_terms(acc.z, b0, b1, b2, b3, v2, v4, v6, v8);
+    if (sums) {
+        acc.x = match_row_sum(acc.x, v0, v2, v4, v6);
+        acc.y = match_row_sum(acc.y, v1, v3, v5, v7);
+        acc.z = match_row_sum(acc.z, v2, v4, v6, v8);
+        return acc;
+    }
+    acc.x = match_row_terms(acc.x, b0, b1, b2, b3, o.x, v0, v2, v4, v6);
+    acc.y = match_row_terms(acc.y, b0, b1, b2, b3, o.y, v1, v3, v5, v7);
+    acc.z = match_row_terms(acc.z, b0, b1, b2, b3, o.z, v2, v4, v6, v8);
+    pl.x = match_row_plain(pl.x, b0, b1, b2, b3, v0, v2, v4, v6);
+    pl.y = match_row_plain(pl.y, b0, b1, b2, b3, v1, v3, v5, v7);
+    pl.z = match_row_plain(pl.z, b0, b1, b2, b3, v2, v4, v6, v8);
     return acc;
 }
 #elif defined(FGSR_MATCH_RADIUS) && FGSR_MATCH_RADIUS == 2
 // The same for the five candidates dx = -2 .. 2 (acc.x .. acc.w, then e): 11 destination pixels
 // from `at` (the row's first checkerboard pixel displaced by the centre, minus 2).
-FGSR_INLINE vec4 match_row(float b0, float b1, float b2, float b3, ivec2 at, vec4 acc, inout float e, MatchParams p) {
+FGSR_INLINE vec4 match_row(float b0, float b1, float b2, float b3, ivec2 at, vec4 acc, inout float e, vec4 o, float oe,
+                           bool sums, inout vec4 pl, inout float ple, MatchParams p) {
     float v0 = match_dst(at, p), v1 = match_dst(at + ivec2(1, 0), p), v2 = match_dst(at + ivec2(2, 0), p);
     float v3 = match_dst(at + ivec2(3, 0), p), v4 = match_dst(at + ivec2(4, 0), p), v5 = match_dst(at + ivec2(5, 0), p);
     float v6 = match_dst(at + ivec2(6, 0), p), v7 = match_dst(at + ivec2(7, 0), p), v8 = match_dst(at + ivec2(8, 0), p);
     float v9 = match_dst(at + ivec2(9, 0), p), v10 = match_dst(at + ivec2(10, 0), p);
-    acc.x = match_row_terms(acc.x, b0, b1, b2, b3, v0, v2, v4, v6);
-    acc.y = match_row_terms(acc.y, b0, b1, b2, b3, v1, v3, v5, v7);
-    acc.z = match_row_terms(acc.z, b0, b1, b2, b3, v2, v4, v6, v8);
-    acc.w = match_row_terms(acc.w, b0, b1, b2, b3, v3, v5, v7, v9);
-    e = match_row_terms(e, b0, b1, b2, b3, v4, v6, v8, v10);
+    if (sums) {
+        acc.x = match_row_sum(acc.x, v0, v2, v4, v6);
+        acc.y = match_row_sum(acc.y, v1, v3, v5, v7);
+        acc.z = match_row_sum(acc.z, v2, v4, v6, v8);
+        acc.w = match_row_sum(acc.w, v3, v5, v7, v9);
+        e = match_row_sum(e, v4, v6, v8, v10);
+        return acc;
+    }
+    acc.x = match_row_terms(acc.x, b0, b1, b2, b3, o.x, v0, v2, v4, v6);
+    acc.y = match_row_terms(acc.y, b0, b1, b2, b3, o.y, v1, v3, v5, v7);
+    acc.z = match_row_terms(acc.z, b0, b1, b2, b3, o.z, v2, v4, v6, v8);
+    acc.w = match_row_terms(acc.w, b0, b1, b2, b3, o.w, v3, v5, v7, v9);
+    e = match_row_terms(e, b0, b1, b2, b3, oe, v4, v6, v8, v10);
+    pl.x = match_row_plain(pl.x, b0, b1, b2, b3, v0, v2, v4, v6);
+    pl.y = match_row_plain(pl.y, b0, b1, b2, b3, v1, v3, v5, v7);
+    pl.z = match_row_plain(pl.z, b0, b1, b2, b3, v2, v4, v6, v8);
+    pl.w = match_row_plain(pl.w, b0, b1, b2, b3, v3, v5, v7, v9);
+    ple = match_row_plain(ple, b0, b1, b2, b3, v4, v6, v8, v10);
     return acc;
 }
 #endif
@@ -274,16 +339,26 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     // build and the CPU reference run the loop.
 #if defined(FGSR_MATCH_RADIUS)
     if (n_search > 0) {
+        float ms = match_half_mean(blk);
         FGSR_UNROLL for (int dy = -FGSR_MATCH_RADIUS; dy <= FGSR_MATCH_RADIUS; ++dy) {
-            vec4 acc = vec4(0.0f);
-            float e = 0.0f;
+            // The candidates' means first (the same reads), then both sums of each.
+            vec4 o = vec4(0.0f), z = vec4(0.0f), pl = vec4(0.0f);
+            float oe = 0.0f, ze = 0.0f, ple = 0.0f;
             FGSR_UNROLL for (int y = 0; y < 8; ++y)
-                acc = match_row(blk[y * 4], blk[y * 4 + 1], blk[y * 4 + 2], blk[y * 4 + 3],
-                                origin + centre + ivec2((y & 1) - FGSR_MATCH_RADIUS, y + dy), acc, e, p);
+                o = match_row(0.0f, 0.0f, 0.0f, 0.0f, origin + centre + ivec2((y & 1) - FGSR_MATCH_RADIUS, y + dy),
+                              o, oe, vec4(0.0f), 0.0f, true, pl, ple, p);
+            o = vec4(ms) - o * (1.0f / 32.0f);
+            oe = ms - oe * (1.0f / 32.0f);
+            FGSR_UNROLL for (int y = 0; y < 8; ++y)
+                z = match_row(blk[y * 4], blk[y * 4 + 1], blk[y * 4 + 2], blk[y * 4 + 3],
+                              origin + centre + ivec2((y & 1) - FGSR_MATCH_RADIUS, y + dy), z, ze, o, oe, false,
+                              pl, ple, p);
             FGSR_UNROLL for (int c = 0; c < 2 * FGSR_MATCH_RADIUS + 1; ++c) {
                 ivec2 d = centre + ivec2(c - FGSR_MATCH_RADIUS, dy);
-                float r = c == 0 ? acc.x : (c == 1 ? acc.y : (c == 2 ? acc.z : (c == 3 ? acc.w : e)));
-                if (d != centre) s = match_keep(r * (1.0f / 32.0f), d, pred, s, p);
+                float r = c == 0 ? pl.x : (c == 1 ? pl.y : (c == 2 ? pl.z : (c == 3 ? pl.w : ple)));
+                float rz = c == 0 ? z.x : (c == 1 ? z.y : (c == 2 ? z.z : (c == 3 ? z.w : ze)));
+                r = min(r * (1.0f / 32.0f), rz * (1.0f / 32.0f) + p.light_cap);
+                if (d != centre) s = match_keep(r, d, pred, s, p);
             }
         }
     }

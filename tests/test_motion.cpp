@@ -468,6 +468,101 @@ TEST(Motion, PeriodicTextureKeepsTheCoarseMotionOverAZeroAlias) {
     EXPECT_GE(double(outside_right), 0.95 * double(outside));
 }
 
+// The block matching of every level as ref::match_pyramids runs it (no previous submit), with the
+// cost's light cap set to `light_cap`; the field with the finest level's final blocks.
+std::vector<glm::vec4> match_with_light_cap(const std::vector<float>& p1, const std::vector<float>& p0,
+                                            const std::vector<ref::MotionLevel>& levels, float light_cap) {
+    std::vector<glm::vec4> field(ref::motion_field_blocks(levels) * ref::kFieldRegions, glm::vec4(0.f));
+    const auto params = [&](size_t k, bool forward, bool propagate) {
+        gpu::MatchParams m = ref::match_params(levels, k, forward, propagate, false);
+        EXPECT_EQ(m.light_cap, ref::kMotionLightCap);
+        m.light_cap = light_cap;
+        return m;
+    };
+    const size_t finest = ref::motion_first_level(levels);
+    for (size_t k = levels.size(); k-- > finest;) {
+        ref::match_level(p1, p0, field, params(k, false, false));
+        ref::match_level(p0, p1, field, params(k, true, false));
+        ref::match_level(p1, p0, field, params(k, false, true));
+        if (k != finest) ref::consensus_level(p1, p0, field, params(k, false, true));
+    }
+    return field;
+}
+
+// A local change of brightness (match.h match_cost, ref::kMotionLightCap): the camera pans past a
+// dark panel of faint texture (a door in shadow; the frame's left half) beside a lit, textured
+// wall, and a light that fades leaves the panel 40 % brighter in the previous frame than in the
+// current one, the wall unchanged. On the panel that change outweighs the texture: the plain cost
+// (light_cap infinite, what match_cost was before) finds the displacements whose mean brightness
+// fits, and the capped cost finds the pan. mobfgsr-bunker's dark doors at the frame's sides, under
+// the camera's forward motion, are the captured case (docs/MOTION.md, "Local changes of
+// brightness").
+TEST(Motion, ALocalChangeOfBrightnessCostsTheMatchNoMoreThanTheCap) {
+    const uint32_t w = 256, h = 160;
+    const glm::vec2 truth(9.4f, -3.2f); // current -> previous: the same surface point is at p + truth
+    const auto scene = [](glm::vec2 q, float light) { // q: the point on the scene's plane
+        if (q.x < 96.f) {
+            const float n = 0.6f * value_noise(q.x, q.y, 5.f, 21) + 0.4f * value_noise(q.x, q.y, 13.f, 22);
+            const float v = light * (0.02f + 0.012f * n);
+            return glm::vec4(v, v, 0.9f * v, 1.f);
+        }
+        return texture(q, 23);
+    };
+    ref::InternalFrame f0, f1;
+    reference_frames(
+        w, h, [&](glm::vec2 c) { return scene(c, 1.f); }, [&](glm::vec2 c) { return scene(c - truth, 1.4f); },
+        f1, f0);
+    const std::vector<ref::MotionLevel> levels = ref::motion_levels(w, h);
+    ASSERT_EQ(ref::motion_first_level(levels), 0u);
+    const std::vector<float> p0 = ref::luma_pyramid(f0, levels), p1 = ref::luma_pyramid(f1, levels);
+    const ref::MotionLevel& l0 = levels[0];
+    // The panel's blocks, one block in from its edges and the frame's (x < 96 - 9.4 in both frames).
+    const auto on_panel = [&](const std::vector<glm::vec4>& field) {
+        size_t right = 0, n = 0;
+        for (uint32_t by = 1; by + 1 < l0.blocks_y; ++by)
+            for (uint32_t bx = 1; bx < 10; ++bx, ++n)
+                right += glm::length(glm::vec2(field[l0.field_offset + size_t(by) * l0.blocks_x + bx]) -
+                                     truth) < 1.f;
+        return std::pair(right, n);
+    };
+    const auto [capped, n] = on_panel(match_with_light_cap(p1, p0, levels, ref::kMotionLightCap));
+    const size_t plain =
+        on_panel(match_with_light_cap(p1, p0, levels, std::numeric_limits<float>::max())).first;
+    std::printf("[ light ] panel blocks within 1 px of the pan: %zu of %zu capped, %zu plain\n", capped, n,
+                plain);
+    EXPECT_GE(double(capped), 0.9 * double(n));
+    EXPECT_LE(double(plain), 0.5 * double(n)) << "the scene no longer tells the two costs apart";
+    // With no change of brightness the cap changes nothing: the plain cost is the lower one.
+    ref::InternalFrame g0, g1;
+    reference_frames(
+        w, h, [&](glm::vec2 c) { return scene(c, 1.f); }, [&](glm::vec2 c) { return scene(c - truth, 1.f); },
+        g1, g0);
+    const std::vector<float> q0 = ref::luma_pyramid(g0, levels), q1 = ref::luma_pyramid(g1, levels);
+    EXPECT_GE(double(on_panel(match_with_light_cap(q1, q0, levels, ref::kMotionLightCap)).first),
+              0.9 * double(n));
+
+    // A colour-only session (GPU: matching, flow and refinement; the lighting gain, 0.973 here, taken
+    // out first) estimates the pan on the panel, 32 px and more from its edge.
+    auto session = session_of(colour_only(w, h));
+    ASSERT_TRUE(session);
+    const RawFrame r0 = render(w, h, [&](glm::vec2 c) { return scene(c - truth, 1.4f); });
+    const RawFrame r1 = render(w, h, [&](glm::vec2 c) { return scene(c, 1.f); });
+    ASSERT_TRUE(session->submit(r0.view()));
+    ASSERT_TRUE(session->submit(r1.view()));
+    auto got = session->read_frame(1);
+    ASSERT_TRUE(got);
+    ASSERT_TRUE(got->has_mv);
+    size_t near = 0, pixels = 0;
+    for (uint32_t y = 16; y + 16 < h; ++y)
+        for (uint32_t x = 16; x < 64; ++x, ++pixels) {
+            const size_t i = size_t(y) * w + x;
+            near += glm::length(glm::vec2(got->mv[2 * i], got->mv[2 * i + 1]) - truth) < 1.f;
+        }
+    std::printf("[ light ] session: %zu of %zu panel pixels within 1 px of the pan\n", near, pixels);
+    EXPECT_GE(double(near), 0.9 * double(pixels));
+    expect_no_validation_errors();
+}
+
 // Sessions refine the estimate of unjittered frames only, with and without SR (session.cpp: on
 // jittered ones the colour it would fit is their aliasing).
 // A checker wall of `square` px squares with a little noise panning by `pan` (current -> previous)

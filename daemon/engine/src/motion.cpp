@@ -59,6 +59,7 @@ gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_
     m.same_offset = MOTION_NONE;
     m.temporal_offset = MOTION_NONE;
     m.zero_bias = k + 1 < levels.size() ? kMotionZeroBias : 0.f;
+    m.light_cap = kMotionLightCap;
     if (propagate) {
         m.field_offset = l.field_offset + dir;
         m.same_offset = l.field_offset + first_pass;

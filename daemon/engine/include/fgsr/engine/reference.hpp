@@ -142,6 +142,13 @@ inline constexpr float kMotionLambdaCoarsest = 0.004f;
 // under any motion; the finest level, which has no regulariser, then drifts to zero against the
 // coarse motion. Chosen on the train captures (docs/MOTION.md, "The zero displacement's bias").
 inline constexpr float kMotionZeroBias = 0.005f;
+// The most a block's change of mean brightness between the frames adds to its match cost (match.h
+// match_cost: the cost with the means removed, plus this, where that is lower than the plain one).
+// Light and shadow that change over a surface, or a surface nearing a lamp, change the brightness
+// of dark, low-contrast content by more than its texture; the plain cost then follows the
+// brightness instead of the texture. Chosen on the train captures (docs/MOTION.md, "Local changes
+// of brightness").
+inline constexpr float kMotionLightCap = 0.008f;
 inline constexpr float kMotionFbTolerance = 2.0f; // forward-backward mismatch (pixels) of occlusion
 inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) at half the proxy's range
 inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for the same dominant motion
