@@ -106,7 +106,8 @@ FGSR_INLINE float match_cost(float blk[32], ivec2 origin, ivec2 d, MatchParams p
     float mv = 0.0f;
     FGSR_UNROLL for (int y = 0; y < 8; ++y)
         FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) mv += match_dst(origin + ivec2(x, y) + d, p);
-    float off = match_half_mean(blk) - mv * (1.0f / 32.0f);
+    float ms = match_half_mean(blk);
+    float off = ms - mv * (1.0f / 32.0f);
     float s = 0.0f, z = 0.0f;
     FGSR_UNROLL for (int y = 0; y < 8; ++y)
         FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) {
@@ -114,7 +115,7 @@ FGSR_INLINE float match_cost(float blk[32], ivec2 origin, ivec2 d, MatchParams p
             z += abs(blk[y * 4 + (x >> 1)] - off - v);
             s += abs(blk[y * 4 + (x >> 1)] - v);
         }
-    return min(s * (1.0f / 32.0f), z * (1.0f / 32.0f) + p.light_cap);
+    return min(s * (1.0f / 32.0f), z * (1.0f / 32.0f) + p.light_cap * ms);
 }
 
 // Mean absolute difference of the whole block against the destination at origin + d.
@@ -357,7 +358,7 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
                 ivec2 d = centre + ivec2(c - FGSR_MATCH_RADIUS, dy);
                 float r = c == 0 ? pl.x : (c == 1 ? pl.y : (c == 2 ? pl.z : (c == 3 ? pl.w : ple)));
                 float rz = c == 0 ? z.x : (c == 1 ? z.y : (c == 2 ? z.z : (c == 3 ? z.w : ze)));
-                r = min(r * (1.0f / 32.0f), rz * (1.0f / 32.0f) + p.light_cap);
+                r = min(r * (1.0f / 32.0f), rz * (1.0f / 32.0f) + p.light_cap * ms);
                 if (d != centre) s = match_keep(r, d, pred, s, p);
             }
         }

@@ -44,7 +44,7 @@ size_t ref::motion_first_level(const std::vector<MotionLevel>& levels) {
 }
 
 gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward,
-                                   bool propagate, bool temporal) {
+                                   bool propagate, bool temporal, bool light) {
     const MotionLevel& l = levels[k];
     const uint32_t half = motion_field_blocks(levels);
     const uint32_t dir = forward ? half : 0, first_pass = 2 * half + dir;
@@ -59,7 +59,7 @@ gpu::MatchParams ref::match_params(const std::vector<MotionLevel>& levels, size_
     m.same_offset = MOTION_NONE;
     m.temporal_offset = MOTION_NONE;
     m.zero_bias = k + 1 < levels.size() ? kMotionZeroBias : 0.f;
-    m.light_cap = kMotionLightCap;
+    m.light_cap = light ? kMotionLightCap : kMotionNoLightCap;
     if (propagate) {
         m.field_offset = l.field_offset + dir;
         m.same_offset = l.field_offset + first_pass;
@@ -326,7 +326,7 @@ Variant match_variant(const gpu::MatchParams& m) {
 }
 } // namespace
 
-Result<void> Session::Impl::record_match(int cur, int prev) {
+Result<void> Session::Impl::record_match(int cur, int prev, bool light) {
     const vk::Buffer& a = estimator.pyramid[size_t(cur)];
     const vk::Buffer& b = estimator.pyramid[size_t(prev)];
     const auto back =
@@ -350,12 +350,12 @@ Result<void> Session::Impl::record_match(int cur, int prev) {
     const bool consensus = params.motion_consensus && !correction().on;
     for (size_t k = estimator.levels.size(); k-- > finest;) {
         const ref::MotionLevel& l = estimator.levels[k];
-        const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false, false, temporal);
-        const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true, false, temporal);
+        const gpu::MatchParams pb = ref::match_params(estimator.levels, k, false, false, temporal, light);
+        const gpu::MatchParams pf = ref::match_params(estimator.levels, k, true, false, temporal, light);
         FGSR_TRY(rec.dispatch_pixels(match_variant(pb), back, &pb, l.blocks_x, l.blocks_y));
         FGSR_TRY(rec.dispatch_pixels(match_variant(pf), fwd, &pf, l.blocks_x, l.blocks_y));
         rec.barrier();
-        const gpu::MatchParams pp = ref::match_params(estimator.levels, k, false, true, temporal);
+        const gpu::MatchParams pp = ref::match_params(estimator.levels, k, false, true, temporal, light);
         FGSR_TRY(rec.dispatch_pixels(match_variant(pp), back, &pp, l.blocks_x, l.blocks_y));
         rec.barrier();
         if (!consensus || k == finest) continue;

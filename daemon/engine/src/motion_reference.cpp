@@ -183,7 +183,8 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 }
 
 void match_pyramids(const std::vector<float>& cur, const std::vector<float>& prev,
-                    const std::vector<MotionLevel>& levels, std::vector<glm::vec4>& field, bool consensus) {
+                    const std::vector<MotionLevel>& levels, std::vector<glm::vec4>& field, bool consensus,
+                    bool light) {
     const size_t half = motion_field_blocks(levels);
     const bool temporal = field.size() == half * kFieldRegions;
     field.resize(half * kFieldRegions);
@@ -192,9 +193,9 @@ void match_pyramids(const std::vector<float>& cur, const std::vector<float>& pre
                   field.begin() + std::ptrdiff_t(4 * half));
     const size_t finest = motion_first_level(levels);
     for (size_t k = levels.size(); k-- > finest;) {
-        match_level(cur, prev, field, match_params(levels, k, false, false, temporal));
-        match_level(prev, cur, field, match_params(levels, k, true, false, temporal));
-        const MatchParams propagation = match_params(levels, k, false, true, temporal);
+        match_level(cur, prev, field, match_params(levels, k, false, false, temporal, light));
+        match_level(prev, cur, field, match_params(levels, k, true, false, temporal, light));
+        const MatchParams propagation = match_params(levels, k, false, true, temporal, light);
         match_level(cur, prev, field, propagation);
         if (consensus && k != finest) consensus_level(cur, prev, field, propagation);
     }
@@ -202,14 +203,14 @@ void match_pyramids(const std::vector<float>& cur, const std::vector<float>& pre
 
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
                               std::vector<glm::vec4>& field, VectorCorrection correct, bool fast,
-                              float typical_share, bool consensus) {
+                              float typical_share, bool consensus, bool light) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
     const std::vector<float> p1 = luma_pyramid(f1, levels);
     std::vector<float> p0 = luma_pyramid(f0, levels);
     const float gain = luma_gain_of(p1, p0, levels);
     if (gain != 1.f)
         for (float& v : p0) v *= gain;
-    match_pyramids(p1, p0, levels, field, consensus && !correct.on);
+    match_pyramids(p1, p0, levels, field, consensus && !correct.on, light);
     MotionSummary s = summarise_motion(levels, field.data(), typical_share);
     if (s.cut) { // a cut as matched: relit, as the engine does (ref::summarise_motion)
         gpu::CutMatchCpu cut{&p1, &p0, &field, cut_match_params(levels)};

@@ -347,7 +347,9 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         }
         s.rec.timestamp(q++);
         if (!restart) {
-            FGSR_TRY(s.record_match(slot, s.newest));
+            // The light cap only on unjittered frames: on jittered ones a block's aliasing changes
+            // every frame and its mean is what holds (docs/MOTION.md, "Local changes of brightness").
+            FGSR_TRY(s.record_match(slot, s.newest, frame.jitter_x == 0.f && frame.jitter_y == 0.f));
             s.rec.timestamp(q++);
         }
         FGSR_TRY(s.rec.finish(true));

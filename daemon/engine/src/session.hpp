@@ -209,7 +209,8 @@ struct Session::Impl {
     Result<void> record_luma(int slot);
     // The lighting gain of frames cur and prev (shaders/luma.h): prev's pyramid scaled in place.
     Result<void> record_luma_gain(int cur, int prev);
-    Result<void> record_match(int cur, int prev);
+    // light: block costs with the light cap (unjittered frames; ref::kMotionLightCap).
+    Result<void> record_match(int cur, int prev, bool light);
     ref::MotionSummary summarise_motion(bool relit) const;
     // The cut statistics of the finest level's blocks (match.comp FGSR_MATCH_CUT, kCutRegion).
     Result<void> record_cut_match(int cur, int prev);

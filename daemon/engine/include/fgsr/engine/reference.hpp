@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -142,13 +143,17 @@ inline constexpr float kMotionLambdaCoarsest = 0.004f;
 // under any motion; the finest level, which has no regulariser, then drifts to zero against the
 // coarse motion. Chosen on the train captures (docs/MOTION.md, "The zero displacement's bias").
 inline constexpr float kMotionZeroBias = 0.005f;
-// The most a block's change of mean brightness between the frames adds to its match cost (match.h
-// match_cost: the cost with the means removed, plus this, where that is lower than the plain one).
-// Light and shadow that change over a surface, or a surface nearing a lamp, change the brightness
-// of dark, low-contrast content by more than its texture; the plain cost then follows the
-// brightness instead of the texture. Chosen on the train captures (docs/MOTION.md, "Local changes
-// of brightness").
-inline constexpr float kMotionLightCap = 0.008f;
+// The most a block's change of mean brightness between the frames adds to its match cost, relative
+// to the block's mean (match.h match_cost: the cost with the means removed, plus this times the
+// block's mean luma, where that is lower than the plain cost). Light and shadow that change over a
+// surface, or a surface nearing a lamp, change the brightness of dark, low-contrast content by more
+// than its texture; the plain cost then follows the brightness instead of the texture. A change of
+// light scales linear luminance, so it moves this luma in proportion to it: the cap is relative.
+// Not on jittered frames (kMotionNoLightCap): their blocks' aliasing changes every frame, and the
+// block's mean is the part of it that holds. Chosen on the train captures (docs/MOTION.md, "Local
+// changes of brightness").
+inline constexpr float kMotionLightCap = 0.04f;
+inline constexpr float kMotionNoLightCap = std::numeric_limits<float>::max(); // the plain cost
 inline constexpr float kMotionFbTolerance = 2.0f; // forward-backward mismatch (pixels) of occlusion
 inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) at half the proxy's range
 inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for the same dominant motion
@@ -187,10 +192,10 @@ size_t motion_first_level(const std::vector<MotionLevel>& levels);
 inline constexpr uint32_t kFieldRegions = 7;
 inline constexpr uint32_t kCutRegion = 5;
 // Push constants of level k's first pass (propagate false) or propagation pass (forward:
-// previous -> current; temporal: the temporal region holds the previous submit's field), and of
-// the flow pass.
+// previous -> current; temporal: the temporal region holds the previous submit's field; light: the
+// light cap, kMotionLightCap, else kMotionNoLightCap), and of the flow pass.
 MatchParams match_params(const std::vector<MotionLevel>& levels, size_t k, bool forward, bool propagate,
-                         bool temporal);
+                         bool temporal, bool light = true);
 // correct: the flow pass corrects the frame's given vectors (Params::correct_vectors, with its
 // ratio and margin) instead of writing estimated ones.
 struct VectorCorrection {
@@ -351,9 +356,10 @@ void consensus_level(const std::vector<float>& src, const std::vector<float>& ds
 // Block matching of a pair's pyramids, coarse to fine, both directions, each level's propagation
 // (and with `consensus` its consensus stages), as the engine's match pass runs it. `field`: the
 // previous pair's (its current -> previous levels become the temporal candidates), or empty for a
-// first pair; it is resized to kFieldRegions regions.
+// first pair; it is resized to kFieldRegions regions. light: as match_params.
 void match_pyramids(const std::vector<float>& cur, const std::vector<float>& prev,
-                    const std::vector<MotionLevel>& levels, std::vector<glm::vec4>& field, bool consensus);
+                    const std::vector<MotionLevel>& levels, std::vector<glm::vec4>& field, bool consensus,
+                    bool light = true);
 // The refinement's sweeps (both colours, kPolishIterations times) over f.mv (whatever its size:
 // estimate_motion applies polishes()).
 void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f);
@@ -368,10 +374,11 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 // refinement at any size (Params::fast_motion).
 // typical_share: the session's (summarise_motion; negative: none yet). consensus: the consensus of
 // unambiguous blocks on the levels above the finest (Params::motion_consensus, consensus_level);
-// never while correcting (as the engine).
+// never while correcting (as the engine). light: block costs with the light cap (kMotionLightCap;
+// the engine's on unjittered frames), else plain (kMotionNoLightCap).
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
                               std::vector<glm::vec4>& field, VectorCorrection correct = {}, bool fast = false,
-                              float typical_share = -1.f, bool consensus = true);
+                              float typical_share = -1.f, bool consensus = true, bool light = true);
 inline MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
     std::vector<glm::vec4> field;
     return estimate_motion(f0, f1, write_depth, field);
