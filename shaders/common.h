@@ -255,7 +255,7 @@ struct MatchParams {
     uint temporal_offset; // MOTION_NONE, or this level's blocks of the previous submit
     uint store; // MATCH_STORE_* bits: what the pass stores besides the integer vector and its cost
     float zero_bias; // cost added to the zero displacement (below the coarsest level; match.h)
-    float light_cap; // the most a block's change of brightness adds to its cost (match.h match_cost)
+    float light_cap; // x the block's mean: the most its change of brightness costs (match_cost; < 0: plain)
 };
 #define MATCH_STORE_CONTRAST 1u // the block's contrast (read by the fill stage, flow.h's check field)
 #define MATCH_STORE_SUBPIXEL 2u // a sub-pixel vector (else integer: a first pass's, read rounded)

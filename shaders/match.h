@@ -14,9 +14,9 @@
 //      the first pass's vectors of the block and its four neighbours, so that a good match
 //      spreads along structures (poles, floors) that single blocks miss;
 //   2. cost of a displacement d: mean absolute luma difference over the block (SAD / 64; or, where
-//      lower, with the means removed plus light_cap: a local change of brightness costs at most
-//      that) plus lambda x |d - prediction| (the parent's vector), which keeps flat regions, where
-//      every displacement costs the same, on the coarse motion;
+//      lower, with the means removed plus light_cap x the block's mean: a local change of
+//      brightness costs at most that) plus lambda x |d - prediction| (the parent's vector), which
+//      keeps flat regions, where every displacement costs the same, on the coarse motion;
 //   3. a full integer search of +-radius around the best candidate (the coarsest level searches
 //      widely, the finer ones +-1);
 //   4. sub-pixel refinement by equiangular (V-shaped) line fits through the SAD at the best
@@ -96,12 +96,13 @@ FGSR_INLINE float match_half_mean(float blk[32]) {
 // The cost of displacement d: the mean absolute difference over the block's checkerboard half (32
 // pixels, held in blk: row y's pixels x = (y & 1) + 2i at blk[4y + i]; half the reads, and a
 // displacement that fits one half of an 8x8 block fits the other), or, where lower, the same with
-// the two halves' means removed plus p.light_cap: a change of the block's brightness between the
-// frames (a light or a shadow falling on it, a surface nearing a lamp) costs at most light_cap,
-// however large. Without it, on dark content of little texture the brightness change outweighs
-// the texture, and the match goes wherever the mean brightness fits (docs/MOTION.md, "Local changes
-// of brightness"). Only this half is kept in registers: 64 live values made llvmpipe's register
-// allocation take seconds per build.
+// the two halves' means removed plus p.light_cap times the block's mean: a change of the block's
+// brightness between the frames (a light or a shadow falling on it, a surface nearing a lamp)
+// costs at most that, however large (a negative light_cap: the plain cost only). Without it, on
+// dark content of little texture the brightness change outweighs the texture, and the match goes
+// wherever the mean brightness fits (docs/MOTION.md, "Local changes of brightness"). Only this
+// half is kept in registers: 64 live values made llvmpipe's register allocation take seconds per
+// build.
 FGSR_INLINE float match_cost(float blk[32], ivec2 origin, ivec2 d, MatchParams p) {
     float mv = 0.0f;
     FGSR_UNROLL for (int y = 0; y < 8; ++y)
@@ -115,7 +116,8 @@ FGSR_INLINE float match_cost(float blk[32], ivec2 origin, ivec2 d, MatchParams p
             z += abs(blk[y * 4 + (x >> 1)] - off - v);
             s += abs(blk[y * 4 + (x >> 1)] - v);
         }
-    return min(s * (1.0f / 32.0f), z * (1.0f / 32.0f) + p.light_cap * ms);
+    float cost = s * (1.0f / 32.0f);
+    return p.light_cap >= 0.0f ? min(cost, z * (1.0f / 32.0f) + p.light_cap * ms) : cost;
 }
 
 // Mean absolute difference of the whole block against the destination at origin + d.
@@ -358,7 +360,8 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
                 ivec2 d = centre + ivec2(c - FGSR_MATCH_RADIUS, dy);
                 float r = c == 0 ? pl.x : (c == 1 ? pl.y : (c == 2 ? pl.z : (c == 3 ? pl.w : ple)));
                 float rz = c == 0 ? z.x : (c == 1 ? z.y : (c == 2 ? z.z : (c == 3 ? z.w : ze)));
-                r = min(r * (1.0f / 32.0f), rz * (1.0f / 32.0f) + p.light_cap * ms);
+                r *= 1.0f / 32.0f;
+                if (p.light_cap >= 0.0f) r = min(r, rz * (1.0f / 32.0f) + p.light_cap * ms);
                 if (d != centre) s = match_keep(r, d, pred, s, p);
             }
         }

@@ -14,7 +14,6 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
-#include <limits>
 #include <span>
 #include <vector>
 
@@ -153,7 +152,7 @@ inline constexpr float kMotionZeroBias = 0.005f;
 // block's mean is the part of it that holds. Chosen on the train captures (docs/MOTION.md, "Local
 // changes of brightness").
 inline constexpr float kMotionLightCap = 0.04f;
-inline constexpr float kMotionNoLightCap = std::numeric_limits<float>::max(); // the plain cost
+inline constexpr float kMotionNoLightCap = -1.f; // the plain cost only
 inline constexpr float kMotionFbTolerance = 2.0f; // forward-backward mismatch (pixels) of occlusion
 inline constexpr float kMotionDepthScale = 4.0f;  // motion difference (pixels) at half the proxy's range
 inline constexpr float kMotionModeRadius = 1.0f;  // vectors this close vote for the same dominant motion
