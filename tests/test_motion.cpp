@@ -468,27 +468,6 @@ TEST(Motion, PeriodicTextureKeepsTheCoarseMotionOverAZeroAlias) {
     EXPECT_GE(double(outside_right), 0.95 * double(outside));
 }
 
-// The block matching of every level as ref::match_pyramids runs it (no previous submit), with the
-// cost's light cap set to `light_cap`; the field with the finest level's final blocks.
-std::vector<glm::vec4> match_with_light_cap(const std::vector<float>& p1, const std::vector<float>& p0,
-                                            const std::vector<ref::MotionLevel>& levels, float light_cap) {
-    std::vector<glm::vec4> field(ref::motion_field_blocks(levels) * ref::kFieldRegions, glm::vec4(0.f));
-    const auto params = [&](size_t k, bool forward, bool propagate) {
-        gpu::MatchParams m = ref::match_params(levels, k, forward, propagate, false);
-        EXPECT_EQ(m.light_cap, ref::kMotionLightCap);
-        m.light_cap = light_cap;
-        return m;
-    };
-    const size_t finest = ref::motion_first_level(levels);
-    for (size_t k = levels.size(); k-- > finest;) {
-        ref::match_level(p1, p0, field, params(k, false, false));
-        ref::match_level(p0, p1, field, params(k, true, false));
-        ref::match_level(p1, p0, field, params(k, false, true));
-        if (k != finest) ref::consensus_level(p1, p0, field, params(k, false, true));
-    }
-    return field;
-}
-
 // A local change of brightness (match.h match_cost, ref::kMotionLightCap): the camera pans past a
 // dark panel of faint texture (a door in shadow; the frame's left 96 px of 256) beside a lit,
 // textured wall, and a light that fades leaves the panel 40 % brighter in the previous frame than
@@ -525,8 +504,16 @@ TEST(Motion, ALocalChangeOfBrightnessCostsTheMatchNoMoreThanTheCap) {
                                      truth) < 1.f;
         return std::pair(right, n);
     };
-    const auto [capped, n] = on_panel(match_with_light_cap(p1, p0, levels, ref::kMotionLightCap));
-    const size_t plain = on_panel(match_with_light_cap(p1, p0, levels, ref::kMotionNoLightCap)).first;
+    // The block matching of every level (no previous submit), with the light cap and without.
+    EXPECT_EQ(ref::match_params(levels, 0, false, true, false).light_cap, ref::kMotionLightCap);
+    EXPECT_EQ(ref::match_params(levels, 0, false, true, false, false).light_cap, ref::kMotionNoLightCap);
+    const auto matched = [&](const std::vector<float>& cur, const std::vector<float>& prev, bool light) {
+        std::vector<glm::vec4> field;
+        ref::match_pyramids(cur, prev, levels, field, true, light);
+        return field;
+    };
+    const auto [capped, n] = on_panel(matched(p1, p0, true));
+    const size_t plain = on_panel(matched(p1, p0, false)).first;
     std::printf("[ light ] panel blocks within 1 px of the pan: %zu of %zu capped, %zu plain\n", capped, n,
                 plain);
     EXPECT_GE(double(capped), 0.9 * double(n));
@@ -537,8 +524,7 @@ TEST(Motion, ALocalChangeOfBrightnessCostsTheMatchNoMoreThanTheCap) {
         w, h, [&](glm::vec2 c) { return scene(c, 1.f); }, [&](glm::vec2 c) { return scene(c - truth, 1.f); },
         g1, g0);
     const std::vector<float> q0 = ref::luma_pyramid(g0, levels), q1 = ref::luma_pyramid(g1, levels);
-    EXPECT_GE(double(on_panel(match_with_light_cap(q1, q0, levels, ref::kMotionLightCap)).first),
-              0.9 * double(n));
+    EXPECT_GE(double(on_panel(matched(q1, q0, true)).first), 0.9 * double(n));
 
     // A colour-only session (GPU: matching, flow and refinement; the lighting gain, 0.973 here, taken
     // out first) estimates the pan on the panel, 32 px and more from its edge. On jittered frames
