@@ -21,7 +21,8 @@
 //      widely, the finer ones +-1);
 //   4. sub-pixel refinement by equiangular (V-shaped) line fits through the SAD at the best
 //      position and its four neighbours, the fit suited to SAD (a parabola under-shoots it).
-// Pixels outside the level are read at the nearest edge pixel. The field stores vec4(v, SAD,
+// A block is moved inward where it would reach past the level's edge (match_origin); destination
+// pixels outside the level are read at the nearest edge pixel. The field stores vec4(v, SAD,
 // contrast): v in pixels of this level, from a source pixel to its position in the destination;
 // SAD of the match; the block's mean absolute deviation from its mean.
 //
@@ -52,7 +53,8 @@
 #define MATCH_GOOD 0.003f // mean absolute luma difference of a match that needs no search
 #define MATCH_STILL 1.0e-5f // ... of a block that has not changed at all: zero motion, nothing else tried
 
-// Pixel (x, y) of the source block at origin, read at the nearest edge pixel outside the level.
+// Pixel (x, y) of the source block at origin (match_origin keeps it inside the level; read at the
+// nearest edge pixel outside it).
 FGSR_INLINE float match_src(ivec2 origin, int x, int y, MatchParams p) {
     ivec2 q = min(origin + ivec2(x, y), ivec2(int(p.width) - 1, int(p.height) - 1));
     return load_src(p.src_offset + uint(q.y) * p.width + uint(q.x));
@@ -63,6 +65,18 @@ FGSR_INLINE float match_src(ivec2 origin, int x, int y, MatchParams p) {
 FGSR_INLINE float match_half_src(ivec2 origin, int k, MatchParams p) {
     int y = k >> 2;
     return match_src(origin, (y & 1) + 2 * (k & 3), y, p);
+}
+
+// The first pixel of block b. A block of the grid's last column or row that would reach past the
+// level's edge is moved inward to end at it (a level is at least MOTION_BLOCK pixels a side), so that
+// every pixel its cost compares is the frame's own. Read at the nearest edge pixel instead, the
+// rows or columns past the edge would all repeat the last one, and so would the destination's under
+// any displacement that points out of the frame there: such displacements matched those rows for
+// nothing, and the blocks along the bottom edge of a camera moving forward (whose content comes
+// from above) took them (docs/MOTION.md, "Blocks at the frame's edge").
+FGSR_INLINE ivec2 match_origin(uvec2 b, MatchParams p) {
+    ivec2 last = max(ivec2(int(p.width), int(p.height)) - int(MOTION_BLOCK), ivec2(0));
+    return min(ivec2(b) * int(MOTION_BLOCK), last);
 }
 
 // Whether block c lies in the level's block grid.
@@ -267,7 +281,7 @@ FGSR_INLINE MatchSearch match_try(float blk[32], ivec2 origin, ivec2 d, vec2 pre
 
 FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
-    ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
+    ivec2 origin = match_origin(b, p);
     float blk[32];
     FGSR_UNROLL for (int k = 0; k < 32; ++k) blk[k] = match_half_src(origin, k, p);
     uint at = p.field_offset + b.y * p.blocks_x + b.x;
@@ -497,7 +511,7 @@ FGSR_INLINE void ambiguity_block(uvec2 b, MatchParams p) {
     if (b.x >= p.blocks_x || b.y >= p.blocks_y) return;
     vec4 own = load_field(p.field_offset + b.y * p.blocks_x + b.x);
     ivec2 v = match_rounded(own);
-    ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
+    ivec2 origin = match_origin(b, p);
     float blk[32];
     FGSR_UNROLL for (int k = 0; k < 32; ++k) blk[k] = match_half_src(origin, k, p);
     float contrast = match_half_contrast(blk);
@@ -538,7 +552,7 @@ FGSR_INLINE void consensus_block(uvec2 b, MatchParams p) {
     vec4 result = vec4(own.x, own.y, own.z, 0.0f);
     if (copy.w == 1.0f) {
         ivec2 v = match_rounded(copy);
-        ivec2 origin = ivec2(b) * int(MOTION_BLOCK);
+        ivec2 origin = match_origin(b, p);
         ivec2 best = v;
         int best_support = consensus_support(ivec2(b), v, p);
         float blk[32];
