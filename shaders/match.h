@@ -68,8 +68,9 @@ FGSR_INLINE float match_half_src(ivec2 origin, int k, MatchParams p) {
 }
 
 // The first pixel of block b. A block of the grid's last column or row that would reach past the
-// level's edge is moved inward to end at it (a level is at least MOTION_BLOCK pixels a side), so that
-// every pixel its cost compares is the frame's own. Read at the nearest edge pixel instead, the
+// level's edge is moved inward to end at it (levels above 0 are at least 16 pixels a side; a frame
+// smaller than a block keeps it at 0, its pixels past the edge read at the nearest edge pixel), so
+// that every pixel its cost compares is the frame's own. Read at the nearest edge pixel instead, the
 // rows or columns past the edge would all repeat the last one, and so would the destination's under
 // any displacement that points out of the frame there: such displacements matched those rows for
 // nothing, and the blocks along the bottom edge of a camera moving forward (whose content comes
@@ -118,11 +119,14 @@ FGSR_INLINE float match_half_mean(float blk[32]) {
 // half is kept in registers: 64 live values made llvmpipe's register allocation take seconds per
 // build.
 FGSR_INLINE float match_cost(float blk[32], ivec2 origin, ivec2 d, MatchParams p) {
-    float mv = 0.0f;
-    FGSR_UNROLL for (int y = 0; y < 8; ++y)
-        FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) mv += match_dst(origin + ivec2(x, y) + d, p);
     float ms = match_half_mean(blk);
-    float off = ms - mv * (1.0f / 32.0f);
+    float off = 0.0f;
+    if (p.light_cap >= 0.0f) { // the candidate's mean: only the capped cost needs it (a uniform branch)
+        float mv = 0.0f;
+        FGSR_UNROLL for (int y = 0; y < 8; ++y)
+            FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) mv += match_dst(origin + ivec2(x, y) + d, p);
+        off = ms - mv * (1.0f / 32.0f);
+    }
     float s = 0.0f, z = 0.0f;
     FGSR_UNROLL for (int y = 0; y < 8; ++y)
         FGSR_UNROLL for (int x = y & 1; x < 8; x += 2) {
@@ -358,14 +362,18 @@ FGSR_INLINE void match_block(uvec2 b, MatchParams p) {
     if (n_search > 0) {
         float ms = match_half_mean(blk);
         FGSR_UNROLL for (int dy = -FGSR_MATCH_RADIUS; dy <= FGSR_MATCH_RADIUS; ++dy) {
-            // The candidates' means first (the same reads), then both sums of each.
+            // The candidates' means first (the same reads; only for the capped cost), then both
+            // sums of each.
             vec4 o = vec4(0.0f), z = vec4(0.0f), pl = vec4(0.0f);
             float oe = 0.0f, ze = 0.0f, ple = 0.0f;
-            FGSR_UNROLL for (int y = 0; y < 8; ++y)
-                o = match_row(0.0f, 0.0f, 0.0f, 0.0f, origin + centre + ivec2((y & 1) - FGSR_MATCH_RADIUS, y + dy),
-                              o, oe, vec4(0.0f), 0.0f, true, pl, ple, p);
-            o = vec4(ms) - o * (1.0f / 32.0f);
-            oe = ms - oe * (1.0f / 32.0f);
+            if (p.light_cap >= 0.0f) {
+                FGSR_UNROLL for (int y = 0; y < 8; ++y)
+                    o = match_row(0.0f, 0.0f, 0.0f, 0.0f,
+                                  origin + centre + ivec2((y & 1) - FGSR_MATCH_RADIUS, y + dy), o, oe, vec4(0.0f),
+                                  0.0f, true, pl, ple, p);
+                o = vec4(ms) - o * (1.0f / 32.0f);
+                oe = ms - oe * (1.0f / 32.0f);
+            }
             FGSR_UNROLL for (int y = 0; y < 8; ++y)
                 z = match_row(blk[y * 4], blk[y * 4 + 1], blk[y * 4 + 2], blk[y * 4 + 3],
                               origin + centre + ivec2((y & 1) - FGSR_MATCH_RADIUS, y + dy), z, ze, o, oe, false,
