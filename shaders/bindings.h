@@ -114,6 +114,24 @@
 #define POLISH_TEXELS                                                                                        \
     ((1u << POLISH_CUR) | (1u << POLISH_PREV) | (1u << POLISH_MV_TEXELS) | (1u << POLISH_FIELD))
 
+// agree (agree.h): the warped frames, depths and field states of the given field (separate passes)
+// and of the colour-only field, each field's blended frame, the disagreement and its row sums.
+#define AGREE_GIVEN_W0 0
+#define AGREE_GIVEN_D0 1
+#define AGREE_GIVEN_W1 2
+#define AGREE_GIVEN_D1 3
+#define AGREE_GIVEN_STATE 4
+#define AGREE_COLOUR_W0 5
+#define AGREE_COLOUR_D0 6
+#define AGREE_COLOUR_W1 7
+#define AGREE_COLOUR_D1 8
+#define AGREE_COLOUR_STATE 9
+#define AGREE_GIVEN 10  // the given field's frame (vec4), which stage 3 overwrites with the result
+#define AGREE_COLOUR 11 // the colour-only field's frame (vec4)
+#define AGREE_E 12      // stage 1 writes, stage 2 reads: vec2 (given, colour) per pixel
+#define AGREE_ROWS 13   // stage 2 writes, stage 3 reads: their means along rows
+#define AGREE_COUNT 14
+
 // classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current
 // vectors, GEN_DEPTH1 = current depth, GEN_DEPTH0 = previous depth), then:
 #define CLASSIFY_COLOR0 6

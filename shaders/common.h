@@ -313,6 +313,16 @@ struct PolishParams {
     uint block_shift;  // blocks of MOTION_BLOCK << shift frame pixels, vectors x 2^shift
 };
 
+// agree.h: interpolation in sessions with vectors that also generate from colour-only motion
+// (Params::colour_agree), one stage per dispatch (agree.comp, AGREE_STAGE).
+struct AgreeParams {
+    GenParams g;  // the generated frame's (both fields' blend decisions: t_depth)
+    uint radius;  // the box's half side, pixels
+    float ratio;  // the given field's disagreement is scaled by this ...
+    float margin; // ... and must exceed the colour field's by more than this (brightness units)
+    uint pad;
+};
+
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
 // (uvec2: packHalf2x16(r, g), packHalf2x16(b, a)). Ingest clamps channels to [0, 65504], so packing
 // never overflows; the half rounding (relative error <= 2^-11) is far below what the metrics see,
@@ -394,6 +404,7 @@ static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
                   sizeof(PolishParams) == 72,
               "motion push constants");
+static_assert(sizeof(AgreeParams) == 64, "agree push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

@@ -1159,6 +1159,158 @@ TEST(Motion, CorrectionKeepsExactVectorsAtDisocclusions) {
     expect_no_validation_errors();
 }
 
+// Params::colour_agree (the agree pass, shaders/agree.h): a shadow band sweeping over still
+// textured ground, exact (zero) vectors and depth. Warped with the given field, frame 0 and frame 1
+// disagree across the band's sweep and their blend shows the shadow twice at half strength; the
+// colour-only field follows the shadow and its warped frames agree. The frame moves towards the
+// truth (the band halfway) by several dB, and the pass is timed as `agree`.
+TEST(Motion, AgreeTakesTheColourFieldWhereAShadowSweepsOverStillGround) {
+    const uint32_t w = 192, h = 96;
+    const float step = 7.f;
+    const std::vector<glm::vec2> zero(size_t(w) * h, glm::vec2(0.f));
+    auto frame = [&](float t) {
+        return with_geometry(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, t, step); }), w, h, zero,
+                             10.f);
+    };
+    const std::vector<glm::vec4> truth =
+        colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, 1.5f, step); }));
+    double score[2] = {0, 0};
+    for (int agree = 0; agree < 2; ++agree) {
+        Params p;
+        p.colour_agree = agree != 0;
+        auto s = session_of(internal_format(w, h), p);
+        ASSERT_TRUE(s);
+        for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(s->submit(frame(t).view()));
+        const float alpha = 0.5f;
+        auto out = s->interpolate(std::span<const float>(&alpha, 1));
+        ASSERT_TRUE(out) << out.error().message;
+        score[agree] = psnr((*out)[0].color.rgba, truth);
+        const auto& passes = (*out)[0].passes;
+        const bool timed = std::any_of(passes.begin(), passes.end(),
+                                       [](const PassTiming& t) { return t.pass == PassId::agree; });
+        EXPECT_EQ(timed, agree != 0);
+    }
+    std::printf("[ measured ] sweeping shadow: given vectors %.2f dB, with the agree pass %.2f dB\n",
+                score[0], score[1]);
+    EXPECT_GT(score[1], score[0] + 3.0);
+    expect_no_validation_errors();
+}
+
+// The agree pass where the given vectors explain the colour: a textured square moving over a
+// still textured background with its exact vectors and depth. The given field's warped frames
+// agree (the uncovered background is a disocclusion, where blend takes one frame), so the pass
+// keeps the given frame pixel for pixel.
+TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
+    const uint32_t w = 192, h = 128;
+    const glm::vec2 start(30.f, 40.f), step(10.f, -5.f);
+    const float side = 40.f;
+    auto frame = [&](float t) {
+        RawFrame f = render(w, h, [&](glm::vec2 p) { return square_scene(p, t, start, step, side); });
+        std::vector<glm::vec2> mv(size_t(w) * h);
+        std::vector<float> depth(size_t(w) * h);
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                const glm::vec2 lp = glm::vec2(x + 0.5f, y + 0.5f) - (start + t * step);
+                const bool in = lp.x >= 0 && lp.y >= 0 && lp.x < side && lp.y < side;
+                mv[size_t(y) * w + x] = in ? -step : glm::vec2(0.f);
+                depth[size_t(y) * w + x] = in ? 5.f : 20.f;
+            }
+        f.mv = bytes_of(mv);
+        f.depth = bytes_of(depth);
+        return f;
+    };
+    std::vector<float> out[2];
+    for (int agree = 0; agree < 2; ++agree) {
+        Params p;
+        p.colour_agree = agree != 0;
+        auto s = session_of(internal_format(w, h), p);
+        ASSERT_TRUE(s);
+        for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(s->submit(frame(t).view()));
+        const float alpha = 0.5f;
+        auto r = s->interpolate(std::span<const float>(&alpha, 1));
+        ASSERT_TRUE(r) << r.error().message;
+        out[agree] = (*r)[0].color.rgba;
+    }
+    ASSERT_EQ(out[0].size(), out[1].size());
+    float largest = 0.f;
+    for (size_t i = 0; i < out[0].size(); ++i) largest = std::max(largest, std::abs(out[0][i] - out[1][i]));
+    EXPECT_EQ(largest, 0.f) << "the largest change the agree pass made";
+    expect_no_validation_errors();
+}
+
+// The agree pass on the GPU against the CPU reference (ref::agree) on the same inputs: the given
+// field's and the colour-only twin's warped frames and states (read back after an agreeing call),
+// each field's blend (ref::blend), on the sweeping shadow, where the pass changes the frame.
+TEST(Motion, AgreeGpuMatchesTheCpuReference) {
+    const uint32_t w = 160, h = 80;
+    const float step = 6.f;
+    const std::vector<glm::vec2> zero(size_t(w) * h, glm::vec2(0.f));
+    Params p;
+    p.colour_agree = true;
+    auto s = session_of(internal_format(w, h), p);
+    ASSERT_TRUE(s);
+    for (float t : {0.f, 1.f})
+        ASSERT_TRUE(
+            s->submit(with_geometry(render(w, h, [&](glm::vec2 q) { return shadow_scene(q, t, step); }), w, h,
+                                    zero, 10.f)
+                          .view()));
+    const float alpha = 0.5f;
+    auto out = s->interpolate(std::span<const float>(&alpha, 1));
+    ASSERT_TRUE(out) << out.error().message;
+    auto im = s->read_intermediates();
+    ASSERT_TRUE(im) << im.error().message;
+    ASSERT_TRUE(im->colour) << "the colour-only twin's intermediates";
+    const size_t n = size_t(w) * h;
+    auto warped = [&](const Session::Intermediates& m) {
+        ref::Warped wp;
+        wp.color.resize(2 * n);
+        wp.depth.resize(2 * n);
+        for (size_t i = 0; i < n; ++i) {
+            wp.color[i] = glm::vec4(m.warped_color0[4 * i], m.warped_color0[4 * i + 1],
+                                    m.warped_color0[4 * i + 2], m.warped_color0[4 * i + 3]);
+            wp.color[n + i] = glm::vec4(m.warped_color1[4 * i], m.warped_color1[4 * i + 1],
+                                        m.warped_color1[4 * i + 2], m.warped_color1[4 * i + 3]);
+            wp.depth[i] = m.warped_depth0[i];
+            wp.depth[n + i] = m.warped_depth1[i];
+        }
+        return wp;
+    };
+    const ref::Warped given_w = warped(*im), colour_w = warped(*im->colour);
+    ref::AgreeParams ap{};
+    ap.g = params::gen_params(internal_format(w, h), p, alpha, false, true, true);
+    ap.radius = defaults::agree_radius;
+    ap.ratio = defaults::agree_ratio;
+    ap.margin = defaults::agree_margin;
+    ref::Field given_f, colour_f;
+    given_f.state = im->field_state;
+    colour_f.state = im->colour->field_state;
+    const auto given = ref::blend(given_w, given_f, ap.g), colour = ref::blend(colour_w, colour_f, ap.g);
+    const auto expected =
+        ref::agree(given_w, im->field_state, given, colour_w, im->colour->field_state, colour, ap);
+    float largest = 0.f, moved = 0.f;
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 4; ++k) {
+            largest = std::max(largest, std::abs((*out)[0].color.rgba[4 * i + size_t(k)] - expected[i][k]));
+            moved = std::max(moved, std::abs(expected[i][k] - given[i][k]));
+        }
+    EXPECT_LT(largest, 1e-5f) << "GPU against CPU";
+    EXPECT_GT(moved, 0.1f) << "the pass changed the frame (the largest change)";
+    expect_no_validation_errors();
+}
+
+// Params::colour_agree needs vectors and scale 1.
+TEST(Motion, AgreeIsRefusedWithoutVectorsAndWithSuperResolution) {
+    Params p;
+    p.colour_agree = true;
+    auto colour = engine().create_session(colour_only(64, 32), p);
+    ASSERT_FALSE(colour);
+    EXPECT_NE(colour.error().message.find("colour_agree"), std::string::npos) << colour.error().message;
+    p.scale = 2.f;
+    auto sr = engine().create_session(internal_format(64, 32), p);
+    ASSERT_FALSE(sr);
+    EXPECT_NE(sr.error().message.find("colour_agree"), std::string::npos) << sr.error().message;
+}
+
 // A camera panning over a floor of flat checker cells (16 px, depth 20) and a textured square
 // (depth 16) moving its own way, exact vectors. The background the square uncovers lies within
 // correct_depth (30 %) of the square, as an object on the floor seen from afar is of the floor

@@ -45,9 +45,10 @@ TEST(PassTable, PublicNumberingIsFixed) {
         {FGSR_PASS_MATCH, PassId::match, 12, "match"},
         {FGSR_PASS_FLOW, PassId::flow, 13, "flow"},
         {FGSR_PASS_POLISH, PassId::polish, 14, "polish"},
+        {FGSR_PASS_AGREE, PassId::agree, 15, "agree"},
     };
     ASSERT_EQ(std::size(known), size_t(FGSR_PASS_COUNT_));
-    EXPECT_EQ(uint32_t(FGSR_PASS_COUNT_), 15u);
+    EXPECT_EQ(uint32_t(FGSR_PASS_COUNT_), 16u);
     for (const Known& k : known) {
         EXPECT_EQ(k.protocol, k.value) << k.name;
         EXPECT_EQ(uint32_t(k.engine), k.value) << k.name;

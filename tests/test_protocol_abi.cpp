@@ -368,13 +368,14 @@ TEST(ProtocolAbi, EnumValues) {
     EXPECT_EQ(int64_t(FGSR_PASS_MATCH), int64_t(12));
     EXPECT_EQ(int64_t(FGSR_PASS_FLOW), int64_t(13));
     EXPECT_EQ(int64_t(FGSR_PASS_POLISH), int64_t(14));
-    EXPECT_EQ(int64_t(FGSR_PASS_COUNT_), int64_t(15));
+    EXPECT_EQ(int64_t(FGSR_PASS_AGREE), int64_t(15));
+    EXPECT_EQ(int64_t(FGSR_PASS_COUNT_), int64_t(16));
 }
 
 TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAGIC), uint64_t(0x52534746u));
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAJOR), uint64_t(1u));
-    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(5u));
+    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(6u));
     EXPECT_EQ(uint64_t(FGSR_REPORT_APPLICATION), uint64_t(0xffffffffu));
     EXPECT_EQ(uint64_t(FGSR_REPORT_DROPPED), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_MAX_REPORTS_PER_MESSAGE), uint64_t(16u));
@@ -425,6 +426,7 @@ TEST(ProtocolAbi, PassNames) {
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_MATCH)), "match");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_FLOW)), "flow");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_POLISH)), "polish");
+    EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_AGREE)), "agree");
     EXPECT_EQ(std::string(fgsr_pass_name(FGSR_PASS_COUNT_)), "unknown");
 }
 

@@ -112,6 +112,9 @@ int main(int argc, char** argv) {
     eval->add_flag("--correct-vectors", eo.params.correct_vectors,
                    "interp, extrap, isr, esr: method fgsr also estimates motion from colour and replaces the "
                    "capture's vector where the colour follows the estimate by far better (moving shadows)");
+    eval->add_flag("--colour-agree", eo.params.colour_agree,
+                   "interp: method fgsr also generates from motion estimated from colour and takes that "
+                   "frame where its warped inputs agree and the capture's vectors' do not (moving shadows)");
     eval->add_option("--correct-ratio", eo.params.correct_ratio,
                      "--correct-vectors: the estimate's colour cost must be below this times the given one's")
         ->check(CLI::Range(0.0, 1.0))
@@ -321,6 +324,7 @@ int main(int argc, char** argv) {
             if (eval->count("--dilate-bright")) p.dilate_bright = eo.params.dilate_bright;
             if (eval->count("--dilate-edges")) p.dilate_edges = eo.params.dilate_edges;
             if (eval->count("--correct-vectors")) p.correct_vectors = true;
+            if (eval->count("--colour-agree")) p.colour_agree = true;
             if (eval->count("--correct-ratio")) p.correct_ratio = eo.params.correct_ratio;
             if (eval->count("--correct-margin")) p.correct_margin = eo.params.correct_margin;
             if (eval->count("--correct-depth")) p.correct_depth = eo.params.correct_depth;

@@ -86,6 +86,12 @@ Variant Session::Impl::splat_variant(const gpu::GenParams& g, size_t count, bool
 }
 
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
+    if (agrees() && !extrapolate) return generate_agreed(alphas);
+    return generate_frames(alphas, extrapolate);
+}
+
+Result<std::vector<GeneratedFrame>> Session::Impl::generate_frames(std::span<const float> alphas,
+                                                                   bool extrapolate) {
     if (submitted < 2)
         return make_error(Errc::empty_input, std::string(extrapolate ? "extrapolation" : "interpolation") +
                                                  " needs two submitted frames, the session has " +
@@ -177,7 +183,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             timings[k] = with_splat({PassId::generate_sr});
             continue;
         }
-        if (!params.separate_passes && rec.group() == 32) {
+        if (!separate() && rec.group() == 32) {
             // CPU devices: the split form (shaders/generate.h, generate_splatted), the splatted
             // pixels, then the list of the empty ones.
             FGSR_TRY(reset_gap_list(0));
@@ -201,7 +207,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
             timings[k] = with_splat({PassId::generate});
             continue;
         }
-        if (!params.separate_passes) {
+        if (!separate()) {
             const auto b =
                 make_slots<PassId::generate>(generated_frames(slice), at<GENERATE_COLOR0>(f0.color),
                                              at<GENERATE_COLOR1>(f1.color), at<GENERATE_OUTPUT>(out));
@@ -271,11 +277,84 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const floa
     }
     if (tiling != GenTiles::none) tiles.gen_backoff.classified(worth_skipping);
     last_extrapolate = extrapolate;
-    last_separate = params.separate_passes && !sr();
+    last_separate = separate() && !sr();
     tiles.last_tiled = tiled;
     tiles.last_side = tile_side();
     last_output = alphas.size() - 1;
     return result;
+}
+
+// Params::colour_agree: one alpha at a time, since the agree pass reads the warped frames that the
+// separate passes of the given field and of the twin keep for the last frame of a call.
+Result<std::vector<GeneratedFrame>> Session::Impl::generate_agreed(std::span<const float> alphas) {
+    std::vector<GeneratedFrame> result;
+    result.reserve(alphas.size());
+    Impl& colour = *colour_twin->impl_;
+    for (const float& alpha : alphas) {
+        force_separate = true;
+        auto given = generate_frames(std::span<const float>(&alpha, 1), false);
+        force_separate = false;
+        if (!given) return given.error();
+        GeneratedFrame gf = std::move(given->front());
+        // The twin restarted at a cut of its own (or has not two frames since): the given frame.
+        if (colour.submitted < 2) {
+            result.push_back(std::move(gf));
+            continue;
+        }
+        auto from_colour = colour.generate_frames(std::span<const float>(&alpha, 1), false);
+        if (!from_colour) return from_colour.error();
+        const gpu::GenParams g = params::gen_params(
+            format, params, alpha, false, frames[size_t(1 - newest)].has_mv, frames[size_t(newest)].has_mv);
+        auto timing = record_agree(g, colour);
+        if (!timing) return timing.error();
+        for (PassTiming& t : from_colour->front().passes) {
+            gf.gpu_ms += t.ms;
+            gf.passes.push_back(std::move(t));
+        }
+        gf.gpu_ms += timing->ms;
+        gf.passes.push_back(std::move(*timing));
+        const float* src = static_cast<const float*>(outputs[0].mapped());
+        gf.color.rgba.assign(src, src + size_t(out_w) * out_h * 4);
+        result.push_back(std::move(gf));
+    }
+    return result;
+}
+
+// The agree pass's three stages over the given field's warped frames and output (this session's,
+// from a call with separate passes) and the twin's.
+Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& colour) {
+    if (!agree_e.handle()) {
+        auto e = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
+        if (!e) return e.error();
+        agree_e = std::move(*e);
+        auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
+        if (!r) return r.error();
+        agree_rows = std::move(*r);
+    }
+    gpu::AgreeParams p{};
+    p.g = g;
+    p.radius = defaults::agree_radius;
+    p.ratio = defaults::agree_ratio;
+    p.margin = defaults::agree_margin;
+    const auto b = make_slots<PassId::agree>(
+        at<AGREE_GIVEN_W0>(warped_color0), at<AGREE_GIVEN_D0>(warped_depth0),
+        at<AGREE_GIVEN_W1>(warped_color1), at<AGREE_GIVEN_D1>(warped_depth1),
+        at<AGREE_GIVEN_STATE>(field_state), at<AGREE_COLOUR_W0>(colour.warped_color0),
+        at<AGREE_COLOUR_D0>(colour.warped_depth0), at<AGREE_COLOUR_W1>(colour.warped_color1),
+        at<AGREE_COLOUR_D1>(colour.warped_depth1), at<AGREE_COLOUR_STATE>(colour.field_state),
+        at<AGREE_GIVEN>(outputs[0]), at<AGREE_COLOUR>(colour.outputs[0]), at<AGREE_E>(agree_e),
+        at<AGREE_ROWS>(agree_rows));
+    FGSR_TRY(rec.begin());
+    rec.timestamp(0);
+    for (Variant v : {Variant::agree_error, Variant::agree_rows, Variant::agree_mix}) {
+        FGSR_TRY(rec.dispatch_pixels(v, b, &p, format.width, format.height));
+        rec.barrier();
+    }
+    rec.timestamp(1);
+    FGSR_TRY(rec.finish(true));
+    auto t = rec.read_times(0, 1);
+    if (!t) return t.error();
+    return timing_of(PassId::agree, t->front());
 }
 
 Result<std::vector<GeneratedFrame>> Session::interpolate(std::span<const float> alphas) {
@@ -318,6 +397,11 @@ Result<Session::Intermediates> Session::read_intermediates() const {
     FGSR_TRY(
         get_f(s.last_extrapolate ? s.outputs[s.last_output] : s.warped_color1, s.n * 4, out.warped_color1));
     FGSR_TRY(get_f(s.warped_depth1, s.n, out.warped_depth1));
+    if (s.agrees() && !s.last_extrapolate && s.colour_twin->impl_->last_separate) {
+        auto colour = s.colour_twin->read_intermediates();
+        if (!colour) return colour.error();
+        out.colour = std::make_shared<Intermediates>(std::move(*colour));
+    }
     return out;
 }
 

@@ -436,7 +436,12 @@ Result<void> Session::Impl::record_polish_coarse(int cur, int prev) {
 }
 
 std::vector<PassTiming> Session::last_motion_timings() const {
-    return impl_->estimator.timings;
+    if (!impl_->agrees()) return impl_->estimator.timings;
+    // Params::colour_agree: the colour-only twin's (this session estimates nothing itself, or
+    // corrects its vectors with its own).
+    std::vector<PassTiming> t = impl_->estimator.timings;
+    for (PassTiming& p : impl_->colour_twin->last_motion_timings()) t.push_back(std::move(p));
+    return t;
 }
 
 bool Session::last_scene_cut() const {

@@ -119,6 +119,24 @@ struct BlendCpu {
 #include "blend.h"
 };
 
+struct AgreeCpu {
+    const ref::Warped* warped_frames[2];
+    const std::vector<uint32_t>* field_states[2];
+    const std::vector<vec4>* frames[2]; // given, colour
+    std::vector<vec2> e_buf, rows_buf;
+    size_t n;
+    vec4 load_warped(uint field, uint f, uint i) const { return warped_frames[field]->color[f * n + i]; }
+    float load_warped_depth(uint field, uint f, uint i) const { return warped_frames[field]->depth[f * n + i]; }
+    uint load_field_state(uint field, uint i) const { return (*field_states[field])[i]; }
+    vec2 load_e(uint i) const { return e_buf[i]; }
+    vec2 load_rows(uint i) const { return rows_buf[i]; }
+    vec4 load_given(uint i) const { return (*frames[0])[i]; }
+    vec4 load_colour(uint i) const { return (*frames[1])[i]; }
+#include "field.h"
+#include "blend.h"
+#include "agree.h"
+};
+
 struct GenerateCpu : KeysCpu {
     std::vector<vec4>* out;
     void store_output(uint i, vec4 c) { (*out)[i] = c; }
@@ -397,6 +415,26 @@ std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const Gen
     for (size_t i = 0; i < n; ++i)
         out[i] = cpu.select_blend(warped.color[i], warped.depth[i], warped.color[n + i], warped.depth[n + i],
                                   field.state[i], g);
+    return out;
+}
+
+std::vector<glm::vec4> agree(const Warped& given_warped, const std::vector<uint32_t>& given_state,
+                             const std::vector<glm::vec4>& given, const Warped& colour_warped,
+                             const std::vector<uint32_t>& colour_state, const std::vector<glm::vec4>& colour,
+                             const AgreeParams& p) {
+    const size_t n = size_t(p.g.width) * p.g.height;
+    gpu::AgreeCpu cpu{
+        {&given_warped, &colour_warped}, {&given_state, &colour_state}, {&given, &colour}, {}, {}, n};
+    cpu.e_buf.resize(n);
+    cpu.rows_buf.resize(n);
+    for (size_t i = 0; i < n; ++i) cpu.e_buf[i] = cpu.agree_error(uint32_t(i), p.g);
+    auto each = [&](auto f) {
+        for (uint32_t y = 0; y < p.g.height; ++y)
+            for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
+    };
+    each([&](glm::ivec2 t, size_t i) { cpu.rows_buf[i] = cpu.agree_rows(t, p); });
+    std::vector<glm::vec4> out(n);
+    each([&](glm::ivec2 t, size_t i) { out[i] = cpu.agree_pixel(t, p); });
     return out;
 }
 

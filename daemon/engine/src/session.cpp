@@ -93,6 +93,24 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     std::vector<std::byte> c(n * bytes_per_pixel(format.color_format)), d(n * 4);
     FGSR_TRY(params::validate(format, FrameView{c, d, {}}));
     FGSR_TRY(impl->init());
+    if (params.colour_agree) {
+        if (!format.has_vectors)
+            return make_error(
+                Errc::invalid_argument,
+                "colour_agree is for sessions with vectors (this one estimates its own motion)");
+        // The twin: the same frames without vectors or depth, generating with separate passes
+        // (the agree pass reads its warped frames).
+        FrameFormat colour_format = format;
+        colour_format.has_vectors = false;
+        colour_format.has_depth = false;
+        Params colour_params = params;
+        colour_params.colour_agree = false;
+        colour_params.correct_vectors = false;
+        colour_params.separate_passes = true;
+        auto twin = create_session(colour_format, colour_params);
+        if (!twin) return twin.error();
+        impl->colour_twin = std::move(*twin);
+    }
     return std::unique_ptr<Session>(new Session(std::move(impl)));
 }
 
@@ -115,6 +133,14 @@ void Session::set_params(const Params& p) {
     impl_->params.scale = scale;
     if (p.tile_size != 8 && p.tile_size != 16 && p.tile_size != 32) impl_->params.tile_size = 0;
     if (lut_changed && impl_->sr()) (void)impl_->upload_lut();
+    if (impl_->agrees()) {
+        Params colour = impl_->colour_twin->params();
+        colour.t_depth = p.t_depth;
+        colour.t_bright = p.t_bright;
+        colour.blend = p.blend;
+        colour.motion = p.motion;
+        impl_->colour_twin->set_params(colour);
+    }
 }
 uint32_t Session::output_width() const {
     return impl_->out_w;
@@ -146,18 +172,30 @@ uint32_t Session::tile_side() const {
 }
 
 void Session::reset() {
+    if (impl_->agrees()) impl_->colour_twin->reset();
     impl_->submitted = 0;
     impl_->sr_history.valid = false;
     impl_->reset_pending = true;
     for (auto& f : impl_->frames) f.has_mv = false;
 }
 
+// Params::colour_agree: the twin sees the frame's colour, neither its vectors nor its depth.
+static Result<void> submit_to_twin(Session::Impl& s, const FrameView& frame) {
+    if (!s.agrees()) return {};
+    FrameView colour = frame;
+    colour.depth = {};
+    colour.mv = {};
+    return s.colour_twin->submit(colour);
+}
+
 Result<void> Session::submit(const FrameView& frame) {
-    return impl_->submit(frame, nullptr);
+    FGSR_TRY(impl_->submit(frame, nullptr));
+    return submit_to_twin(*impl_, frame);
 }
 
 Result<void> Session::submit(const FrameView& frame, const HostMemory& memory) {
-    return impl_->submit(frame, &memory);
+    FGSR_TRY(impl_->submit(frame, &memory));
+    return submit_to_twin(*impl_, frame);
 }
 
 Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* memory) {

@@ -156,6 +156,21 @@ struct Session::Impl {
     bool last_extrapolate = false;
     bool last_separate = false;
     size_t last_output = 0;
+    // The call runs separate passes whatever Params::separate_passes says (an agreeing call's
+    // given field: the agree pass reads its warped frames).
+    bool force_separate = false;
+    bool separate() const { return params.separate_passes || force_separate; }
+
+    // Params::colour_agree (generate.cpp, shaders/agree.h): a colour-only session fed the same
+    // frames without vectors or depth, which generates with separate passes; the agree pass's
+    // disagreement and its row means (vec2 per pixel, created on first use).
+    std::unique_ptr<Session> colour_twin;
+    vk::Buffer agree_e, agree_rows;
+    bool agrees() const { return colour_twin != nullptr; }
+    // Interpolation of an agreeing session: per alpha, the given field's frame (separate passes),
+    // the twin's, then the agree pass over both into the given one's output.
+    Result<std::vector<GeneratedFrame>> generate_agreed(std::span<const float> alphas);
+    Result<PassTiming> record_agree(const gpu::GenParams& g, Session::Impl& colour);
 
     // Motion estimation from colour (motion.cpp): sessions without vectors.
     struct Motion {
@@ -249,6 +264,7 @@ struct Session::Impl {
     Result<void> record_disocc(uint32_t slice, const gpu::GenParams& g);
     Result<void> record_field(uint32_t slice, const gpu::GenParams& g);
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
+    Result<std::vector<GeneratedFrame>> generate_frames(std::span<const float> alphas, bool extrapolate);
     Result<void> ensure_outputs(size_t count);
 
     // sr.cpp

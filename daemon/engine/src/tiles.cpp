@@ -228,7 +228,7 @@ Result<void> Session::Impl::reset_gap_list(uint32_t side) {
 
 Session::Impl::GenTiles Session::Impl::classify_generate() {
     const bool due = tiles.gen_backoff.due();
-    if (!params.skip_tiles || (params.separate_passes && !sr()) || !due) return GenTiles::none;
+    if (!params.skip_tiles || (separate() && !sr()) || !due) return GenTiles::none;
     return tiles.gen_backoff.missed() ? GenTiles::probe : GenTiles::tiled;
 }
 

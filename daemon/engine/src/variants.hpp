@@ -90,6 +90,8 @@ constexpr uint32_t pass_bindings(PassId p) {
         return FLOW_COUNT;
     case PassId::polish:
         return POLISH_COUNT;
+    case PassId::agree:
+        return AGREE_COUNT;
     case PassId::count:
         break;
     }
@@ -125,6 +127,8 @@ constexpr uint32_t pass_push(PassId p) {
         return sizeof(gpu::FlowParams);
     case PassId::polish:
         return sizeof(gpu::PolishParams);
+    case PassId::agree:
+        return sizeof(gpu::AgreeParams);
     case PassId::count:
         break;
     }

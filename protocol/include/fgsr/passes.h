@@ -24,6 +24,7 @@
     X(LUMA, luma, 11)              /* colour-only: luma pyramid of a submitted frame */                      \
     X(MATCH, match, 12)            /* colour-only: block matching, coarse to fine, both directions */        \
     X(FLOW, flow, 13)              /* colour-only: per-pixel vectors, consistency, depth proxy */            \
-    X(POLISH, polish, 14)          /* colour-only: variational refinement of the vectors */
+    X(POLISH, polish, 14)          /* colour-only: variational refinement of the vectors */                  \
+    X(AGREE, agree, 15)            /* with vectors: per pixel the field whose warped frames agree */
 
 #endif

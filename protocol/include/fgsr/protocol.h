@@ -30,8 +30,9 @@ extern "C" {
  * 2: FGSR_SESSION_NO_MVS, FGSR_SESSION_NO_DEPTH, motion passes;
  * 3: present reports (fgsr_present_report, FGSR_MSG_REPORT);
  * 4: FGSR_SESSION_CORRECT_MVS;
- * 5: FGSR_SESSION_FAST_MOTION */
-#define FGSR_PROTOCOL_MINOR 5u
+ * 5: FGSR_SESSION_FAST_MOTION;
+ * 6: FGSR_PASS_AGREE (engine sessions only: the wire carries no switch for it yet) */
+#define FGSR_PROTOCOL_MINOR 6u
 
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
 #define FGSR_MAX_ALPHAS 8u          /* interpolated or extrapolated frames per submit, each */
@@ -252,7 +253,7 @@ typedef enum fgsr_pass_id {
 #undef FGSR_PASS_ID_
     FGSR_PASS_COUNT_
 } fgsr_pass_id;
-FGSR_STATIC_ASSERT(FGSR_PASS_COUNT_ == 15, "the pass table's values are 0..14 in order");
+FGSR_STATIC_ASSERT(FGSR_PASS_COUNT_ == 16, "the pass table's values are 0..15 in order");
 
 /* The engine's name of a pass ("ingest", ..., "flow"; "unknown" for values out of range). */
 const char* fgsr_pass_name(uint32_t pass);

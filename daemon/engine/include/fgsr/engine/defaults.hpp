@@ -80,6 +80,16 @@ inline constexpr float correct_depth = 0.3f;
 // fgsr interp / extrap figures with the correction: no such test +4.28 (orbit-fg -0.18), 0.05
 // +4.12 (twirl-fg +0.27 instead of +0.52), 0.1 +4.44, 0.2 +4.36 dB.
 inline constexpr float correct_front = 0.1f;
+// The agree pass (Params::colour_agree, shaders/agree.h): the box over which the two fields'
+// disagreement is averaged (side 2 radius + 1), and the colour-only frame's weight
+// clamp((ratio x given - colour - margin) / margin, 0, 1). Chosen on the train fg captures of
+// docs/ACCURACY.md (change 33) with a prototype on eval's outputs, from sides 5-31, ratios 0.5-1
+// and margins 0.005-0.02: side 21, ratio 1, margin 0.02 gained on every train capture (sundial-fg
+// +3.16 dB, twirl-fg +0.96, bunker HR +0.72) and lost on none by 0.001; smaller sides and margins
+// lost up to 1.1 dB on rotor-fg and 0.5 on orbit-fg (checker floors, turning blades).
+inline constexpr uint32_t agree_radius = 10;
+inline constexpr float agree_ratio = 1.0f;
+inline constexpr float agree_margin = 0.02f;
 // Since change 17 of docs/ACCURACY.md the noise is measured relative to the local brightness to
 // the power gamma (shaders/denoise.h): sunlit and shaded parts of one frame carry noise in
 // proportion to their light, which one absolute level did not fit. Strength and gamma chosen on

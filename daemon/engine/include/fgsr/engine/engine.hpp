@@ -170,6 +170,17 @@ struct Params {
     // The depth stays the client's. Costs the motion estimation's passes (docs/MOTION.md). Only
     // with scale 1: on jittered, aliased SR input it loses (validate refuses it).
     bool correct_vectors = false;
+    // Interpolation in sessions with vectors: also estimate motion from colour and generate the
+    // frame from that field, as a colour-only session would (a second, colour-only session fed
+    // the same frames without vectors or depth); per pixel take the colour-only frame where the
+    // given field's two warped frames disagree and the colour-only field's agree (pass `agree`,
+    // shaders/agree.h): shading that moves on its own (shadows sweeping over still ground, contact
+    // shadows, sunlight travelling with the camera), which no vector of the surface carries. The
+    // given field's generation runs as separate passes. Costs the motion estimation's passes at
+    // every submit and a second generated frame. Extrapolation is unchanged (it has one warped
+    // frame). Only with scale 1 and a session with vectors (docs/ACCURACY.md, change 33). Not
+    // carried by the wire protocol.
+    bool colour_agree = false;
     float correct_ratio = defaults::correct_ratio;   // [0, 1]
     float correct_margin = defaults::correct_margin; // >= 0, luma units
     float correct_depth = defaults::correct_depth;   // >= 0, relative depth difference
@@ -354,8 +365,9 @@ class Session {
     double last_ingest_ms() const;
     // Timing of the last submit's ingest pass (with CLOCK_MONOTONIC begin/end).
     PassTiming last_ingest_timing() const;
-    // Sessions without vectors (FrameFormat::has_vectors false): the timings of the last submit's
-    // motion passes (luma, then match and flow when there was a previous frame; empty otherwise).
+    // Sessions without vectors (FrameFormat::has_vectors false), or that estimate motion beside
+    // them (Params::correct_vectors, colour_agree): the timings of the last submit's motion passes
+    // (luma, then match and flow when there was a previous frame; empty otherwise).
     std::vector<PassTiming> last_motion_timings() const;
     // Whether the last submit was found to be a scene cut (then it started afresh, as with
     // FrameView::reset: frames before it are not interpolated from): by block matching in sessions
@@ -419,6 +431,10 @@ class Session {
         // was classified (Params::skip_tiles); empty otherwise. Tile side: tile_side.
         std::vector<uint32_t> tile_flags;
         uint32_t tile_side = 0;
+        // Params::colour_agree, after an interpolation: the colour-only twin's intermediates (its
+        // field, warped frames). The warped frames above are the given field's; the frame returned
+        // is the agree pass's.
+        std::shared_ptr<Intermediates> colour;
     };
     Result<Intermediates> read_intermediates() const;
     struct InternalFrameData {

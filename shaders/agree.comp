@@ -1,0 +1,51 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.h"
+#include "bindings.h"
+layout(local_size_x = FGSR_GROUP, local_size_y = FGSR_GROUP) in;
+layout(push_constant) uniform Push { AgreeParams p; } pc;
+layout(std430, binding = AGREE_GIVEN_W0) readonly buffer GivenW0 { vec4 given_w0[]; };
+layout(std430, binding = AGREE_GIVEN_D0) readonly buffer GivenD0 { float given_d0[]; };
+layout(std430, binding = AGREE_GIVEN_W1) readonly buffer GivenW1 { vec4 given_w1[]; };
+layout(std430, binding = AGREE_GIVEN_D1) readonly buffer GivenD1 { float given_d1[]; };
+layout(std430, binding = AGREE_GIVEN_STATE) readonly buffer GivenState { uint given_state[]; };
+layout(std430, binding = AGREE_COLOUR_W0) readonly buffer ColourW0 { vec4 colour_w0[]; };
+layout(std430, binding = AGREE_COLOUR_D0) readonly buffer ColourD0 { float colour_d0[]; };
+layout(std430, binding = AGREE_COLOUR_W1) readonly buffer ColourW1 { vec4 colour_w1[]; };
+layout(std430, binding = AGREE_COLOUR_D1) readonly buffer ColourD1 { float colour_d1[]; };
+layout(std430, binding = AGREE_COLOUR_STATE) readonly buffer ColourState { uint colour_state[]; };
+layout(std430, binding = AGREE_GIVEN) buffer Given { vec4 given[]; };
+layout(std430, binding = AGREE_COLOUR) readonly buffer Colour { vec4 colour[]; };
+layout(std430, binding = AGREE_E) buffer E { vec2 e_buf[]; };
+layout(std430, binding = AGREE_ROWS) buffer Rows { vec2 rows_buf[]; };
+
+vec4 load_warped(uint field, uint frame, uint i) {
+    if (field == 0u) return frame == 0u ? given_w0[i] : given_w1[i];
+    return frame == 0u ? colour_w0[i] : colour_w1[i];
+}
+float load_warped_depth(uint field, uint frame, uint i) {
+    if (field == 0u) return frame == 0u ? given_d0[i] : given_d1[i];
+    return frame == 0u ? colour_d0[i] : colour_d1[i];
+}
+uint load_field_state(uint field, uint i) { return field == 0u ? given_state[i] : colour_state[i]; }
+vec2 load_e(uint i) { return e_buf[i]; }
+vec2 load_rows(uint i) { return rows_buf[i]; }
+vec4 load_given(uint i) { return given[i]; }
+vec4 load_colour(uint i) { return colour[i]; }
+
+#include "field.h"
+#include "blend.h"
+#include "agree.h"
+
+void main() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (!inside(t, pc.p.g)) return;
+    uint i = uint(t.y) * pc.p.g.width + uint(t.x);
+#if AGREE_STAGE == 1
+    e_buf[i] = agree_error(i, pc.p.g);
+#elif AGREE_STAGE == 2
+    rows_buf[i] = agree_rows(t, pc.p);
+#else
+    given[i] = agree_pixel(t, pc.p);
+#endif
+}

@@ -1,0 +1,54 @@
+// Pass `agree` (Params::colour_agree): interpolation in a session with vectors that also estimates
+// motion from colour, as colour-only sessions do, and generates the frame from both fields. Per
+// pixel it takes the frame whose two warped inputs agree better.
+//
+// Where shading moves on its own (a shadow sweeping over still ground, the contact shadow of a
+// rolling ball, sunlight that travels with the camera), no vector of the surface carries it: warped
+// with the given vectors, frame 0 and frame 1 disagree at the same surface point (one lit, one in
+// shadow) and their blend shows the shadow twice at half strength. Colour-only motion follows the
+// shading, and its two warped frames agree there. Where the given vectors describe the colour,
+// their warped frames agree and the given frame is kept (docs/ACCURACY.md, change 33).
+//
+//   1. e = (e_given, e_colour) per pixel: |brightness(W0) - brightness(W1)| of each field's warped
+//      frames where both take part in the blend (blend.h, both_frames_take_part), else 0 (the
+//      blend took one frame for its geometry: an occlusion, a disocclusion, content leaving).
+//   2. Means of e over the box of side 2 radius + 1 around the pixel (clamped to the frame), as
+//      two separable stages: rows, then columns.
+//   3. w = clamp((ratio x mean e_given - mean e_colour - margin) / margin, 0, 1); the result is
+//      mix(given frame, colour frame, w).
+//
+// Entry provides:
+//   vec4  load_warped(uint field, uint frame, uint i)   field 0: given, 1: colour; frame 0 or 1
+//   float load_warped_depth(uint field, uint frame, uint i)
+//   uint  load_field_state(uint field, uint i)
+//   vec2  load_e(uint i), load_rows(uint i)
+//   vec4  load_given(uint i), load_colour(uint i)
+
+// Stage 1: one field's disagreement at pixel i, and both fields' (given, colour).
+FGSR_INLINE float field_disagreement(uint field, uint i, GenParams g) {
+    float d0 = load_warped_depth(field, 0u, i), d1 = load_warped_depth(field, 1u, i);
+    if (!both_frames_take_part(d0, d1, load_field_state(field, i), g)) return 0.0f;
+    return abs(brightness(load_warped(field, 0u, i)) - brightness(load_warped(field, 1u, i)));
+}
+FGSR_INLINE vec2 agree_error(uint i, GenParams g) {
+    return vec2(field_disagreement(0u, i, g), field_disagreement(1u, i, g));
+}
+
+// Stage 2: the mean of e along the row, within radius of t (clamped to the frame).
+FGSR_INLINE vec2 agree_rows(ivec2 t, AgreeParams p) {
+    int lo = max(t.x - int(p.radius), 0), hi = min(t.x + int(p.radius), int(p.g.width) - 1);
+    vec2 sum = vec2(0.0f);
+    for (int x = lo; x <= hi; ++x) sum += load_e(uint(t.y) * p.g.width + uint(x));
+    return sum / float(hi - lo + 1);
+}
+
+// Stage 3: the box means along the column, the colour frame's weight and the result.
+FGSR_INLINE vec4 agree_pixel(ivec2 t, AgreeParams p) {
+    int lo = max(t.y - int(p.radius), 0), hi = min(t.y + int(p.radius), int(p.g.height) - 1);
+    vec2 sum = vec2(0.0f);
+    for (int y = lo; y <= hi; ++y) sum += load_rows(uint(y) * p.g.width + uint(t.x));
+    vec2 e = sum / float(hi - lo + 1);
+    float w = clamp((p.ratio * e.x - e.y - p.margin) / max(p.margin, 1.0e-6f), 0.0f, 1.0f);
+    uint i = uint(t.y) * p.g.width + uint(t.x);
+    return mix(load_given(i), load_colour(i), w);
+}
