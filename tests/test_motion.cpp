@@ -1298,7 +1298,7 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     expect_no_validation_errors();
 }
 
-// Params::colour_agree needs vectors and scale 1.
+// Params::colour_agree needs vectors and scale 1, and stays what it was at creation.
 TEST(Motion, AgreeIsRefusedWithoutVectorsAndWithSuperResolution) {
     Params p;
     p.colour_agree = true;
@@ -1309,6 +1309,14 @@ TEST(Motion, AgreeIsRefusedWithoutVectorsAndWithSuperResolution) {
     auto sr = engine().create_session(internal_format(64, 32), p);
     ASSERT_FALSE(sr);
     EXPECT_NE(sr.error().message.find("colour_agree"), std::string::npos) << sr.error().message;
+    p.scale = 1.f;
+    auto agreeing = session_of(internal_format(64, 32), p);
+    auto plain = session_of(internal_format(64, 32));
+    ASSERT_TRUE(agreeing && plain);
+    agreeing->set_params(Params{});
+    plain->set_params(p);
+    EXPECT_TRUE(agreeing->params().colour_agree);
+    EXPECT_FALSE(plain->params().colour_agree);
 }
 
 // A camera panning over a floor of flat checker cells (16 px, depth 20) and a textured square

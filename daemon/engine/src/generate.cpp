@@ -85,13 +85,7 @@ Variant Session::Impl::splat_variant(const gpu::GenParams& g, size_t count, bool
     }
 }
 
-Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
-    if (agrees() && !extrapolate) return generate_agreed(alphas);
-    return generate_frames(alphas, extrapolate);
-}
-
-Result<std::vector<GeneratedFrame>> Session::Impl::generate_frames(std::span<const float> alphas,
-                                                                   bool extrapolate) {
+Result<void> Session::Impl::check_generate(std::span<const float> alphas, bool extrapolate) const {
     if (submitted < 2)
         return make_error(Errc::empty_input, std::string(extrapolate ? "extrapolation" : "interpolation") +
                                                  " needs two submitted frames, the session has " +
@@ -108,6 +102,18 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_frames(std::span<con
                               "alpha " + std::to_string(a) + " is outside " +
                                   (extrapolate ? "(0, 1] for extrapolation" : "(0, 1) for interpolation"));
     }
+    return {};
+}
+
+Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
+    FGSR_TRY(check_generate(alphas, extrapolate));
+    if (agrees() && !extrapolate) return generate_agreed(alphas);
+    return generate_frames(alphas, extrapolate);
+}
+
+// After check_generate.
+Result<std::vector<GeneratedFrame>> Session::Impl::generate_frames(std::span<const float> alphas,
+                                                                   bool extrapolate) {
     FGSR_TRY(ensure_outputs(alphas.size()));
     const GenTiles tiling = classify_generate();
     const bool tiled = tiling == GenTiles::tiled;

@@ -103,11 +103,7 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
         FrameFormat colour_format = format;
         colour_format.has_vectors = false;
         colour_format.has_depth = false;
-        Params colour_params = params;
-        colour_params.colour_agree = false;
-        colour_params.correct_vectors = false;
-        colour_params.separate_passes = true;
-        auto twin = create_session(colour_format, colour_params);
+        auto twin = create_session(colour_format, Session::Impl::twin_params(params));
         if (!twin) return twin.error();
         impl->colour_twin = std::move(*twin);
     }
@@ -127,20 +123,15 @@ void Session::set_params(const Params& p) {
     const float scale = impl_->params.scale;
     Params checked = p;
     checked.scale = scale;
+    checked.colour_agree = impl_->agrees();
     if (!validate(checked)) return;
     const bool lut_changed = p.lut != impl_->params.lut;
     impl_->params = p;
     impl_->params.scale = scale;
+    impl_->params.colour_agree = impl_->agrees();
     if (p.tile_size != 8 && p.tile_size != 16 && p.tile_size != 32) impl_->params.tile_size = 0;
     if (lut_changed && impl_->sr()) (void)impl_->upload_lut();
-    if (impl_->agrees()) {
-        Params colour = impl_->colour_twin->params();
-        colour.t_depth = p.t_depth;
-        colour.t_bright = p.t_bright;
-        colour.blend = p.blend;
-        colour.motion = p.motion;
-        impl_->colour_twin->set_params(colour);
-    }
+    if (impl_->agrees()) impl_->colour_twin->set_params(Session::Impl::twin_params(impl_->params));
 }
 uint32_t Session::output_width() const {
     return impl_->out_w;

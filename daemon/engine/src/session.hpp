@@ -167,6 +167,14 @@ struct Session::Impl {
     std::unique_ptr<Session> colour_twin;
     vk::Buffer agree_e, agree_rows;
     bool agrees() const { return colour_twin != nullptr; }
+    // The twin's parameters: this session's, estimating motion without correcting anything, with
+    // separate passes.
+    static Params twin_params(Params p) {
+        p.colour_agree = false;
+        p.correct_vectors = false;
+        p.separate_passes = true;
+        return p;
+    }
     // Interpolation of an agreeing session: per alpha, the given field's frame (separate passes),
     // the twin's, then the agree pass over both into the given one's output.
     Result<std::vector<GeneratedFrame>> generate_agreed(std::span<const float> alphas);
@@ -264,6 +272,9 @@ struct Session::Impl {
     Result<void> record_disocc(uint32_t slice, const gpu::GenParams& g);
     Result<void> record_field(uint32_t slice, const gpu::GenParams& g);
     Result<std::vector<GeneratedFrame>> generate(std::span<const float> alphas, bool extrapolate);
+    // The checks of a call (two frames submitted, 1..kMaxAlphas alphas in range), then the frames;
+    // generate_frames records them (checked), one alpha at a time in an agreeing call.
+    Result<void> check_generate(std::span<const float> alphas, bool extrapolate) const;
     Result<std::vector<GeneratedFrame>> generate_frames(std::span<const float> alphas, bool extrapolate);
     Result<void> ensure_outputs(size_t count);
 

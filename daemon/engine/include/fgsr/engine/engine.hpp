@@ -346,7 +346,8 @@ class Session {
 
     const FrameFormat& format() const;
     const Params& params() const;
-    // Parameters for the next calls; the scale stays the one of creation. Parameters that
+    // Parameters for the next calls; the scale and colour_agree stay those of creation (a session
+    // that agrees keeps its colour-only twin, which takes the new parameters too). Parameters that
     // validate() refuses are ignored: the session keeps its previous ones.
     void set_params(const Params& p);
 
