@@ -9,6 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <random>
 
 // shaders/flow.h compiled on its own, for its cost functions (as the CPU reference compiles it).
@@ -1035,6 +1036,49 @@ RawFrame with_geometry(RawFrame f, uint32_t w, uint32_t h, const std::vector<glm
     return f;
 }
 
+// shadow_scene at time t with its exact geometry: still ground (zero vectors) at depth 10.
+RawFrame shadow_frame(uint32_t w, uint32_t h, float t, float step) {
+    return with_geometry(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, t, step); }), w, h,
+                         std::vector<glm::vec2>(size_t(w) * h, glm::vec2(0.f)), 10.f);
+}
+
+// square_scene at time t with its exact vectors and depth (the square at 5, the background at 20).
+RawFrame square_frame(uint32_t w, uint32_t h, float t, glm::vec2 start, glm::vec2 step, float side) {
+    RawFrame f = render(w, h, [&](glm::vec2 p) { return square_scene(p, t, start, step, side); });
+    std::vector<glm::vec2> mv(size_t(w) * h);
+    std::vector<float> depth(size_t(w) * h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const glm::vec2 lp = glm::vec2(x + 0.5f, y + 0.5f) - (start + t * step);
+            const bool in = lp.x >= 0 && lp.y >= 0 && lp.x < side && lp.y < side;
+            mv[size_t(y) * w + x] = in ? -step : glm::vec2(0.f);
+            depth[size_t(y) * w + x] = in ? 5.f : 20.f;
+        }
+    f.mv = bytes_of(mv);
+    f.depth = bytes_of(depth);
+    return f;
+}
+
+// The frame halfway between frame(1) and frame(2) of a session of `p` with vectors and depth that
+// was handed frame(0), frame(1), frame(2) (nullopt, and a test failure, where a call fails).
+std::optional<GeneratedFrame> halfway_frame(uint32_t w, uint32_t h, const Params& p,
+                                            const std::function<RawFrame(float)>& frame) {
+    auto s = session_of(internal_format(w, h), p);
+    if (!s) return std::nullopt;
+    for (float t : {0.f, 1.f, 2.f})
+        if (auto r = s->submit(frame(t).view()); !r) {
+            ADD_FAILURE() << r.error().message;
+            return std::nullopt;
+        }
+    const float alpha = 0.5f;
+    auto out = s->interpolate(std::span<const float>(&alpha, 1));
+    if (!out) {
+        ADD_FAILURE() << out.error().message;
+        return std::nullopt;
+    }
+    return std::move(out->front());
+}
+
 Params correcting() {
     Params p;
     p.correct_vectors = true;
@@ -1087,10 +1131,7 @@ TEST(Motion, CorrectionGpuMatchesTheCpuReference) {
 TEST(Motion, CorrectedVectorsFollowAMovingShadow) {
     const uint32_t w = 192, h = 96;
     const float step = 7.f;
-    const std::vector<glm::vec2> zero(size_t(w) * h, glm::vec2(0.f));
-    auto frame = [&](float t) {
-        return with_geometry(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, t, step); }), w, h, zero, 10.f);
-    };
+    auto frame = [&](float t) { return shadow_frame(w, h, t, step); };
     const std::vector<glm::vec4> truth = colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, 1.5f, step); }));
     double score[2] = {0, 0};
     for (int correct = 0; correct < 2; ++correct) {
@@ -1127,32 +1168,14 @@ TEST(Motion, CorrectionKeepsExactVectorsAtDisocclusions) {
     const uint32_t w = 192, h = 128;
     const glm::vec2 start(30.f, 40.f), step(10.f, -5.f);
     const float side = 40.f;
-    auto frame = [&](float t) {
-        RawFrame f = render(w, h, [&](glm::vec2 p) { return square_scene(p, t, start, step, side); });
-        std::vector<glm::vec2> mv(size_t(w) * h);
-        std::vector<float> depth(size_t(w) * h);
-        for (uint32_t y = 0; y < h; ++y)
-            for (uint32_t x = 0; x < w; ++x) {
-                const glm::vec2 lp = glm::vec2(x + 0.5f, y + 0.5f) - (start + t * step);
-                const bool in = lp.x >= 0 && lp.y >= 0 && lp.x < side && lp.y < side;
-                mv[size_t(y) * w + x] = in ? -step : glm::vec2(0.f);
-                depth[size_t(y) * w + x] = in ? 5.f : 20.f;
-            }
-        f.mv = bytes_of(mv);
-        f.depth = bytes_of(depth);
-        return f;
-    };
+    auto frame = [&](float t) { return square_frame(w, h, t, start, step, side); };
     const std::vector<glm::vec4> truth =
         colours_of(render(w, h, [&](glm::vec2 p) { return square_scene(p, 1.5f, start, step, side); }));
     double score[2] = {0, 0};
     for (int correct = 0; correct < 2; ++correct) {
-        auto s = session_of(internal_format(w, h), correct ? correcting() : Params{});
-        ASSERT_TRUE(s);
-        for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(s->submit(frame(t).view()));
-        const float alpha = 0.5f;
-        auto out = s->interpolate(std::span<const float>(&alpha, 1));
-        ASSERT_TRUE(out) << out.error().message;
-        score[correct] = psnr((*out)[0].color.rgba, truth);
+        auto out = halfway_frame(w, h, correct ? correcting() : Params{}, frame);
+        ASSERT_TRUE(out);
+        score[correct] = psnr(out->color.rgba, truth);
     }
     std::printf("moving square, exact vectors: %.2f dB, corrected %.2f dB\n", score[0], score[1]);
     EXPECT_GT(score[1], score[0] - 0.1);
@@ -1167,25 +1190,17 @@ TEST(Motion, CorrectionKeepsExactVectorsAtDisocclusions) {
 TEST(Motion, AgreeTakesTheColourFieldWhereAShadowSweepsOverStillGround) {
     const uint32_t w = 192, h = 96;
     const float step = 7.f;
-    const std::vector<glm::vec2> zero(size_t(w) * h, glm::vec2(0.f));
-    auto frame = [&](float t) {
-        return with_geometry(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, t, step); }), w, h, zero,
-                             10.f);
-    };
+    auto frame = [&](float t) { return shadow_frame(w, h, t, step); };
     const std::vector<glm::vec4> truth =
         colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, 1.5f, step); }));
     double score[2] = {0, 0};
     for (int agree = 0; agree < 2; ++agree) {
         Params p;
         p.colour_agree = agree != 0;
-        auto s = session_of(internal_format(w, h), p);
-        ASSERT_TRUE(s);
-        for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(s->submit(frame(t).view()));
-        const float alpha = 0.5f;
-        auto out = s->interpolate(std::span<const float>(&alpha, 1));
-        ASSERT_TRUE(out) << out.error().message;
-        score[agree] = psnr((*out)[0].color.rgba, truth);
-        const auto& passes = (*out)[0].passes;
+        auto out = halfway_frame(w, h, p, frame);
+        ASSERT_TRUE(out);
+        score[agree] = psnr(out->color.rgba, truth);
+        const auto& passes = out->passes;
         const bool timed = std::any_of(passes.begin(), passes.end(),
                                        [](const PassTiming& t) { return t.pass == PassId::agree; });
         EXPECT_EQ(timed, agree != 0);
@@ -1204,32 +1219,14 @@ TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
     const uint32_t w = 192, h = 128;
     const glm::vec2 start(30.f, 40.f), step(10.f, -5.f);
     const float side = 40.f;
-    auto frame = [&](float t) {
-        RawFrame f = render(w, h, [&](glm::vec2 p) { return square_scene(p, t, start, step, side); });
-        std::vector<glm::vec2> mv(size_t(w) * h);
-        std::vector<float> depth(size_t(w) * h);
-        for (uint32_t y = 0; y < h; ++y)
-            for (uint32_t x = 0; x < w; ++x) {
-                const glm::vec2 lp = glm::vec2(x + 0.5f, y + 0.5f) - (start + t * step);
-                const bool in = lp.x >= 0 && lp.y >= 0 && lp.x < side && lp.y < side;
-                mv[size_t(y) * w + x] = in ? -step : glm::vec2(0.f);
-                depth[size_t(y) * w + x] = in ? 5.f : 20.f;
-            }
-        f.mv = bytes_of(mv);
-        f.depth = bytes_of(depth);
-        return f;
-    };
+    auto frame = [&](float t) { return square_frame(w, h, t, start, step, side); };
     std::vector<float> out[2];
     for (int agree = 0; agree < 2; ++agree) {
         Params p;
         p.colour_agree = agree != 0;
-        auto s = session_of(internal_format(w, h), p);
-        ASSERT_TRUE(s);
-        for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(s->submit(frame(t).view()));
-        const float alpha = 0.5f;
-        auto r = s->interpolate(std::span<const float>(&alpha, 1));
-        ASSERT_TRUE(r) << r.error().message;
-        out[agree] = (*r)[0].color.rgba;
+        auto r = halfway_frame(w, h, p, frame);
+        ASSERT_TRUE(r);
+        out[agree] = std::move(r->color.rgba);
     }
     ASSERT_EQ(out[0].size(), out[1].size());
     float largest = 0.f;
@@ -1244,16 +1241,11 @@ TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
 TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     const uint32_t w = 160, h = 80;
     const float step = 6.f;
-    const std::vector<glm::vec2> zero(size_t(w) * h, glm::vec2(0.f));
     Params p;
     p.colour_agree = true;
     auto s = session_of(internal_format(w, h), p);
     ASSERT_TRUE(s);
-    for (float t : {0.f, 1.f})
-        ASSERT_TRUE(
-            s->submit(with_geometry(render(w, h, [&](glm::vec2 q) { return shadow_scene(q, t, step); }), w, h,
-                                    zero, 10.f)
-                          .view()));
+    for (float t : {0.f, 1.f}) ASSERT_TRUE(s->submit(shadow_frame(w, h, t, step).view()));
     const float alpha = 0.5f;
     auto out = s->interpolate(std::span<const float>(&alpha, 1));
     ASSERT_TRUE(out) << out.error().message;
