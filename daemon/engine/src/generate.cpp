@@ -1,6 +1,8 @@
 // Generated frames: recording interpolation and extrapolation (splat, then the fused generate
 // pass, generate_sr with super resolution, or the separate passes; tile-skipping forms are
-// tiles.cpp's), and assembling the results: frames, pass timings, intermediates.
+// tiles.cpp's), an agreeing session's interpolation (Params::colour_agree: the given field's and
+// the colour-only twin's frames, then the agree pass), and assembling the results: frames, pass
+// timings, intermediates.
 #include <fgsr/engine/params.hpp>
 
 #include "session.hpp"
