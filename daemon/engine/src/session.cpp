@@ -93,11 +93,10 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     std::vector<std::byte> c(n * bytes_per_pixel(format.color_format)), d(n * 4);
     FGSR_TRY(params::validate(format, FrameView{c, d, {}}));
     FGSR_TRY(impl->init());
-    if (params.colour_agree) {
-        if (!format.has_vectors)
-            return make_error(
-                Errc::invalid_argument,
-                "colour_agree is for sessions with vectors (this one estimates its own motion)");
+    // Sessions without vectors estimate their own motion: colour_agree is off there (as
+    // correct_vectors is), so that one Params serves every kind of session (fgsr eval's methods).
+    impl->params.colour_agree = params.colour_agree && format.has_vectors;
+    if (impl->params.colour_agree) {
         // The twin: the same frames without vectors or depth, generating with separate passes
         // (the agree pass reads its warped frames).
         FrameFormat colour_format = format;

@@ -178,8 +178,9 @@ struct Params {
     // shadows, sunlight travelling with the camera), which no vector of the surface carries. The
     // given field's generation runs as separate passes. Costs the motion estimation's passes at
     // every submit and a second generated frame. Extrapolation is unchanged (it has one warped
-    // frame). Only with scale 1 and a session with vectors (docs/ACCURACY.md, change 33). Not
-    // carried by the wire protocol.
+    // frame). Only with scale 1 (validate refuses it otherwise); off in sessions without vectors,
+    // which estimate their own motion (Session::params() says so). Not carried by the wire
+    // protocol (docs/ACCURACY.md, change 33).
     bool colour_agree = false;
     float correct_ratio = defaults::correct_ratio;   // [0, 1]
     float correct_margin = defaults::correct_margin; // >= 0, luma units
