@@ -1290,6 +1290,30 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     expect_no_validation_errors();
 }
 
+// An agreeing call of several alphas generates them one at a time (the agree pass reads the warped
+// frames of the last one): each frame equals the one a call of that alpha alone gives.
+TEST(Motion, AgreeGivesEachAlphaOfACallAsAloneWould) {
+    const uint32_t w = 128, h = 64;
+    Params p;
+    p.colour_agree = true;
+    std::vector<GeneratedFrame> frames[2];
+    const std::vector<float> calls[2] = {{0.25f, 0.5f}, {0.5f}};
+    for (int k = 0; k < 2; ++k) {
+        auto s = session_of(internal_format(w, h), p);
+        ASSERT_TRUE(s);
+        for (float t : {0.f, 1.f}) ASSERT_TRUE(s->submit(shadow_frame(w, h, t, 6.f).view()));
+        auto out = s->interpolate(calls[k]);
+        ASSERT_TRUE(out) << out.error().message;
+        ASSERT_EQ(out->size(), calls[k].size());
+        frames[k] = std::move(*out);
+    }
+    EXPECT_EQ(frames[0][1].color.rgba, frames[1][0].color.rgba);
+    EXPECT_NE(frames[0][0].color.rgba, frames[0][1].color.rgba);
+    for (const GeneratedFrame& f : frames[0])
+        EXPECT_TRUE(std::any_of(f.passes.begin(), f.passes.end(),
+                                [](const PassTiming& t) { return t.pass == PassId::agree; }));
+}
+
 // Params::colour_agree needs scale 1, is off in sessions without vectors (they estimate their own
 // motion; one Params serves both kinds, as in fgsr eval), and stays what it was at creation.
 TEST(Motion, AgreeNeedsScaleOneAndIsOffWithoutVectors) {
