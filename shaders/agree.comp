@@ -42,7 +42,7 @@ void main() {
     if (!inside(t, pc.p.g)) return;
     uint i = uint(t.y) * pc.p.g.width + uint(t.x);
 #if AGREE_STAGE == 1
-    e_buf[i] = agree_error(i, pc.p.g);
+    e_buf[i] = agree_error(i, pc.p);
 #elif AGREE_STAGE == 2
     rows_buf[i] = agree_rows(t, pc.p);
 #else

@@ -10,8 +10,10 @@
 // their warped frames agree and the given frame is kept (docs/ACCURACY.md, change 33).
 //
 //   1. e = (e_given, e_colour) per pixel: |brightness(W0) - brightness(W1)| of each field's warped
-//      frames where both take part in the blend (blend.h, both_frames_take_part), else 0 (the
-//      blend took one frame for its geometry: an occlusion, a disocclusion, content leaving).
+//      frames where both are on screen and of one surface: depths within depth_band x T_D
+//      (relative), wider than blend's T_D, which a surface the camera approaches leaves between
+//      the two frames (blend then takes the nearer frame, and its shading is still the wrong
+//      one's); else 0 (an occlusion, a disocclusion, content leaving, a hole only frame 0 sees).
 //   2. Means of e over the box of side 2 radius + 1 around the pixel (clamped to the frame), as
 //      two separable stages: rows, then columns.
 //   3. w = clamp((ratio x mean e_given - mean e_colour - margin) / margin, 0, 1); the result is
@@ -25,13 +27,14 @@
 //   vec4  load_given(uint i), load_colour(uint i)
 
 // Stage 1: one field's disagreement at pixel i, and both fields' (given, colour).
-FGSR_INLINE float field_disagreement(uint field, uint i, GenParams g) {
+FGSR_INLINE float field_disagreement(uint field, uint i, AgreeParams p) {
     float d0 = load_warped_depth(field, 0u, i), d1 = load_warped_depth(field, 1u, i);
-    if (!both_frames_take_part(d0, d1, load_field_state(field, i), g)) return 0.0f;
+    if (load_field_state(field, i) == FIELD_HOLE_FILLED || !(d0 >= 0.0f) || !(d1 >= 0.0f)) return 0.0f;
+    if (abs(d0 - d1) / max(min(d0, d1), 1.0e-20f) > p.depth_band * p.g.t_depth) return 0.0f;
     return abs(brightness(load_warped(field, 0u, i)) - brightness(load_warped(field, 1u, i)));
 }
-FGSR_INLINE vec2 agree_error(uint i, GenParams g) {
-    return vec2(field_disagreement(0u, i, g), field_disagreement(1u, i, g));
+FGSR_INLINE vec2 agree_error(uint i, AgreeParams p) {
+    return vec2(field_disagreement(0u, i, p), field_disagreement(1u, i, p));
 }
 
 // Stage 2: the mean of e along the row, within radius of t (clamped to the frame).

@@ -27,11 +27,3 @@ FGSR_INLINE vec4 select_blend(vec4 c0, float d0, vec4 c1, float d1, uint state, 
     if (db > g.t_bright || g.blend_mode != 0u) return mix(c0, c1, g.alpha);
     return g.alpha <= 0.5f ? c0 : c1;
 }
-
-// Whether both warped frames take part in select_blend's decision at a pixel: both on screen, of
-// similar depth, not a hole only frame 0 sees. Elsewhere it takes one frame for its geometry
-// (agree.h measures the two frames' disagreement only here).
-FGSR_INLINE bool both_frames_take_part(float d0, float d1, uint state, GenParams g) {
-    if (state == FIELD_HOLE_FILLED || !(d0 >= 0.0f) || !(d1 >= 0.0f)) return false;
-    return abs(d0 - d1) / max(min(d0, d1), 1.0e-20f) <= g.t_depth;
-}

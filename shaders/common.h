@@ -320,7 +320,7 @@ struct AgreeParams {
     uint radius;  // the box's half side, pixels
     float ratio;  // the given field's disagreement is scaled by this ...
     float margin; // ... and must exceed the colour field's by more than this (brightness units)
-    uint pad;
+    float depth_band; // the two warped frames are one surface within depth_band x g.t_depth
 };
 
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel

@@ -1273,6 +1273,7 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     ap.radius = defaults::agree_radius;
     ap.ratio = defaults::agree_ratio;
     ap.margin = defaults::agree_margin;
+    ap.depth_band = defaults::agree_depth_band;
     ref::Field given_f, colour_f;
     given_f.state = im->field_state;
     colour_f.state = im->colour->field_state;

@@ -344,6 +344,7 @@ Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& co
     p.radius = defaults::agree_radius;
     p.ratio = defaults::agree_ratio;
     p.margin = defaults::agree_margin;
+    p.depth_band = defaults::agree_depth_band;
     const auto b = make_slots<PassId::agree>(
         at<AGREE_GIVEN_W0>(warped_color0), at<AGREE_GIVEN_D0>(warped_depth0),
         at<AGREE_GIVEN_W1>(warped_color1), at<AGREE_GIVEN_D1>(warped_depth1),

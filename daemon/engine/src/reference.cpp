@@ -427,7 +427,7 @@ std::vector<glm::vec4> agree(const Warped& given_warped, const std::vector<uint3
         {&given_warped, &colour_warped}, {&given_state, &colour_state}, {&given, &colour}, {}, {}, n};
     cpu.e_buf.resize(n);
     cpu.rows_buf.resize(n);
-    for (size_t i = 0; i < n; ++i) cpu.e_buf[i] = cpu.agree_error(uint32_t(i), p.g);
+    for (size_t i = 0; i < n; ++i) cpu.e_buf[i] = cpu.agree_error(uint32_t(i), p);
     auto each = [&](auto f) {
         for (uint32_t y = 0; y < p.g.height; ++y)
             for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);

@@ -84,12 +84,21 @@ inline constexpr float correct_front = 0.1f;
 // disagreement is averaged (side 2 radius + 1), and the colour-only frame's weight
 // clamp((ratio x given - colour - margin) / margin, 0, 1). Chosen on the train fg captures of
 // docs/ACCURACY.md (change 33) with a prototype on eval's outputs, from sides 5-31, ratios 0.5-1
-// and margins 0.005-0.02: side 21, ratio 1, margin 0.02 gained on every train capture (sundial-fg
-// +3.16 dB, twirl-fg +0.96, bunker HR +0.72) and lost on none by 0.001; smaller sides and margins
+// and margins 0.005-0.02 (measured with blend's depth band): side 21, ratio 1, margin 0.02 gained
+// on every train capture (sundial-fg +3.16 dB, twirl-fg +0.96) and lost on none by 0.001; smaller
+// sides and margins
 // lost up to 1.1 dB on rotor-fg and 0.5 on orbit-fg (checker floors, turning blades).
 inline constexpr uint32_t agree_radius = 10;
 inline constexpr float agree_ratio = 1.0f;
 inline constexpr float agree_margin = 0.02f;
+// ... measured where the two warped frames are one surface: depths within this times t_depth
+// (relative). Blend's own band (1 x t_depth) leaves out most of a street the camera approaches
+// (77 % of street-fg's pixels), where the nearer frame is taken with its shading. Chosen on the
+// same train captures after the rest, from 1 / 1.5 / 2 / 3 / 4 (street-fg +0.19 / +0.84 / +1.46 /
+// +2.65 / +3.32 dB over no agree pass, twirl-fg +0.96 / +1.14 / +1.21 / +1.25 / +1.26, toss-fg
+// +0.03 / +0.01 / -0.01 / -0.04 / -0.13): the largest sum with no capture lower by more than
+// 0.005 (docs/ACCURACY.md, change 33).
+inline constexpr float agree_depth_band = 1.5f;
 // Since change 17 of docs/ACCURACY.md the noise is measured relative to the local brightness to
 // the power gamma (shaders/denoise.h): sunlit and shaded parts of one frame carry noise in
 // proportion to their light, which one absolute level did not fit. Strength and gamma chosen on
