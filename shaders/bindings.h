@@ -115,7 +115,7 @@
     ((1u << POLISH_CUR) | (1u << POLISH_PREV) | (1u << POLISH_MV_TEXELS) | (1u << POLISH_FIELD))
 
 // agree (agree.h): the warped frames, depths and field states of the given field (separate passes)
-// and of the colour-only field, each field's blended frame, the disagreement and its row sums.
+// and of the colour-only field, each field's blended frame, the disagreement and its row means.
 #define AGREE_GIVEN_W0 0
 #define AGREE_GIVEN_D0 1
 #define AGREE_GIVEN_W1 2
