@@ -30,7 +30,7 @@
 FGSR_INLINE float field_disagreement(uint field, uint i, AgreeParams p) {
     float d0 = load_warped_depth(field, 0u, i), d1 = load_warped_depth(field, 1u, i);
     if (load_field_state(field, i) == FIELD_HOLE_FILLED || !(d0 >= 0.0f) || !(d1 >= 0.0f)) return 0.0f;
-    if (abs(d0 - d1) / max(min(d0, d1), 1.0e-20f) > p.depth_band * p.g.t_depth) return 0.0f;
+    if (relative_depth_difference(d0, d1) > p.depth_band * p.g.t_depth) return 0.0f;
     return abs(brightness(load_warped(field, 0u, i)) - brightness(load_warped(field, 1u, i)));
 }
 FGSR_INLINE vec2 agree_error(uint i, AgreeParams p) {

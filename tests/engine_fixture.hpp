@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -75,6 +76,20 @@ inline ref::InternalFrame to_internal(const Session::InternalFrameData& d, uint3
 
 // Random frame: colours in [0,1], depths in [1,100] with flat patches (ties and edges), vectors
 // in [-range, range] pixels, constant over small blocks so that splats collide.
+// The warped frames of read-back intermediates (separate passes) as ref::blend and ref::agree take
+// them: frame 0's, then frame 1's.
+inline ref::Warped warped_of(const Session::Intermediates& m) {
+    const size_t n = m.warped_depth0.size();
+    ref::Warped w;
+    w.color.resize(2 * n);
+    w.depth.resize(2 * n);
+    std::memcpy(w.color.data(), m.warped_color0.data(), n * 16);
+    std::memcpy(w.color.data() + n, m.warped_color1.data(), n * 16);
+    std::copy(m.warped_depth0.begin(), m.warped_depth0.end(), w.depth.begin());
+    std::copy(m.warped_depth1.begin(), m.warped_depth1.end(), w.depth.begin() + long(n));
+    return w;
+}
+
 inline RawFrame random_frame(uint32_t w, uint32_t h, uint32_t seed, float range, bool with_mv = true) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u01(0.f, 1.f), um(-range, range), ud(1.f, 100.f);

@@ -1226,6 +1226,10 @@ TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
         p.colour_agree = agree != 0;
         auto r = halfway_frame(w, h, p, frame);
         ASSERT_TRUE(r);
+        // The pass ran (the twin generated a frame), so an equal frame is its choice.
+        EXPECT_EQ(std::any_of(r->passes.begin(), r->passes.end(),
+                              [](const PassTiming& t) { return t.pass == PassId::agree; }),
+                  agree != 0);
         out[agree] = std::move(r->color.rgba);
     }
     ASSERT_EQ(out[0].size(), out[1].size());
@@ -1253,21 +1257,7 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     ASSERT_TRUE(im) << im.error().message;
     ASSERT_TRUE(im->colour) << "the colour-only twin's intermediates";
     const size_t n = size_t(w) * h;
-    auto warped = [&](const Session::Intermediates& m) {
-        ref::Warped wp;
-        wp.color.resize(2 * n);
-        wp.depth.resize(2 * n);
-        for (size_t i = 0; i < n; ++i) {
-            wp.color[i] = glm::vec4(m.warped_color0[4 * i], m.warped_color0[4 * i + 1],
-                                    m.warped_color0[4 * i + 2], m.warped_color0[4 * i + 3]);
-            wp.color[n + i] = glm::vec4(m.warped_color1[4 * i], m.warped_color1[4 * i + 1],
-                                        m.warped_color1[4 * i + 2], m.warped_color1[4 * i + 3]);
-            wp.depth[i] = m.warped_depth0[i];
-            wp.depth[n + i] = m.warped_depth1[i];
-        }
-        return wp;
-    };
-    const ref::Warped given_w = warped(*im), colour_w = warped(*im->colour);
+    const ref::Warped given_w = warped_of(*im), colour_w = warped_of(*im->colour);
     ref::AgreeParams ap{};
     ap.g = params::gen_params(internal_format(w, h), p, alpha, false, true, true);
     ap.radius = defaults::agree_radius;

@@ -219,14 +219,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     EXPECT_LE(depth_diff, n / 1000) << "warp depth (nearest pixel) differs on " << depth_diff << " pixels";
 
     if (!c.extrapolate) {
-        ref::Warped gw;
-        gw.color.resize(2 * n);
-        gw.depth.resize(2 * n);
-        std::memcpy(gw.color.data(), post->warped_color0.data(), n * 16);
-        std::memcpy(gw.color.data() + n, post->warped_color1.data(), n * 16);
-        std::copy(post->warped_depth0.begin(), post->warped_depth0.end(), gw.depth.begin());
-        std::copy(post->warped_depth1.begin(), post->warped_depth1.end(), gw.depth.begin() + long(n));
-        std::vector<glm::vec4> blended = ref::blend(gw, post_field, g);
+        std::vector<glm::vec4> blended = ref::blend(warped_of(*post), post_field, g);
         double blend_err = 0;
         for (size_t i = 0; i < n; ++i)
             for (int k = 0; k < 4; ++k)

@@ -109,6 +109,7 @@ Result<void> Session::Impl::check_generate(std::span<const float> alphas, bool e
 
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     FGSR_TRY(check_generate(alphas, extrapolate));
+    last_agreed = false;
     if (agrees() && !extrapolate) return generate_agreed(alphas);
     return generate_frames(alphas, extrapolate);
 }
@@ -299,6 +300,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_agreed(std::span<con
     result.reserve(alphas.size());
     Impl& colour = *colour_twin->impl_;
     for (const float& alpha : alphas) {
+        last_agreed = false;
         force_separate = true;
         auto given = generate_frames(std::span<const float>(&alpha, 1), false);
         force_separate = false;
@@ -315,6 +317,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_agreed(std::span<con
             format, params, alpha, false, frames[size_t(1 - newest)].has_mv, frames[size_t(newest)].has_mv);
         auto timing = record_agree(g, colour);
         if (!timing) return timing.error();
+        last_agreed = true;
         for (PassTiming& t : from_colour->front().passes) {
             gf.gpu_ms += t.ms;
             gf.passes.push_back(std::move(t));
@@ -406,7 +409,7 @@ Result<Session::Intermediates> Session::read_intermediates() const {
     FGSR_TRY(
         get_f(s.last_extrapolate ? s.outputs[s.last_output] : s.warped_color1, s.n * 4, out.warped_color1));
     FGSR_TRY(get_f(s.warped_depth1, s.n, out.warped_depth1));
-    if (s.agrees() && !s.last_extrapolate && s.colour_twin->impl_->last_separate) {
+    if (s.last_agreed) {
         auto colour = s.colour_twin->read_intermediates();
         if (!colour) return colour.error();
         out.colour = std::make_shared<Intermediates>(std::move(*colour));

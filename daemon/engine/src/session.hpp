@@ -166,6 +166,7 @@ struct Session::Impl {
     // disagreement and its row means (vec2 per pixel, created on first use).
     std::unique_ptr<Session> colour_twin;
     vk::Buffer agree_e, agree_rows;
+    bool last_agreed = false; // the last generated frame is the agree pass's (read_intermediates)
     bool agrees() const { return colour_twin != nullptr; }
     // The twin's parameters: this session's, estimating motion without correcting anything, with
     // separate passes.

@@ -93,7 +93,8 @@ inline constexpr float agree_ratio = 1.0f;
 inline constexpr float agree_margin = 0.02f;
 // ... measured where the two warped frames are one surface: depths within this times t_depth
 // (relative). Blend's own band (1 x t_depth) leaves out most of a street the camera approaches
-// (77 % of street-fg's pixels), where the nearer frame is taken with its shading. Chosen on the
+// (blend takes one frame, for depth or a frame off screen, at 77 % of street-fg's pixels), where
+// the nearer frame is taken with its shading. Chosen on the
 // same train captures after the rest, from 1 / 1.5 / 2 / 3 / 4 (street-fg +0.19 / +0.84 / +1.46 /
 // +2.65 / +3.32 dB over no agree pass, twirl-fg +0.96 / +1.14 / +1.21 / +1.25 / +1.26, toss-fg
 // +0.03 / +0.01 / -0.01 / -0.04 / -0.13): the largest sum with no capture lower by more than

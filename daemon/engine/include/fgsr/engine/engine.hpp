@@ -433,9 +433,9 @@ class Session {
         // was classified (Params::skip_tiles); empty otherwise. Tile side: tile_side.
         std::vector<uint32_t> tile_flags;
         uint32_t tile_side = 0;
-        // Params::colour_agree, after an interpolation: the colour-only twin's intermediates (its
-        // field, warped frames). The warped frames above are the given field's; the frame returned
-        // is the agree pass's.
+        // Params::colour_agree, after an interpolation whose last frame the agree pass made: the
+        // colour-only twin's intermediates (its field, warped frames). The warped frames above are the given
+        // field's; the frame returned is the agree pass's.
         std::shared_ptr<Intermediates> colour;
     };
     Result<Intermediates> read_intermediates() const;
