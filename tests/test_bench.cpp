@@ -192,7 +192,7 @@ TEST(Presets, SwitchesApplyAndToggle) {
         "fill_holes=off",  "blend=select",         "dilate_mvs=on",  "denoise=off",
         "passes=separate", "correct_vectors=on",   "fast_motion=on", "dilate_edges=on",
         "accel_search=on", "accel_median=on",      "accel_depth=on", "cover_edges=off",
-        "vector_cuts=off", "motion_consensus=off"};
+        "vector_cuts=off", "motion_consensus=off", "colour_agree=on"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;
@@ -264,7 +264,8 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
         EXPECT_EQ(md.find("consecutive calls"), std::string::npos) << "--no-moving-run";
     }
     const auto rows = read_csv(out / "bench.csv");
-    // builtin: interp (3 presets + 6 switches that act on it), extrap (no blend switch), and each
+    // builtin: interp (3 presets + 7 switches that act on it), extrap (no blend or colour_agree
+    // switch), and each
     // on colour alone (balanced+colour, and balanced+colour+fast_motion=on).
     std::set<std::string> got, expected;
     for (const char* c :
@@ -275,6 +276,7 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
         expected.insert(std::string("extrap ") + c);
     }
     expected.insert("interp balanced+blend=select");
+    expected.insert("interp balanced+colour_agree=on"); // extrapolation is unchanged by it
     size_t pareto = 0;
     for (const auto& row : rows) {
         EXPECT_EQ(row.at("capture"), "synthetic-toss");
@@ -295,6 +297,10 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
             const double epe = std::stod(row.at("epe"));
             EXPECT_TRUE(std::isfinite(epe) && epe > 0) << row.at("epe"); // the scene moves
             EXPECT_GE(std::stod(row.at("motion_ms")), 0.0);
+        } else if (row.at("config") == "balanced+colour_agree=on") {
+            // The colour twin's motion passes are timed; no vector of its own is scored.
+            EXPECT_EQ(row.at("epe"), "");
+            EXPECT_GT(std::stod(row.at("motion_ms")), 0.0);
         } else if (row.at("config") == "balanced+correct_vectors=on") {
             const double epe = std::stod(row.at("epe"));
             EXPECT_TRUE(std::isfinite(epe) && epe >= 0 && epe < 0.5) << row.at("epe");

@@ -403,6 +403,35 @@ TEST_F(ClientService, CorrectedVectorsGoThroughTheDaemon) {
     fs::remove_all(dir, ec);
 }
 
+// `--colour-agree` through fgsrd (the session flag FGSR_SESSION_COLOUR_AGREE, as `fgsr replay
+// --colour-agree` sends it): the scores equal the in-process ones with the same option, and the
+// agree pass and the colour twin's motion passes ran in the daemon; without it neither ran.
+TEST_F(ClientService, AgreeingInterpolationGoesThroughTheDaemon) {
+    const fs::path dir = saved_capture("fgsr-agree", 4, 4);
+    const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
+    const std::string common =
+        bin + " eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
+    auto ev = fgsr::test::run_process(common + " --colour-agree");
+    auto rp = fgsr::test::run_process(common + " --colour-agree --socket " + daemon_->socket_path());
+    auto plain = fgsr::test::run_process(common + " --socket " + daemon_->socket_path());
+    ASSERT_EQ(ev.status, 0) << ev.out;
+    ASSERT_EQ(rp.status, 0) << rp.out;
+    ASSERT_EQ(plain.status, 0) << plain.out;
+    const auto a = nlohmann::json::parse(ev.out, nullptr, false),
+               b = nlohmann::json::parse(rp.out, nullptr, false),
+               c = nlohmann::json::parse(plain.out, nullptr, false);
+    ASSERT_FALSE(a.is_discarded() || b.is_discarded() || c.is_discarded());
+    EXPECT_EQ(a["methods"]["fgsr"]["psnr"], b["methods"]["fgsr"]["psnr"]);
+    EXPECT_EQ(a["methods"]["fgsr"]["ssim"], b["methods"]["fgsr"]["ssim"]);
+    for (const char* pass : {"agree", "luma", "match", "flow"}) {
+        EXPECT_TRUE(a["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << ev.out;
+        EXPECT_TRUE(b["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << rp.out;
+        EXPECT_FALSE(c["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << plain.out;
+    }
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+}
+
 // `fgsr replay` and `fgsr eval` on the same small capture print the same PSNR and SSIM.
 TEST_F(ClientService, ReplayPrintsTheSameMetricsAsEval) {
     const fs::path dir = saved_capture("fgsr-replay", 5, 2);

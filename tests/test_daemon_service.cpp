@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
+#include <map>
 #include <optional>
 #include <poll.h>
 #include <set>
@@ -296,6 +297,72 @@ TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
         expect_motion_passes(passes);
         if (done.output_slot != FGSR_NO_SLOT) s.release(done.output_slot);
     }
+}
+
+// FGSR_SESSION_COLOUR_AGREE (minor 7): the daemon estimates motion from colour beside the given
+// vectors and generates each interpolated frame from both fields. The completion names every pass
+// once (fgsr_pass_record.runs counts the runs: the frame's ingest and the colour twin's, each
+// field's separate generation passes), agree among them, within FGSR_MAX_PASSES; the records'
+// times stay within the output's GPU time. Vectors that explain the colour leave the frame as without
+// the flag, and extrapolated frames come as without it.
+TEST_F(Daemon, AgreeingSessionsReportEachPassOnceWithItsRuns) {
+    std::vector<std::vector<float>> frames[2]; // [flag] interp, extrap outputs
+    for (const bool agree : {false, true}) {
+        SCOPED_TRACE(agree ? "colour agree" : "given vectors only");
+        fgsr_session_desc d = default_desc();
+        d.flags = agree ? FGSR_SESSION_COLOUR_AGREE : 0u;
+        d.modes = FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
+        d.scale = 1.f;
+        auto c = open_session(path(), d);
+        ASSERT_TRUE(c);
+        RawSession& s = *c->s;
+        for (uint32_t frame = 0; frame < 2; ++frame) {
+            s.fill(frame, float(frame));
+            fgsr_submit_entry e = s.entry(frame, FGSR_SUBMIT_HAS_MV);
+            const float alpha = 0.5f;
+            e.interp_count = 1;
+            e.extrap_count = 1;
+            std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
+            std::memcpy(e.extrap_alphas, &alpha, sizeof(alpha));
+            s.push(e);
+            const auto done = s.wait_submit();
+            ASSERT_EQ(done.size(), 2u);
+            if (frame == 0) continue;
+            for (const fgsr_completion_entry& o : done) {
+                ASSERT_EQ(o.status, FGSR_STATUS_OK);
+                const fgsr_telemetry& t = o.telemetry;
+                ASSERT_LE(t.pass_count, FGSR_MAX_PASSES);
+                std::map<uint32_t, uint32_t> runs;
+                uint64_t summed = 0;
+                for (uint32_t i = 0; i < t.pass_count; ++i) {
+                    const fgsr_pass_record& r = t.passes[i];
+                    EXPECT_EQ(runs.count(r.pass), 0u) << "pass " << r.pass << " has two records";
+                    runs[r.pass] = r.runs;
+                    EXPECT_GE(r.gpu_end_ns, r.gpu_begin_ns);
+                    summed += r.gpu_end_ns - r.gpu_begin_ns;
+                }
+                // gpu_ns sums each run's time; a record's span is its runs' (the ingest's cut stage
+                // and polish's coarse levels count in gpu_ns only), each rounded to the ns.
+                EXPECT_GT(summed, 0u);
+                EXPECT_LE(summed, t.gpu_ns + 1000u * t.pass_count);
+                const bool interp = t.frame_type == FGSR_FRAME_INTERPOLATED;
+                EXPECT_EQ(runs[FGSR_PASS_INGEST], agree ? 2u : 1u);
+                EXPECT_EQ(runs.count(FGSR_PASS_AGREE), agree && interp ? 1u : 0u);
+                EXPECT_EQ(runs.count(FGSR_PASS_MATCH), agree ? 1u : 0u) << "the twin's motion passes";
+                if (agree && interp) {
+                    EXPECT_EQ(runs[FGSR_PASS_BLEND], 2u) << "both fields blend";
+                }
+                ASSERT_NE(o.output_slot, FGSR_NO_SLOT);
+                const auto* px = reinterpret_cast<const float*>(s.out_slot(o.output_slot));
+                frames[agree].emplace_back(px, px + size_t(kW) * kH * 4);
+                s.release(o.output_slot);
+            }
+        }
+    }
+    ASSERT_EQ(frames[0].size(), 2u);
+    ASSERT_EQ(frames[1].size(), 2u);
+    EXPECT_EQ(frames[0][1], frames[1][1]) << "extrapolation is unchanged";
+    EXPECT_EQ(frames[0][0], frames[1][0]) << "the given vectors explain the colour: the given frame";
 }
 
 // Colour-only sessions (FGSR_SESSION_NO_MVS | NO_DEPTH, minor 2) estimate motion from colour at

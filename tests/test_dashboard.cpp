@@ -433,6 +433,7 @@ TEST_F(Dashboard, TraceHoldsOneCompleteEventPerPassOfEveryOutput) {
     for (const auto& e : t["traceEvents"]) {
         if (e["ph"] != "X") continue;
         EXPECT_GE(e["dur"].get<double>(), 0);
+        EXPECT_GE(e["args"]["runs"].get<uint32_t>(), 1u); // one record per pass, its runs counted
         seen[{e["args"]["sequence"].get<uint64_t>(), e["args"]["output_index"].get<uint32_t>()}].insert(
             e["name"].get<std::string>());
     }

@@ -202,7 +202,7 @@ TEST(ProtocolAbi, Layout_fgsr_pass_record) {
     FGSR_FIELD(fgsr_pass_record, pass, 0, 4);
     FGSR_FIELD(fgsr_pass_record, tiles_total, 4, 4);
     FGSR_FIELD(fgsr_pass_record, tiles_skipped, 8, 4);
-    FGSR_FIELD(fgsr_pass_record, reserved, 12, 4);
+    FGSR_FIELD(fgsr_pass_record, runs, 12, 4);
     FGSR_FIELD(fgsr_pass_record, gpu_begin_ns, 16, 8);
     FGSR_FIELD(fgsr_pass_record, gpu_end_ns, 24, 8);
 }
@@ -375,7 +375,7 @@ TEST(ProtocolAbi, EnumValues) {
 TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAGIC), uint64_t(0x52534746u));
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAJOR), uint64_t(1u));
-    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(6u));
+    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(7u));
     EXPECT_EQ(uint64_t(FGSR_REPORT_APPLICATION), uint64_t(0xffffffffu));
     EXPECT_EQ(uint64_t(FGSR_REPORT_DROPPED), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_MAX_REPORTS_PER_MESSAGE), uint64_t(16u));
@@ -405,6 +405,7 @@ TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_SESSION_NO_DEPTH), uint64_t(0x40u));
     EXPECT_EQ(uint64_t(FGSR_SESSION_CORRECT_MVS), uint64_t(0x80u));
     EXPECT_EQ(uint64_t(FGSR_SESSION_FAST_MOTION), uint64_t(0x100u));
+    EXPECT_EQ(uint64_t(FGSR_SESSION_COLOUR_AGREE), uint64_t(0x200u));
     EXPECT_EQ(uint64_t(FGSR_CAP_ZERO_COPY_INPUT), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_CAP_SR), uint64_t(0x2u));
     EXPECT_EQ(uint64_t(FGSR_CAP_INTERPOLATE), uint64_t(0x4u));

@@ -266,7 +266,7 @@ TEST(SessionDesc, FormatsModesFlagsAndFloats) {
         "vectors corrected by colour");
     expect_refused([](fgsr_session_desc& d) { d.flags = FGSR_SESSION_CORRECT_MVS; },
                    "corrected vectors with SR");
-    expect_refused([](fgsr_session_desc& d) { d.flags = 0x100; }, "unknown flag");
+    expect_refused([](fgsr_session_desc& d) { d.flags = 0x400; }, "unknown flag");
     expect_refused([](fgsr_session_desc& d) { d.reserved[9] = 1; }, "reserved");
     expect_ok([](fgsr_session_desc& d) { d.far_plane = INFINITY; }, "infinite far plane");
     expect_refused([](fgsr_session_desc& d) { d.far_plane = NAN; }, "NaN far plane");
@@ -423,7 +423,7 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
             }
     // Bits beyond the known ones are still refused.
     fgsr_session_desc in = base_desc(), d{};
-    in.flags = FGSR_SESSION_FAST_MOTION << 1;
+    in.flags = FGSR_SESSION_COLOUR_AGREE << 1;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, nullptr, 0), FGSR_STATUS_INVALID_ARGUMENT);
     // Correction of given vectors needs given vectors, and no super resolution.
     char reason[160];
@@ -436,6 +436,24 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
     in.flags = FGSR_SESSION_CORRECT_MVS | FGSR_SESSION_NO_MVS;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(reason).find("CORRECT_MVS"), std::string::npos) << reason;
+    // Interpolation by agreement (minor 7) adds a field from colour to given vectors: not with
+    // NO_MVS, and not with super resolution; with the correction of the given vectors it may.
+    in.flags = FGSR_SESSION_COLOUR_AGREE;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
+    in.flags = FGSR_SESSION_COLOUR_AGREE | FGSR_SESSION_CORRECT_MVS;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
+    in.flags = FGSR_SESSION_COLOUR_AGREE | FGSR_SESSION_NO_MVS | FGSR_SESSION_NO_DEPTH;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(reason).find("COLOUR_AGREE"), std::string::npos) << reason;
+    EXPECT_NE(std::string(reason).find("NO_MVS"), std::string::npos) << reason;
+    in.flags = FGSR_SESSION_COLOUR_AGREE;
+    in.scale = 2.f;
+    in.modes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(reason).find("COLOUR_AGREE"), std::string::npos) << reason;
+    EXPECT_NE(std::string(reason).find("scale 1"), std::string::npos) << reason;
+    in.scale = 1.f;
+    in.modes = FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
     // Fast motion estimation is for sessions that estimate motion: only with NO_MVS.
     in.flags = FGSR_SESSION_FAST_MOTION;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);

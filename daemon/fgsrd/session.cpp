@@ -145,6 +145,7 @@ std::unique_ptr<ServiceSession> ServiceSession::create(fgsr::Engine* engine, uin
     params.denoise = (d.flags & FGSR_SESSION_NO_DENOISE) == 0;
     params.correct_vectors = (d.flags & FGSR_SESSION_CORRECT_MVS) != 0;
     params.fast_motion = (d.flags & FGSR_SESSION_FAST_MOTION) != 0;
+    params.colour_agree = (d.flags & FGSR_SESSION_COLOUR_AGREE) != 0;
 
     std::unique_ptr<ServiceSession> s(new ServiceSession());
     s->id_ = id;
@@ -519,19 +520,29 @@ void ServiceSession::execute(FrameJob& job, Spent& spent) {
         t.dequeue_ns = p.dequeue_ns;
         t.start_ns = start_ns;
         t.queue_wait_ns = start_ns - p.dequeue_ns;
-        // Passes: this frame's ingest and motion estimation, then the output's own passes.
+        // Passes: this frame's ingest and motion estimation, then the output's own passes. A pass
+        // that runs more than once for the output (colour_agree generates from two fields) gets one
+        // record summing its runs (fgsr_pass_record.runs), so that every pass fits.
         auto add_pass = [&](const fgsr::PassTiming& pt) {
+            t.gpu_ns += uint64_t(std::llround(pt.ms * 1e6));
+            const uint32_t id = uint32_t(pt.pass);
+            for (uint32_t i = 0; i < t.pass_count; ++i) {
+                fgsr_pass_record& r = t.passes[i];
+                if (r.pass != id) continue;
+                r.gpu_end_ns += pt.end_ns > pt.begin_ns ? pt.end_ns - pt.begin_ns : 0;
+                r.tiles_total += pt.tiles_total;
+                r.tiles_skipped += pt.tiles_skipped;
+                ++r.runs;
+                return;
+            }
             if (t.pass_count >= FGSR_MAX_PASSES) return;
             fgsr_pass_record& r = t.passes[t.pass_count++];
-            r.pass = uint32_t(pt.pass);
+            r.pass = id;
+            r.runs = 1;
             r.gpu_begin_ns = pt.begin_ns;
-            r.gpu_end_ns = pt.end_ns;
+            r.gpu_end_ns = pt.end_ns > pt.begin_ns ? pt.end_ns : pt.begin_ns;
             r.tiles_total = pt.tiles_total;
             r.tiles_skipped = pt.tiles_skipped;
-            // A pass that skipped every tile (e.g. splat of a frame without motion) did no work.
-            if (pt.tiles_total > 0 && pt.tiles_skipped >= pt.tiles_total && r.pass < 32)
-                t.skipped_passes |= 1u << r.pass;
-            t.gpu_ns += uint64_t(std::llround(pt.ms * 1e6));
         };
         add_pass(ingest);
         for (const fgsr::PassTiming& pt : motion) add_pass(pt);
@@ -540,10 +551,18 @@ void ServiceSession::execute(FrameJob& job, Spent& spent) {
             const uint32_t out_slot = job.slots[written++]; // begin() reserved one per output
             write_output(out_slot, o.frame->color);
             c.output_slot = out_slot;
-        } else if (o.status != FGSR_STATUS_OK) {
+        }
+        if (o.status != FGSR_STATUS_OK) {
             t.skipped_passes = o.frame_type == FGSR_FRAME_UPSCALED
                                    ? (1u << FGSR_PASS_SR)
                                    : (1u << FGSR_PASS_SPLAT) | (1u << FGSR_PASS_GENERATE);
+        } else {
+            // A pass that skipped every tile (e.g. splat of a frame without motion) did no work.
+            for (uint32_t i = 0; i < t.pass_count; ++i) {
+                const fgsr_pass_record& r = t.passes[i];
+                if (r.tiles_total > 0 && r.tiles_skipped >= r.tiles_total && r.pass < 32)
+                    t.skipped_passes |= 1u << r.pass;
+            }
         }
         if (k + 1 == outputs.size()) c.flags = FGSR_COMPLETION_INPUT_RELEASED | FGSR_COMPLETION_LAST;
         const uint64_t cpu_now = thread_cpu_ns();

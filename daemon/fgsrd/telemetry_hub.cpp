@@ -230,7 +230,8 @@ void TelemetryHub::completion(uint32_t session, const fgsr_completion_entry& c) 
             r.pass_ms[p.pass] += float(double(dur) * 1e-6);
             r.tiles_total += p.tiles_total;
             r.tiles_skipped += p.tiles_skipped;
-            e.passes.push_back({p.pass, p.tiles_total, p.tiles_skipped, p.gpu_begin_ns, p.gpu_end_ns});
+            e.passes.push_back(
+                {p.pass, p.tiles_total, p.tiles_skipped, p.gpu_begin_ns, p.gpu_end_ns, std::max(p.runs, 1u)});
             metrics_->gpu_by_pass[p.pass]->Observe(double(dur) * 1e-9);
         }
         if (t.frame_type >= FGSR_FRAME_UPSCALED && t.frame_type <= FGSR_FRAME_EXTRAPOLATED)
@@ -452,7 +453,8 @@ nlohmann::json TelemetryHub::trace(double window) const {
                             {"output_index", r.output_index},
                             {"frame_type", type},
                             {"tiles_total", p.tiles_total},
-                            {"tiles_skipped", p.tiles_skipped}}}});
+                            {"tiles_skipped", p.tiles_skipped},
+                            {"runs", p.runs}}}});
         const uint64_t at = r.kind == Kind::output ? e.complete_ns : epoch_ns_ + uint64_t(r.t_s * 1e9);
         if (std::isfinite(r.c2p_ms))
             ev.push_back({{"name", "click to photon"},

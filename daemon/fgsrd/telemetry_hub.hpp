@@ -83,6 +83,7 @@ class TelemetryHub {
         uint32_t pass;
         uint32_t tiles_total, tiles_skipped;
         uint64_t begin_ns, end_ns;
+        uint32_t runs; // fgsr_pass_record.runs (1 from daemons before minor 7)
     };
     struct Entry {
         fgsr::telemetry::FrameRecord record;

@@ -39,7 +39,7 @@ static const uint32_t kKnownModes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE | FGSR_
 static const uint32_t kKnownSessionFlags =
     FGSR_SESSION_MVS_CONTAIN_JITTER | FGSR_SESSION_DILATE_MVS | FGSR_SESSION_MV_Y_UP |
     FGSR_SESSION_LINEAR_MOTION | FGSR_SESSION_NO_DENOISE | FGSR_SESSION_NO_MVS | FGSR_SESSION_NO_DEPTH |
-    FGSR_SESSION_CORRECT_MVS | FGSR_SESSION_FAST_MOTION;
+    FGSR_SESSION_CORRECT_MVS | FGSR_SESSION_FAST_MOTION | FGSR_SESSION_COLOUR_AGREE;
 
 fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_session_desc* out, char* reason,
                                         size_t reason_size) {
@@ -78,6 +78,9 @@ fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_sessio
     if ((d.flags & FGSR_SESSION_CORRECT_MVS) && (d.flags & FGSR_SESSION_NO_MVS))
         return refuse(reason, reason_size,
                       "FGSR_SESSION_CORRECT_MVS needs vectors: not with FGSR_SESSION_NO_MVS");
+    if ((d.flags & FGSR_SESSION_COLOUR_AGREE) && (d.flags & FGSR_SESSION_NO_MVS))
+        return refuse(reason, reason_size,
+                      "FGSR_SESSION_COLOUR_AGREE needs vectors: not with FGSR_SESSION_NO_MVS");
     if ((d.flags & FGSR_SESSION_FAST_MOTION) && !(d.flags & FGSR_SESSION_NO_MVS))
         return refuse(reason, reason_size,
                       "FGSR_SESSION_FAST_MOTION is for motion estimated from colour: only with "
@@ -85,6 +88,10 @@ fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_sessio
     if ((d.flags & FGSR_SESSION_CORRECT_MVS) && d.scale != 1.f)
         return refuse(reason, reason_size,
                       "FGSR_SESSION_CORRECT_MVS is for scale 1, not %g (no super resolution)",
+                      (double)d.scale);
+    if ((d.flags & FGSR_SESSION_COLOUR_AGREE) && d.scale != 1.f)
+        return refuse(reason, reason_size,
+                      "FGSR_SESSION_COLOUR_AGREE is for scale 1, not %g (no super resolution)",
                       (double)d.scale);
     if (d.queue_policy > FGSR_QUEUE_MAILBOX) return refuse(reason, reason_size, "unknown queue policy");
     if (d.input_slots > FGSR_MAX_SLOTS || d.output_slots > FGSR_MAX_SLOTS)

@@ -239,6 +239,10 @@ int main(int argc, char** argv) {
         "--correct-vectors", ro.params.correct_vectors,
         "Session flag FGSR_SESSION_CORRECT_MVS: fgsrd corrects the capture's vectors by colour where "
         "shading moves on its own");
+    replay->add_flag(
+        "--colour-agree", ro.params.colour_agree,
+        "Session flag FGSR_SESSION_COLOUR_AGREE: fgsrd also generates each interpolated frame from "
+        "motion estimated from colour and takes it where shading moves on its own");
     replay->add_flag("--bench", replay_bench,
                      "Benchmark the service overhead with spinning off and on (starts two fgsrd unless "
                      "--socket; prints figures)");
@@ -365,11 +369,13 @@ int main(int argc, char** argv) {
             for (const std::string& sw : eval_switches) {
                 const std::string key = sw.substr(0, sw.find('='));
                 if (key != "motion" && key != "dilate_mvs" && key != "denoise" && key != "correct_vectors" &&
-                    key != "fast_motion")
+                    key != "fast_motion" && key != "colour_agree")
                     return fail(fgsr::make_error(
                         fgsr::Errc::invalid_argument,
-                        "--switch " + key + " does not reach fgsrd (--socket): the session description carries "
-                        "motion, dilate_mvs, denoise, correct_vectors and fast_motion only"));
+                        "--switch " + key +
+                            " does not reach fgsrd (--socket): the session description carries "
+                            "motion, dilate_mvs, denoise, correct_vectors, fast_motion and colour_agree "
+                            "only"));
             }
             fgsr::cli::ReplayOptions o;
             o.capture = eo.capture;

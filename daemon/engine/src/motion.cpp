@@ -437,9 +437,10 @@ Result<void> Session::Impl::record_polish_coarse(int cur, int prev) {
 
 std::vector<PassTiming> Session::last_motion_timings() const {
     if (!impl_->agrees()) return impl_->estimator.timings;
-    // Params::colour_agree: the colour-only twin's (this session estimates nothing itself, or
-    // corrects its vectors with its own).
+    // Params::colour_agree: the colour-only twin's ingest of the frame and its motion estimation
+    // (this session estimates nothing itself, or corrects its vectors with its own).
     std::vector<PassTiming> t = impl_->estimator.timings;
+    t.push_back(impl_->colour_twin->last_ingest_timing());
     for (PassTiming& p : impl_->colour_twin->last_motion_timings()) t.push_back(std::move(p));
     return t;
 }

@@ -31,8 +31,9 @@ extern "C" {
  * 3: present reports (fgsr_present_report, FGSR_MSG_REPORT);
  * 4: FGSR_SESSION_CORRECT_MVS;
  * 5: FGSR_SESSION_FAST_MOTION;
- * 6: FGSR_PASS_AGREE (engine sessions only: the wire carries no switch for it yet) */
-#define FGSR_PROTOCOL_MINOR 6u
+ * 6: FGSR_PASS_AGREE;
+ * 7: FGSR_SESSION_COLOUR_AGREE, fgsr_pass_record.runs (one record per pass and output) */
+#define FGSR_PROTOCOL_MINOR 7u
 
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
 #define FGSR_MAX_ALPHAS 8u          /* interpolated or extrapolated frames per submit, each */
@@ -133,6 +134,14 @@ typedef enum fgsr_queue_policy {
  * 960x540; above, the two are the same), and frames lose 0.3-0.4 dB on average, up to 1.2 dB
  * (docs/MOTION.md, "The fast setting"). Refused without FGSR_SESSION_NO_MVS. */
 #define FGSR_SESSION_FAST_MOTION 0x100u
+/* Interpolation from two fields (minor 7): the daemon also estimates motion from colour, as for
+ * NO_MVS, generates each interpolated frame from the given vectors and from the estimate, and per
+ * pixel takes the estimate's frame where its two warped inputs agree and the given vectors' do not
+ * (shading that moves on its own: sun shadows; docs/ACCURACY.md, change 33). Where the given vectors
+ * explain the colour the frame is the one without the flag. Extrapolated frames are unchanged. Costs
+ * the motion passes at every submit and a second generation per interpolated frame (on lavapipe about
+ * five times a frame's time). Refused together with NO_MVS, and with a scale other than 1. */
+#define FGSR_SESSION_COLOUR_AGREE 0x200u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */
 #define FGSR_CAP_ZERO_COPY_INPUT 0x1u /* inputs imported without a copy (external host memory) */
@@ -262,7 +271,11 @@ typedef struct fgsr_pass_record {
     uint32_t pass;         /* fgsr_pass_id */
     uint32_t tiles_total;  /* 0 when the pass does not classify tiles */
     uint32_t tiles_skipped;
-    uint32_t reserved;
+    /* Minor 7: how many runs of the pass this record sums (0 from older daemons: one). A pass that
+     * ran more than once for one output (FGSR_SESSION_COLOUR_AGREE generates from two fields) has one
+     * record: gpu_begin_ns is its first run's begin, gpu_end_ns - gpu_begin_ns the sum of its runs'
+     * times (then not a span of the timeline), tiles the sums of its runs'. */
+    uint32_t runs;
     uint64_t gpu_begin_ns; /* CLOCK_MONOTONIC (calibrated when FGSR_CAP_CALIBRATED_TIME) */
     uint64_t gpu_end_ns;
 } fgsr_pass_record;

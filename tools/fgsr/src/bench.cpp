@@ -84,6 +84,7 @@ bool switch_applies(const std::string& key, const std::string& mode) {
     if (key == "dilate_mvs") return mode == "sr";
     if (key == "denoise") return mode == "sr" || joint;
     if (key == "correct_vectors") return fg; // refused with super resolution
+    if (key == "colour_agree") return mode == "interp"; // extrapolation and SR are unchanged
     // fast_motion and motion_consensus act on sessions without vectors only: fast_motion's
     // configuration is the colour-only one's (configs_for), not a toggle of the configurations with
     // vectors; motion_consensus is measured with fgsr eval (docs/MOTION.md).
@@ -324,7 +325,7 @@ Result<void> run_captures(const BenchOptions& o, Engine& engine, BenchReport& re
                 row.psnr = s.mean_psnr;
                 row.ssim = s.mean_ssim;
                 row.colour_only = c.colour_only;
-                row.motion = c.colour_only || c.params.correct_vectors;
+                row.motion = c.colour_only || c.params.correct_vectors || c.params.colour_agree;
                 if (!s.epe.empty()) row.epe = s.mean_epe;
                 row.bytes = total_bytes(frame_bytes(run.mode, c.params, input->format.width,
                                                     input->format.height, r->width, r->height));

@@ -369,7 +369,8 @@ class Session {
     PassTiming last_ingest_timing() const;
     // Sessions without vectors (FrameFormat::has_vectors false), or that estimate motion beside
     // them (Params::correct_vectors, colour_agree): the timings of the last submit's motion passes
-    // (luma, then match and flow when there was a previous frame; empty otherwise).
+    // (luma, then match and flow when there was a previous frame; empty otherwise). With
+    // colour_agree they are the colour-only twin's, after the twin's own ingest of the frame.
     std::vector<PassTiming> last_motion_timings() const;
     // Whether the last submit was found to be a scene cut (then it started afresh, as with
     // FrameView::reset: frames before it are not interpolated from): by block matching in sessions

@@ -15,7 +15,10 @@
 //                colour (switch correct_vectors): it gains where shading moves on its own
 //                (street-fg interp +1.77 dB, shadow-fg +0.27 / +0.41) and loses up to 0.08 dB
 //                elsewhere (pan, spin, cut; docs/ACCURACY.md, changes 4 and 27), at several times
-//                the cost of a frame on CPU devices, and is refused with super resolution.
+//                the cost of a frame on CPU devices, and is refused with super resolution. Nor
+//                interpolation from both fields by agreement (switch colour_agree): it gains where
+//                shading moves on its own (sundial-fg +3.17 dB, shadow-fg +1.23) and loses 0.15 on
+//                fan-fg, at about five times an interpolated frame's cost on CPU devices (change 33).
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
 // pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing),
 // and so is the scene-cut test of sessions with vectors (vector_cuts). The frame-0 depth test's
@@ -121,7 +124,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 17> kSwitches{{
+inline constexpr std::array<SwitchInfo, 18> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -139,6 +142,7 @@ inline constexpr std::array<SwitchInfo, 17> kSwitches{{
     {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
     {"vector_cuts", {"on", "off", ""}, "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
     {"motion_consensus", {"on", "off", ""}, "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
+    {"colour_agree", {"on", "off", ""}, "interpolation: per pixel the frame from vectors estimated from colour where its warped inputs agree and the given vectors' do not"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
@@ -161,6 +165,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "cover_edges") return onoff(p.cover_edges);
     if (key == "vector_cuts") return onoff(p.vector_cuts);
     if (key == "motion_consensus") return onoff(p.motion_consensus);
+    if (key == "colour_agree") return onoff(p.colour_agree);
     return "";
 }
 
@@ -178,7 +183,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
                 "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, "
-                "cover_edges, vector_cuts, motion_consensus)");
+                "cover_edges, vector_cuts, motion_consensus, colour_agree)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -206,6 +211,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "cover_edges") p.cover_edges = on;
     if (key == "vector_cuts") p.vector_cuts = on;
     if (key == "motion_consensus") p.motion_consensus = on;
+    if (key == "colour_agree") p.colour_agree = on;
     return {};
 }
 
