@@ -1,6 +1,7 @@
-// Pass `agree` (Params::colour_agree): interpolation in a session with vectors that also estimates
-// motion from colour, as colour-only sessions do, and generates the frame from both fields. Per
-// pixel it takes the frame whose two warped inputs agree better.
+// Pass `agree` (Params::colour_agree): frame generation in a session with vectors that also
+// estimates motion from colour, as colour-only sessions do, and generates the frame from both
+// fields. Per pixel it takes the frame whose two warped inputs agree better (interpolation), or
+// whose vectors explain the newest input better (extrapolation, stage 4 below).
 //
 // Where shading moves on its own (a shadow sweeping over still ground, the contact shadow of a
 // rolling ball, sunlight that travels with the camera), no vector of the surface carries it: warped
@@ -19,12 +20,25 @@
 //   3. w = clamp((ratio x mean e_given - mean e_colour - margin) / margin, 0, 1); the result is
 //      mix(given frame, colour frame, w).
 //
+// Extrapolation has one warped frame, so no two to disagree: stage 1 is then the fields' residual
+// at the newest input (stage 4, agree_residual), and stages 2 and 3 follow on the extrapolated frames:
+//   4. e = (e_given, e_colour) at frame-1 pixel t: |brightness(frame 1 at t) - brightness(frame 0
+//      at t + mv)| for each field's frame-1 vector mv (frame 0 read bilinearly); 0 where t + mv
+//      leaves the frame, and for the given field where frame 0's depth there (nearest pixel) is not
+//      t's surface (depth_band x T_D: a disocclusion, which no vector explains). The weights are
+//      those of frame-1 pixels, applied at the extrapolated frame's pixels: the box spans 21
+//      pixels, the half step of motion between them lies mostly inside it.
+//
 // Entry provides:
 //   vec4  load_warped(uint field, uint frame, uint i)   field 0: given, 1: colour; frame 0 or 1
 //   float load_warped_depth(uint field, uint frame, uint i)
 //   uint  load_field_state(uint field, uint i)
 //   vec2  load_e(uint i), load_rows(uint i)
 //   vec4  load_given(uint i), load_colour(uint i)
+// and for stage 4:
+//   vec4  load_frame_colour(uint frame, uint i)          the inputs, frame 0 or 1 (newest)
+//   float load_frame_depth(uint frame, uint i)
+//   vec2  load_field_mv(uint field, uint i)              frame 1's vectors of each field
 
 // Stage 1: one field's disagreement at pixel i, and both fields' (given, colour).
 FGSR_INLINE float field_disagreement(uint field, uint i, AgreeParams p) {
@@ -54,4 +68,30 @@ FGSR_INLINE vec4 agree_pixel(ivec2 t, AgreeParams p) {
     float w = clamp((p.ratio * e.x - e.y - p.margin) / max(p.margin, 1.0e-6f), 0.0f, 1.0f);
     uint i = uint(t.y) * p.g.width + uint(t.x);
     return mix(load_given(i), load_colour(i), w);
+}
+
+// Stage 4: one field's residual at frame-1 pixel t, and both fields' (given, colour).
+FGSR_INLINE float frame_brightness(uint frame, ivec2 q, AgreeParams p) {
+    return brightness(load_frame_colour(frame, uint(q.y) * p.g.width + uint(q.x)));
+}
+FGSR_INLINE float field_residual(uint field, ivec2 t, AgreeParams p) {
+    uint i = uint(t.y) * p.g.width + uint(t.x);
+    vec2 q = vec2(t) + load_field_mv(field, i); // frame 0, pixel centres at integers
+    vec2 last = vec2(float(p.g.width - 1u), float(p.g.height - 1u));
+    if (!(q.x >= 0.0f && q.y >= 0.0f && q.x <= last.x && q.y <= last.y)) return 0.0f;
+    if (field == 0u) {
+        ivec2 c = ivec2(floor(q + vec2(0.5f)));
+        float d1 = load_frame_depth(1u, i), d0 = load_frame_depth(0u, uint(c.y) * p.g.width + uint(c.x));
+        if (!(d0 > 0.0f) || !(d1 > 0.0f) || relative_depth_difference(d0, d1) > p.depth_band * p.g.t_depth)
+            return 0.0f;
+    }
+    ivec2 a = ivec2(floor(q));
+    ivec2 b = min(a + ivec2(1), ivec2(last));
+    vec2 f = q - vec2(a);
+    float top = mix(frame_brightness(0u, a, p), frame_brightness(0u, ivec2(b.x, a.y), p), f.x);
+    float bottom = mix(frame_brightness(0u, ivec2(a.x, b.y), p), frame_brightness(0u, b, p), f.x);
+    return abs(frame_brightness(1u, t, p) - mix(top, bottom, f.y));
+}
+FGSR_INLINE vec2 agree_residual(ivec2 t, AgreeParams p) {
+    return vec2(field_residual(0u, t, p), field_residual(1u, t, p));
 }

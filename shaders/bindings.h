@@ -131,6 +131,14 @@
 #define AGREE_E 12      // stage 1 writes, stage 2 reads: vec2 (given, colour) per pixel
 #define AGREE_ROWS 13   // stage 2 writes, stage 3 reads: their means along rows
 #define AGREE_COUNT 14
+// Extrapolation's stage 1 (agree_residual) reads the inputs and each field's frame-1 vectors in
+// the first slots instead (agree.comp, AGREE_STAGE 4); the other slots are unused there.
+#define AGREE_FRAME_COLOR0 AGREE_GIVEN_W0 // pack_color
+#define AGREE_FRAME_DEPTH0 AGREE_GIVEN_D0
+#define AGREE_FRAME_COLOR1 AGREE_GIVEN_W1
+#define AGREE_FRAME_DEPTH1 AGREE_GIVEN_D1
+#define AGREE_GIVEN_MV AGREE_GIVEN_STATE
+#define AGREE_COLOUR_MV AGREE_COLOUR_W0
 
 // classify (classify.h): the frames it reads use the GEN_* numbers (sr mode: GEN_MV1 = current
 // vectors, GEN_DEPTH1 = current depth, GEN_DEPTH0 = previous depth), then:

@@ -264,19 +264,17 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
         EXPECT_EQ(md.find("consecutive calls"), std::string::npos) << "--no-moving-run";
     }
     const auto rows = read_csv(out / "bench.csv");
-    // builtin: interp (3 presets + 7 switches that act on it), extrap (no blend or colour_agree
-    // switch), and each
+    // builtin: interp (3 presets + 7 switches that act on it), extrap (no blend switch), and each
     // on colour alone (balanced+colour, and balanced+colour+fast_motion=on).
     std::set<std::string> got, expected;
     for (const char* c :
          {"performance", "balanced", "quality", "balanced+motion=linear", "balanced+fill_gaps=off",
           "balanced+fill_holes=off", "balanced+passes=separate", "balanced+correct_vectors=on",
-          "balanced+colour", "balanced+colour+fast_motion=on"}) {
+          "balanced+colour_agree=on", "balanced+colour", "balanced+colour+fast_motion=on"}) {
         expected.insert(std::string("interp ") + c);
         expected.insert(std::string("extrap ") + c);
     }
     expected.insert("interp balanced+blend=select");
-    expected.insert("interp balanced+colour_agree=on"); // extrapolation is unchanged by it
     size_t pareto = 0;
     for (const auto& row : rows) {
         EXPECT_EQ(row.at("capture"), "synthetic-toss");

@@ -1060,9 +1060,11 @@ RawFrame square_frame(uint32_t w, uint32_t h, float t, glm::vec2 start, glm::vec
 }
 
 // The frame halfway between frame(1) and frame(2) of a session of `p` with vectors and depth that
-// was handed frame(0), frame(1), frame(2) (nullopt, and a test failure, where a call fails).
+// was handed frame(0), frame(1), frame(2), or extrapolating the frame half a step after frame(2)
+// (nullopt, and a test failure, where a call fails).
 std::optional<GeneratedFrame> halfway_frame(uint32_t w, uint32_t h, const Params& p,
-                                            const std::function<RawFrame(float)>& frame) {
+                                            const std::function<RawFrame(float)>& frame,
+                                            bool extrapolate = false) {
     auto s = session_of(internal_format(w, h), p);
     if (!s) return std::nullopt;
     for (float t : {0.f, 1.f, 2.f})
@@ -1071,7 +1073,8 @@ std::optional<GeneratedFrame> halfway_frame(uint32_t w, uint32_t h, const Params
             return std::nullopt;
         }
     const float alpha = 0.5f;
-    auto out = s->interpolate(std::span<const float>(&alpha, 1));
+    auto out = extrapolate ? s->extrapolate(std::span<const float>(&alpha, 1))
+                           : s->interpolate(std::span<const float>(&alpha, 1));
     if (!out) {
         ADD_FAILURE() << out.error().message;
         return std::nullopt;
@@ -1186,56 +1189,68 @@ TEST(Motion, CorrectionKeepsExactVectorsAtDisocclusions) {
 // textured ground, exact (zero) vectors and depth. Warped with the given field, frame 0 and frame 1
 // disagree across the band's sweep and their blend shows the shadow twice at half strength; the
 // colour-only field follows the shadow and its warped frames agree. The frame moves towards the
-// truth (the band halfway) by several dB, and the pass is timed as `agree`.
+// truth (the band halfway) by several dB, and the pass is timed as `agree`. Extrapolated, the given
+// field leaves the shadow where frame 1 has it and the colour-only field moves it on: the given
+// field's residual at frame 1 is large across the sweep, the colour-only one's small, and the frame
+// half a step later moves towards its truth as well.
 TEST(Motion, AgreeTakesTheColourFieldWhereAShadowSweepsOverStillGround) {
     const uint32_t w = 192, h = 96;
     const float step = 7.f;
     auto frame = [&](float t) { return shadow_frame(w, h, t, step); };
-    const std::vector<glm::vec4> truth =
-        colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, 1.5f, step); }));
-    double score[2] = {0, 0};
-    for (int agree = 0; agree < 2; ++agree) {
-        Params p;
-        p.colour_agree = agree != 0;
-        auto out = halfway_frame(w, h, p, frame);
-        ASSERT_TRUE(out);
-        score[agree] = psnr(out->color.rgba, truth);
-        const auto& passes = out->passes;
-        const bool timed = std::any_of(passes.begin(), passes.end(),
-                                       [](const PassTiming& t) { return t.pass == PassId::agree; });
-        EXPECT_EQ(timed, agree != 0);
+    for (const bool extrapolate : {false, true}) {
+        SCOPED_TRACE(extrapolate ? "extrapolation" : "interpolation");
+        const float at = extrapolate ? 2.5f : 1.5f;
+        const std::vector<glm::vec4> truth =
+            colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, at, step); }));
+        double score[2] = {0, 0};
+        for (int agree = 0; agree < 2; ++agree) {
+            Params p;
+            p.colour_agree = agree != 0;
+            auto out = halfway_frame(w, h, p, frame, extrapolate);
+            ASSERT_TRUE(out);
+            score[agree] = psnr(out->color.rgba, truth);
+            const auto& passes = out->passes;
+            const bool timed = std::any_of(passes.begin(), passes.end(),
+                                           [](const PassTiming& t) { return t.pass == PassId::agree; });
+            EXPECT_EQ(timed, agree != 0);
+        }
+        std::printf("[ measured ] sweeping shadow, %s: given vectors %.2f dB, with the agree pass %.2f dB\n",
+                    extrapolate ? "extrapolated" : "interpolated", score[0], score[1]);
+        EXPECT_GT(score[1], score[0] + 3.0);
     }
-    std::printf("[ measured ] sweeping shadow: given vectors %.2f dB, with the agree pass %.2f dB\n",
-                score[0], score[1]);
-    EXPECT_GT(score[1], score[0] + 3.0);
     expect_no_validation_errors();
 }
 
 // The agree pass where the given vectors explain the colour: a textured square moving over a
 // still textured background with its exact vectors and depth. The given field's warped frames
 // agree (the uncovered background is a disocclusion, where blend takes one frame), so the pass
-// keeps the given frame pixel for pixel.
+// keeps the given frame pixel for pixel. Extrapolated the same: the given vectors' residual is 0
+// but where the square uncovers background (frame 0 has the square's depth there: not counted).
 TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
     const uint32_t w = 192, h = 128;
     const glm::vec2 start(30.f, 40.f), step(10.f, -5.f);
     const float side = 40.f;
     auto frame = [&](float t) { return square_frame(w, h, t, start, step, side); };
-    std::vector<float> out[2];
-    for (int agree = 0; agree < 2; ++agree) {
-        Params p;
-        p.colour_agree = agree != 0;
-        auto r = halfway_frame(w, h, p, frame);
-        ASSERT_TRUE(r);
-        // The pass ran (the twin generated a frame), so an equal frame is its choice.
-        EXPECT_EQ(std::any_of(r->passes.begin(), r->passes.end(),
-                              [](const PassTiming& t) { return t.pass == PassId::agree; }),
-                  agree != 0);
-        out[agree] = std::move(r->color.rgba);
+    for (const bool extrapolate : {false, true}) {
+        SCOPED_TRACE(extrapolate ? "extrapolation" : "interpolation");
+        std::vector<float> out[2];
+        for (int agree = 0; agree < 2; ++agree) {
+            Params p;
+            p.colour_agree = agree != 0;
+            auto r = halfway_frame(w, h, p, frame, extrapolate);
+            ASSERT_TRUE(r);
+            // The pass ran (the twin generated a frame), so an equal frame is its choice.
+            EXPECT_EQ(std::any_of(r->passes.begin(), r->passes.end(),
+                                  [](const PassTiming& t) { return t.pass == PassId::agree; }),
+                      agree != 0);
+            out[agree] = std::move(r->color.rgba);
+        }
+        ASSERT_EQ(out[0].size(), out[1].size());
+        float largest = 0.f;
+        for (size_t i = 0; i < out[0].size(); ++i)
+            largest = std::max(largest, std::abs(out[0][i] - out[1][i]));
+        EXPECT_EQ(largest, 0.f) << "the largest change the agree pass made";
     }
-    ASSERT_EQ(out[0].size(), out[1].size());
-    float largest = 0.f;
-    for (size_t i = 0; i < out[0].size(); ++i) largest = std::max(largest, std::abs(out[0][i] - out[1][i]));
-    EXPECT_EQ(largest, 0.f) << "the largest change the agree pass made";
     expect_no_validation_errors();
 }
 
@@ -1278,6 +1293,64 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
         }
     EXPECT_LT(largest, 1e-5f) << "GPU against CPU";
     EXPECT_GT(moved, 0.1f) << "the pass changed the frame (the largest change)";
+    expect_no_validation_errors();
+}
+
+// The agree pass's extrapolation on the GPU against the CPU reference (ref::agree_extrapolated) on
+// independent inputs: the frames and the extrapolated frames of a session without the switch (the
+// given field), the estimated vectors and extrapolated frames of a colour-only session (the twin's
+// kind) on the same frames. Two alphas in one call: the residuals serve both, each frame its own mix.
+TEST(Motion, AgreeExtrapolationGpuMatchesTheCpuReference) {
+    const uint32_t w = 160, h = 80;
+    const float step = 6.f;
+    Params agreeing;
+    agreeing.colour_agree = true;
+    auto a = session_of(internal_format(w, h), agreeing);
+    auto given = session_of(internal_format(w, h));
+    auto colour = session_of(colour_only(w, h));
+    ASSERT_TRUE(a && given && colour);
+    for (float t : {0.f, 1.f}) {
+        const RawFrame f = shadow_frame(w, h, t, step);
+        FrameView colour_view = f.view(); // as the twin sees it: neither vectors nor depth
+        colour_view.depth = {};
+        colour_view.mv = {};
+        ASSERT_TRUE(a->submit(f.view()));
+        ASSERT_TRUE(given->submit(f.view()));
+        ASSERT_TRUE(colour->submit(colour_view));
+    }
+    auto vec4s = [](const ImageRGBA& img) {
+        std::vector<glm::vec4> v(img.rgba.size() / 4);
+        std::memcpy(v.data(), img.rgba.data(), v.size() * 16);
+        return v;
+    };
+    const std::vector<float> alphas{0.5f, 1.f};
+    auto out = a->extrapolate(alphas), g = given->extrapolate(alphas), c = colour->extrapolate(alphas);
+    ASSERT_TRUE(out && g && c);
+    auto f0 = given->read_frame(0), f1 = given->read_frame(1), cf = colour->read_frame(1);
+    ASSERT_TRUE(f0 && f1 && cf);
+    const size_t n = size_t(w) * h;
+    std::vector<glm::vec2> colour_mv(n);
+    for (size_t i = 0; i < n; ++i) colour_mv[i] = glm::vec2(cf->mv[2 * i], cf->mv[2 * i + 1]);
+    for (size_t k = 0; k < alphas.size(); ++k) {
+        ref::AgreeParams ap{};
+        ap.g = params::gen_params(internal_format(w, h), agreeing, alphas[k], true, true, true);
+        ap.radius = defaults::agree_radius;
+        ap.ratio = defaults::agree_ratio;
+        ap.margin = defaults::agree_margin;
+        ap.depth_band = defaults::agree_depth_band;
+        const auto expected =
+            ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
+                                    vec4s((*g)[k].color), vec4s((*c)[k].color), ap);
+        float largest = 0.f, moved = 0.f;
+        for (size_t i = 0; i < n; ++i)
+            for (int q = 0; q < 4; ++q) {
+                largest =
+                    std::max(largest, std::abs((*out)[k].color.rgba[4 * i + size_t(q)] - expected[i][q]));
+                moved = std::max(moved, std::abs(expected[i][q] - (*g)[k].color.rgba[4 * i + size_t(q)]));
+            }
+        EXPECT_LT(largest, 1e-5f) << "GPU against CPU, alpha " << alphas[k];
+        EXPECT_GT(moved, 0.1f) << "the pass changed the frame (the largest change), alpha " << alphas[k];
+    }
     expect_no_validation_errors();
 }
 

@@ -112,9 +112,10 @@ int main(int argc, char** argv) {
     eval->add_flag("--correct-vectors", eo.params.correct_vectors,
                    "interp, extrap, isr, esr: method fgsr also estimates motion from colour and replaces the "
                    "capture's vector where the colour follows the estimate by far better (moving shadows)");
-    eval->add_flag("--colour-agree", eo.params.colour_agree,
-                   "interp: method fgsr also generates from motion estimated from colour and takes that "
-                   "frame where its warped inputs agree and the capture's vectors' do not (moving shadows)");
+    eval->add_flag(
+        "--colour-agree", eo.params.colour_agree,
+        "interp, extrap: method fgsr also generates from motion estimated from colour and takes "
+        "that frame where it explains the colour and the capture's vectors do not (moving shadows)");
     eval->add_option("--correct-ratio", eo.params.correct_ratio,
                      "--correct-vectors: the estimate's colour cost must be below this times the given one's")
         ->check(CLI::Range(0.0, 1.0))
@@ -241,8 +242,8 @@ int main(int argc, char** argv) {
         "shading moves on its own");
     replay->add_flag(
         "--colour-agree", ro.params.colour_agree,
-        "Session flag FGSR_SESSION_COLOUR_AGREE: fgsrd also generates each interpolated frame from "
-        "motion estimated from colour and takes it where shading moves on its own");
+        "Session flag FGSR_SESSION_COLOUR_AGREE: fgsrd also generates each frame from motion estimated "
+        "from colour and takes it where shading moves on its own");
     replay->add_flag("--bench", replay_bench,
                      "Benchmark the service overhead with spinning off and on (starts two fgsrd unless "
                      "--socket; prints figures)");

@@ -1,8 +1,8 @@
 // Generated frames: recording interpolation and extrapolation (splat, then the fused generate
 // pass, generate_sr with super resolution, or the separate passes; tile-skipping forms are
-// tiles.cpp's), an agreeing session's interpolation (Params::colour_agree: the given field's and
-// the colour-only twin's frames, then the agree pass), and assembling the results: frames, pass
-// timings, intermediates.
+// tiles.cpp's), an agreeing session's interpolation and extrapolation (Params::colour_agree: the
+// given field's and the colour-only twin's frames, then the agree pass), and assembling the results: frames,
+// pass timings, intermediates.
 #include <fgsr/engine/params.hpp>
 
 #include "session.hpp"
@@ -110,7 +110,7 @@ Result<void> Session::Impl::check_generate(std::span<const float> alphas, bool e
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     FGSR_TRY(check_generate(alphas, extrapolate));
     last_agreed = false;
-    if (agrees() && !extrapolate) return generate_agreed(alphas);
+    if (agrees()) return extrapolate ? extrapolate_agreed(alphas) : generate_agreed(alphas);
     return generate_frames(alphas, extrapolate);
 }
 
@@ -311,7 +311,9 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_agreed(std::span<con
             result.push_back(std::move(gf));
             continue;
         }
+        colour.force_separate = true;
         auto from_colour = colour.generate_frames(std::span<const float>(&alpha, 1), false);
+        colour.force_separate = false;
         if (!from_colour) return from_colour.error();
         const gpu::GenParams g = params::gen_params(
             format, params, alpha, false, frames[size_t(1 - newest)].has_mv, frames[size_t(newest)].has_mv);
@@ -331,23 +333,104 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_agreed(std::span<con
     return result;
 }
 
-// The agree pass's three stages over the given field's warped frames and output (this session's,
-// from a call with separate passes) and the twin's.
-Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& colour) {
-    if (!agree_e.handle()) {
-        auto e = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
-        if (!e) return e.error();
-        agree_e = std::move(*e);
-        auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
-        if (!r) return r.error();
-        agree_rows = std::move(*r);
+// Params::colour_agree in extrapolation: both fields extrapolate every alpha (fused passes as
+// configured); the fields' residuals at the newest input (agree_residual) and their box means are
+// the same for every alpha, so they run once, then agree_mix once per frame.
+Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<const float> alphas) {
+    auto given = generate_frames(alphas, true);
+    if (!given) return given.error();
+    Impl& colour = *colour_twin->impl_;
+    // The twin restarted at a cut of its own (or has not two frames since), or either field has no
+    // vectors for the newest frame: the given frames.
+    if (colour.submitted < 2 || !colour.frames[size_t(colour.newest)].has_mv ||
+        !frames[size_t(newest)].has_mv)
+        return given;
+    auto from_colour = colour.generate_frames(alphas, true);
+    if (!from_colour) return from_colour.error();
+    const GpuFrame& f1 = frames[size_t(newest)];
+    const GpuFrame& f0 = frames[size_t(1 - newest)];
+    FGSR_TRY(ensure_agree_buffers());
+    gpu::AgreeParams p =
+        agree_params(params::gen_params(format, params, alphas.front(), true, f0.has_mv, f1.has_mv));
+    const BufRef colour_mv = colour.frames[size_t(colour.newest)].mv;
+    FGSR_TRY(rec.begin());
+    rec.timestamp(0);
+    // Stage 4 reads the inputs in the slots of the given field's warped frames (bindings.h).
+    const auto residual = make_slots<PassId::agree>(
+        at<AGREE_FRAME_COLOR0>(f0.color), at<AGREE_FRAME_DEPTH0>(f0.depth), at<AGREE_FRAME_COLOR1>(f1.color),
+        at<AGREE_FRAME_DEPTH1>(f1.depth), at<AGREE_GIVEN_MV>(f1.mv), at<AGREE_COLOUR_MV>(colour_mv),
+        at<AGREE_COLOUR_D0>(unused(colour_mv)), at<AGREE_COLOUR_W1>(unused(colour_mv)),
+        at<AGREE_COLOUR_D1>(unused(colour_mv)), at<AGREE_COLOUR_STATE>(unused(colour_mv)),
+        at<AGREE_GIVEN>(outputs[0]), at<AGREE_COLOUR>(colour.outputs[0]), at<AGREE_E>(agree_e),
+        at<AGREE_ROWS>(agree_rows));
+    for (Variant v : {Variant::agree_residual, Variant::agree_rows}) {
+        FGSR_TRY(rec.dispatch_pixels(v, residual, &p, format.width, format.height));
+        rec.barrier();
     }
+    rec.timestamp(1);
+    for (size_t k = 0; k < alphas.size(); ++k) {
+        const auto mix = make_slots<PassId::agree>(
+            at<AGREE_FRAME_COLOR0>(unused(f0.color)), at<AGREE_FRAME_DEPTH0>(unused(f0.depth)),
+            at<AGREE_FRAME_COLOR1>(unused(f1.color)), at<AGREE_FRAME_DEPTH1>(unused(f1.depth)),
+            at<AGREE_GIVEN_MV>(unused(f1.mv)), at<AGREE_COLOUR_MV>(unused(colour_mv)),
+            at<AGREE_COLOUR_D0>(unused(colour_mv)), at<AGREE_COLOUR_W1>(unused(colour_mv)),
+            at<AGREE_COLOUR_D1>(unused(colour_mv)), at<AGREE_COLOUR_STATE>(unused(colour_mv)),
+            at<AGREE_GIVEN>(outputs[k]), at<AGREE_COLOUR>(colour.outputs[k]), at<AGREE_E>(agree_e),
+            at<AGREE_ROWS>(agree_rows));
+        FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix, mix, &p, format.width, format.height));
+        rec.barrier();
+        rec.timestamp(uint32_t(k) + 2);
+    }
+    FGSR_TRY(rec.finish(true));
+    auto t = rec.read_times(0, uint32_t(alphas.size()) + 1);
+    if (!t) return t.error();
+    last_agreed = true;
+    for (size_t k = 0; k < alphas.size(); ++k) {
+        GeneratedFrame& gf = (*given)[k];
+        for (PassTiming& c : (*from_colour)[k].passes) {
+            gf.gpu_ms += c.ms;
+            gf.passes.push_back(std::move(c));
+        }
+        // The first frame carries the shared stages, every frame its own mix.
+        PassTiming a = timing_of(PassId::agree, (*t)[k + 1]);
+        if (k == 0) {
+            a.ms += (*t)[0].ms;
+            a.begin_ns = (*t)[0].begin_ns;
+        }
+        gf.gpu_ms += a.ms;
+        gf.passes.push_back(std::move(a));
+        const float* src = static_cast<const float*>(outputs[k].mapped());
+        gf.color.rgba.assign(src, src + size_t(out_w) * out_h * 4);
+    }
+    return given;
+}
+
+Result<void> Session::Impl::ensure_agree_buffers() {
+    if (agree_e.handle()) return {};
+    auto e = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
+    if (!e) return e.error();
+    agree_e = std::move(*e);
+    auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
+    if (!r) return r.error();
+    agree_rows = std::move(*r);
+    return {};
+}
+
+gpu::AgreeParams Session::Impl::agree_params(const gpu::GenParams& g) {
     gpu::AgreeParams p{};
     p.g = g;
     p.radius = defaults::agree_radius;
     p.ratio = defaults::agree_ratio;
     p.margin = defaults::agree_margin;
     p.depth_band = defaults::agree_depth_band;
+    return p;
+}
+
+// The agree pass's three stages over the given field's warped frames and output (this session's,
+// from a call with separate passes) and the twin's.
+Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& colour) {
+    FGSR_TRY(ensure_agree_buffers());
+    const gpu::AgreeParams p = agree_params(g);
     const auto b = make_slots<PassId::agree>(
         at<AGREE_GIVEN_W0>(warped_color0), at<AGREE_GIVEN_D0>(warped_depth0),
         at<AGREE_GIVEN_W1>(warped_color1), at<AGREE_GIVEN_D1>(warped_depth1),

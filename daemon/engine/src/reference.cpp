@@ -125,6 +125,12 @@ struct AgreeCpu {
     const std::vector<vec4>* frames[2]; // given, colour
     std::vector<vec2> e_buf, rows_buf;
     size_t n;
+    // Extrapolation's stage 4: the inputs (frame 0, frame 1) and each field's frame-1 vectors.
+    const ref::InternalFrame* inputs[2] = {};
+    const std::vector<vec2>* field_mv[2] = {};
+    vec4 load_frame_colour(uint f, uint i) const { return inputs[f]->color[i]; }
+    float load_frame_depth(uint f, uint i) const { return inputs[f]->depth[i]; }
+    vec2 load_field_mv(uint field, uint i) const { return (*field_mv[field])[i]; }
     vec4 load_warped(uint field, uint f, uint i) const { return warped_frames[field]->color[f * n + i]; }
     float load_warped_depth(uint field, uint f, uint i) const { return warped_frames[field]->depth[f * n + i]; }
     uint load_field_state(uint field, uint i) const { return (*field_states[field])[i]; }
@@ -432,6 +438,29 @@ std::vector<glm::vec4> agree(const Warped& given_warped, const std::vector<uint3
         for (uint32_t y = 0; y < p.g.height; ++y)
             for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
     };
+    each([&](glm::ivec2 t, size_t i) { cpu.rows_buf[i] = cpu.agree_rows(t, p); });
+    std::vector<glm::vec4> out(n);
+    each([&](glm::ivec2 t, size_t i) { out[i] = cpu.agree_pixel(t, p); });
+    return out;
+}
+
+std::vector<glm::vec4> agree_extrapolated(const InternalFrame& f0, const InternalFrame& f1,
+                                          const std::vector<glm::vec2>& colour_mv,
+                                          const std::vector<glm::vec4>& given,
+                                          const std::vector<glm::vec4>& colour, const AgreeParams& p) {
+    const size_t n = size_t(p.g.width) * p.g.height;
+    gpu::AgreeCpu cpu{{nullptr, nullptr}, {nullptr, nullptr}, {&given, &colour}, {}, {}, n};
+    cpu.inputs[0] = &f0;
+    cpu.inputs[1] = &f1;
+    cpu.field_mv[0] = &f1.mv;
+    cpu.field_mv[1] = &colour_mv;
+    cpu.e_buf.resize(n);
+    cpu.rows_buf.resize(n);
+    auto each = [&](auto f) {
+        for (uint32_t y = 0; y < p.g.height; ++y)
+            for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
+    };
+    each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = cpu.agree_residual(t, p); });
     each([&](glm::ivec2 t, size_t i) { cpu.rows_buf[i] = cpu.agree_rows(t, p); });
     std::vector<glm::vec4> out(n);
     each([&](glm::ivec2 t, size_t i) { out[i] = cpu.agree_pixel(t, p); });

@@ -97,8 +97,8 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     // correct_vectors is), so that one Params serves every kind of session (fgsr eval's methods).
     impl->params.colour_agree = params.colour_agree && format.has_vectors;
     if (impl->params.colour_agree) {
-        // The twin: the same frames without vectors or depth, generating with separate passes
-        // (the agree pass reads its warped frames).
+        // The twin: the same frames without vectors or depth (interpolating with separate passes:
+        // the agree pass reads its warped frames).
         FrameFormat colour_format = format;
         colour_format.has_vectors = false;
         colour_format.has_depth = false;

@@ -168,18 +168,22 @@ struct Session::Impl {
     vk::Buffer agree_e, agree_rows;
     bool last_agreed = false; // the last generated frame is the agree pass's (read_intermediates)
     bool agrees() const { return colour_twin != nullptr; }
-    // The twin's parameters: this session's, estimating motion without correcting anything, with
-    // separate passes.
+    // The twin's parameters: this session's, estimating motion without correcting anything (its
+    // interpolation runs separate passes, generate_agreed's force_separate).
     static Params twin_params(Params p) {
         p.colour_agree = false;
         p.correct_vectors = false;
-        p.separate_passes = true;
         return p;
     }
     // Interpolation of an agreeing session: per alpha, the given field's frame (separate passes),
     // the twin's, then the agree pass over both into the given one's output.
     Result<std::vector<GeneratedFrame>> generate_agreed(std::span<const float> alphas);
     Result<PassTiming> record_agree(const gpu::GenParams& g, Session::Impl& colour);
+    // Extrapolation of an agreeing session: both fields' frames of every alpha, then the agree
+    // pass from the fields' residuals at the newest input (agree_residual) into the given ones.
+    Result<std::vector<GeneratedFrame>> extrapolate_agreed(std::span<const float> alphas);
+    Result<void> ensure_agree_buffers();
+    static gpu::AgreeParams agree_params(const gpu::GenParams& g);
 
     // Motion estimation from colour (motion.cpp): sessions without vectors.
     struct Motion {

@@ -134,13 +134,13 @@ typedef enum fgsr_queue_policy {
  * 960x540; above, the two are the same), and frames lose 0.3-0.4 dB on average, up to 1.2 dB
  * (docs/MOTION.md, "The fast setting"). Refused without FGSR_SESSION_NO_MVS. */
 #define FGSR_SESSION_FAST_MOTION 0x100u
-/* Interpolation from two fields (minor 7): the daemon also estimates motion from colour, as for
- * NO_MVS, generates each interpolated frame from the given vectors and from the estimate, and per
- * pixel takes the estimate's frame where its two warped inputs agree and the given vectors' do not
- * (shading that moves on its own: sun shadows; docs/ACCURACY.md, change 33). Where the given vectors
- * explain the colour the frame is the one without the flag. Extrapolated frames are unchanged. Costs
- * the motion passes at every submit and a second generation per interpolated frame (on lavapipe about
- * five times a frame's time). Refused together with NO_MVS, and with a scale other than 1. */
+/* Frame generation from two fields (minor 7): the daemon also estimates motion from colour, as for
+ * NO_MVS, generates each interpolated and extrapolated frame from the given vectors and from the
+ * estimate, and per pixel takes the estimate's frame where it explains the colour and the given
+ * vectors do not (shading that moves on its own: sun shadows; docs/ACCURACY.md, changes 33 and 34).
+ * Where the given vectors explain the colour the frame is the one without the flag. Costs the
+ * motion passes at every submit and a second generation per frame (on lavapipe about five times an
+ * interpolated frame's time). Refused together with NO_MVS, and with a scale other than 1. */
 #define FGSR_SESSION_COLOUR_AGREE 0x200u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */

@@ -170,17 +170,18 @@ struct Params {
     // The depth stays the client's. Costs the motion estimation's passes (docs/MOTION.md). Only
     // with scale 1: on jittered, aliased SR input it loses (validate refuses it).
     bool correct_vectors = false;
-    // Interpolation in sessions with vectors: also estimate motion from colour and generate the
+    // Frame generation in sessions with vectors: also estimate motion from colour and generate the
     // frame from that field, as a colour-only session would (a second, colour-only session fed
     // the same frames without vectors or depth); per pixel take the colour-only frame where the
-    // given field's two warped frames disagree and the colour-only field's agree (pass `agree`,
+    // given field explains the colour worse than the colour-only field (pass `agree`,
     // shaders/agree.h): shading that moves on its own (shadows sweeping over still ground, contact
-    // shadows, sunlight travelling with the camera), which no vector of the surface carries. The
-    // given field's generation runs as separate passes. Costs the motion estimation's passes at
-    // every submit and a second generated frame. Extrapolation is unchanged (it has one warped
-    // frame). Only with scale 1 (validate refuses it otherwise); off in sessions without vectors,
-    // which estimate their own motion (Session::params() says so). Not carried by the wire
-    // protocol (docs/ACCURACY.md, change 33).
+    // shadows, sunlight travelling with the camera), which no vector of the surface carries.
+    // Interpolation compares each field's two warped frames (the given field's generation then
+    // runs as separate passes), extrapolation each field's residual at the newest input. Costs the
+    // motion estimation's passes at every submit and a second generated frame. Only with scale 1
+    // (validate refuses it otherwise); off in sessions without vectors, which estimate their own
+    // motion (Session::params() says so). Protocol flag FGSR_SESSION_COLOUR_AGREE (docs/ACCURACY.md,
+    // changes 33 and 34).
     bool colour_agree = false;
     float correct_ratio = defaults::correct_ratio;   // [0, 1]
     float correct_margin = defaults::correct_margin; // >= 0, luma units
@@ -434,7 +435,7 @@ class Session {
         // was classified (Params::skip_tiles); empty otherwise. Tile side: tile_side.
         std::vector<uint32_t> tile_flags;
         uint32_t tile_side = 0;
-        // Params::colour_agree, after an interpolation whose last frame the agree pass made: the
+        // Params::colour_agree, after a call whose last frame the agree pass made: the
         // colour-only twin's intermediates (its field, warped frames). The warped frames above are the given
         // field's; the frame returned is the agree pass's.
         std::shared_ptr<Intermediates> colour;

@@ -16,7 +16,7 @@
 //                (street-fg interp +1.77 dB, shadow-fg +0.27 / +0.41) and loses up to 0.08 dB
 //                elsewhere (pan, spin, cut; docs/ACCURACY.md, changes 4 and 27), at several times
 //                the cost of a frame on CPU devices, and is refused with super resolution. Nor
-//                interpolation from both fields by agreement (switch colour_agree): it gains where
+//                frame generation from both fields by agreement (switch colour_agree): it gains where
 //                shading moves on its own (sundial-fg +3.17 dB, shadow-fg +1.23) and loses 0.15 on
 //                fan-fg, at about five times an interpolated frame's cost on CPU devices (change 33).
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
@@ -142,7 +142,7 @@ inline constexpr std::array<SwitchInfo, 18> kSwitches{{
     {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
     {"vector_cuts", {"on", "off", ""}, "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
     {"motion_consensus", {"on", "off", ""}, "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
-    {"colour_agree", {"on", "off", ""}, "interpolation: per pixel the frame from vectors estimated from colour where its warped inputs agree and the given vectors' do not"},
+    {"colour_agree", {"on", "off", ""}, "per pixel the frame from vectors estimated from colour where they explain the colour and the given vectors do not"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).

@@ -113,6 +113,12 @@ std::vector<glm::vec4> agree(const Warped& given_warped, const std::vector<uint3
                              const std::vector<glm::vec4>& given, const Warped& colour_warped,
                              const std::vector<uint32_t>& colour_state, const std::vector<glm::vec4>& colour,
                              const AgreeParams& p);
+// Its extrapolation (stage 4, agree_residual, then the same box and mix): the inputs (f1's vectors
+// the given field's), the colour-only field's frame-1 vectors, both extrapolated frames.
+std::vector<glm::vec4> agree_extrapolated(const InternalFrame& f0, const InternalFrame& f1,
+                                          const std::vector<glm::vec2>& colour_mv,
+                                          const std::vector<glm::vec4>& given,
+                                          const std::vector<glm::vec4>& colour, const AgreeParams& p);
 
 // The fused pass (refine, disocc, warp and blend per pixel) on given splat keys.
 std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
