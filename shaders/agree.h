@@ -17,8 +17,9 @@
 //      one's); else 0 (an occlusion, a disocclusion, content leaving, a hole only frame 0 sees).
 //   2. Means of e over the box of side 2 radius + 1 around the pixel (clamped to the frame), as
 //      two separable stages: rows, then columns.
-//   3. w = clamp((ratio x mean e_given - mean e_colour - margin) / margin, 0, 1); the result is
-//      mix(given frame, colour frame, w).
+//   3. w = clamp((ratio x mean e_given - mean e_colour - margin) / margin, 0, 1) x
+//      clamp(1 - mean e_colour / colour_limit, 0, 1) (where neither field explains the colour, the
+//      given frame is kept more; change 35); the result is mix(given frame, colour frame, w).
 //
 // Extrapolation has one warped frame, so no two to disagree: stage 1 is then the fields' residual
 // at the newest input (stage 4, agree_residual), and stages 2 and 3 follow on the extrapolated frames:
@@ -66,6 +67,7 @@ FGSR_INLINE vec4 agree_pixel(ivec2 t, AgreeParams p) {
     for (int y = lo; y <= hi; ++y) sum += load_rows(uint(y) * p.g.width + uint(t.x));
     vec2 e = sum / float(hi - lo + 1);
     float w = clamp((p.ratio * e.x - e.y - p.margin) / max(p.margin, 1.0e-6f), 0.0f, 1.0f);
+    if (p.colour_limit > 0.0f) w *= clamp((p.colour_limit - e.y) / p.colour_limit, 0.0f, 1.0f);
     uint i = uint(t.y) * p.g.width + uint(t.x);
     return mix(load_given(i), load_colour(i), w);
 }

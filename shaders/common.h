@@ -321,6 +321,7 @@ struct AgreeParams {
     float ratio;  // the given field's disagreement is scaled by this ...
     float margin; // ... and must exceed the colour field's by more than this (brightness units)
     float depth_band; // the two warped frames are one surface within depth_band x g.t_depth
+    float colour_limit; // the colour frame's weight falls to 0 as its field's mean reaches this (0: off)
 };
 
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
@@ -404,7 +405,7 @@ static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
                   sizeof(PolishParams) == 72,
               "motion push constants");
-static_assert(sizeof(AgreeParams) == 64, "agree push constants");
+static_assert(sizeof(AgreeParams) == 68, "agree push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

@@ -1279,6 +1279,7 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     ap.ratio = defaults::agree_ratio;
     ap.margin = defaults::agree_margin;
     ap.depth_band = defaults::agree_depth_band;
+    ap.colour_limit = defaults::agree_colour_limit;
     ref::Field given_f, colour_f;
     given_f.state = im->field_state;
     colour_f.state = im->colour->field_state;
@@ -1338,6 +1339,7 @@ TEST(Motion, AgreeExtrapolationGpuMatchesTheCpuReference) {
         ap.ratio = defaults::agree_ratio;
         ap.margin = defaults::agree_margin;
         ap.depth_band = defaults::agree_depth_band;
+        ap.colour_limit = defaults::agree_colour_limit;
         const auto expected =
             ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
                                     vec4s((*g)[k].color), vec4s((*c)[k].color), ap);

@@ -423,6 +423,7 @@ gpu::AgreeParams Session::Impl::agree_params(const gpu::GenParams& g) {
     p.ratio = defaults::agree_ratio;
     p.margin = defaults::agree_margin;
     p.depth_band = defaults::agree_depth_band;
+    p.colour_limit = defaults::agree_colour_limit;
     return p;
 }
 

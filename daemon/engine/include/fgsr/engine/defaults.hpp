@@ -100,6 +100,14 @@ inline constexpr float agree_margin = 0.02f;
 // +0.03 / +0.01 / -0.01 / -0.04 / -0.13): the largest sum with no capture lower by more than
 // 0.005 (docs/ACCURACY.md, change 33).
 inline constexpr float agree_depth_band = 1.5f;
+// ... and the colour-only frame's weight falls with the colour-only field's own mean disagreement
+// (interpolation) or residual (extrapolation), to 0 at this (brightness units): where neither field
+// explains the colour (turning blades, a turning ball's silhouette) the given frame is kept more.
+// Chosen on the train fg captures with the prototypes of changes 33 and 34, from 0.1 / 0.15 / 0.2 /
+// 0.3 and none: interp +4.43 / +4.71 / +4.77 / +4.76 / +4.43 dB summed (rotor-fg +0.02 -> +0.07,
+// twirl-fg +0.96 -> +1.10, street-fg -0.004), extrap +5.02 at 0.15, +5.01 at 0.2, +4.40 none
+// (docs/ACCURACY.md, change 35).
+inline constexpr float agree_colour_limit = 0.2f;
 // Since change 17 of docs/ACCURACY.md the noise is measured relative to the local brightness to
 // the power gamma (shaders/denoise.h): sunlit and shaded parts of one frame carry noise in
 // proportion to their light, which one absolute level did not fit. Strength and gamma chosen on
