@@ -21,6 +21,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <optional>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -374,62 +375,67 @@ TEST_F(ClientService, SceneCutsOfACaptureAreHonouredByEvalAndReplay) {
     fs::remove_all(dir, ec);
 }
 
+// `fgsr eval --json --methods fgsr` on a small saved capture three ways: in process with `option`,
+// through fgsrd with it, and through fgsrd without it; each parsed (nullopt, and a test failure,
+// where one fails).
+struct OptionRuns {
+    nlohmann::json in_process, daemon, plain;
+    std::string daemon_out, plain_out;
+};
+std::optional<OptionRuns> eval_three_ways(const char* prefix, const std::string& option,
+                                          const std::string& socket) {
+    const fs::path dir = saved_capture(prefix, 4, 4);
+    const std::string common = std::string(FGSR_BIN_DIR) +
+                               "/fgsr eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
+    auto ev = fgsr::test::run_process(common + " " + option);
+    auto rp = fgsr::test::run_process(common + " " + option + " --socket " + socket);
+    auto plain = fgsr::test::run_process(common + " --socket " + socket);
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    EXPECT_EQ(ev.status, 0) << ev.out;
+    EXPECT_EQ(rp.status, 0) << rp.out;
+    EXPECT_EQ(plain.status, 0) << plain.out;
+    OptionRuns r{nlohmann::json::parse(ev.out, nullptr, false), nlohmann::json::parse(rp.out, nullptr, false),
+                 nlohmann::json::parse(plain.out, nullptr, false), rp.out, plain.out};
+    const bool ok = ev.status == 0 && rp.status == 0 && plain.status == 0 && !r.in_process.is_discarded() &&
+                    !r.daemon.is_discarded() && !r.plain.is_discarded();
+    EXPECT_TRUE(ok);
+    if (!ok) return std::nullopt;
+    return r;
+}
+
 // `--correct-vectors` through fgsrd (the session flag FGSR_SESSION_CORRECT_MVS, as `fgsr replay
 // --correct-vectors` sends it): the motion passes run in the daemon and the scores equal the
 // in-process ones with the same option; without it no motion pass runs.
 TEST_F(ClientService, CorrectedVectorsGoThroughTheDaemon) {
-    const fs::path dir = saved_capture("fgsr-correct", 4, 4);
-    const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
-    const std::string common =
-        bin + " eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
-    auto ev = fgsr::test::run_process(common + " --correct-vectors");
-    auto rp = fgsr::test::run_process(common + " --correct-vectors --socket " + daemon_->socket_path());
-    auto plain = fgsr::test::run_process(common + " --socket " + daemon_->socket_path());
-    ASSERT_EQ(ev.status, 0) << ev.out;
-    ASSERT_EQ(rp.status, 0) << rp.out;
-    ASSERT_EQ(plain.status, 0) << plain.out;
-    const auto a = nlohmann::json::parse(ev.out, nullptr, false),
-               b = nlohmann::json::parse(rp.out, nullptr, false),
-               c = nlohmann::json::parse(plain.out, nullptr, false);
-    ASSERT_FALSE(a.is_discarded() || b.is_discarded() || c.is_discarded());
-    EXPECT_EQ(a["methods"]["fgsr"]["psnr"], b["methods"]["fgsr"]["psnr"]);
+    const auto r = eval_three_ways("fgsr-correct", "--correct-vectors", daemon_->socket_path());
+    ASSERT_TRUE(r);
+    const auto &a = r->in_process["methods"]["fgsr"], &b = r->daemon["methods"]["fgsr"],
+               &c = r->plain["methods"]["fgsr"];
+    EXPECT_EQ(a["psnr"], b["psnr"]);
     for (const char* pass : {"luma", "match", "flow"}) {
-        EXPECT_TRUE(b["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << rp.out;
-        EXPECT_FALSE(c["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << plain.out;
+        EXPECT_TRUE(b["pass_ms"].contains(pass)) << pass << " in " << r->daemon_out;
+        EXPECT_FALSE(c["pass_ms"].contains(pass)) << pass << " in " << r->plain_out;
     }
     // The correction keeps given vectors where no estimate beats them: nothing to refine.
-    EXPECT_FALSE(b["methods"]["fgsr"]["pass_ms"].contains("polish")) << rp.out;
-    std::error_code ec;
-    fs::remove_all(dir, ec);
+    EXPECT_FALSE(b["pass_ms"].contains("polish")) << r->daemon_out;
 }
 
 // `--colour-agree` through fgsrd (the session flag FGSR_SESSION_COLOUR_AGREE, as `fgsr replay
 // --colour-agree` sends it): the scores equal the in-process ones with the same option, and the
 // agree pass and the colour twin's motion passes ran in the daemon; without it neither ran.
 TEST_F(ClientService, AgreeingInterpolationGoesThroughTheDaemon) {
-    const fs::path dir = saved_capture("fgsr-agree", 4, 4);
-    const std::string bin = std::string(FGSR_BIN_DIR) + "/fgsr";
-    const std::string common =
-        bin + " eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
-    auto ev = fgsr::test::run_process(common + " --colour-agree");
-    auto rp = fgsr::test::run_process(common + " --colour-agree --socket " + daemon_->socket_path());
-    auto plain = fgsr::test::run_process(common + " --socket " + daemon_->socket_path());
-    ASSERT_EQ(ev.status, 0) << ev.out;
-    ASSERT_EQ(rp.status, 0) << rp.out;
-    ASSERT_EQ(plain.status, 0) << plain.out;
-    const auto a = nlohmann::json::parse(ev.out, nullptr, false),
-               b = nlohmann::json::parse(rp.out, nullptr, false),
-               c = nlohmann::json::parse(plain.out, nullptr, false);
-    ASSERT_FALSE(a.is_discarded() || b.is_discarded() || c.is_discarded());
-    EXPECT_EQ(a["methods"]["fgsr"]["psnr"], b["methods"]["fgsr"]["psnr"]);
-    EXPECT_EQ(a["methods"]["fgsr"]["ssim"], b["methods"]["fgsr"]["ssim"]);
+    const auto r = eval_three_ways("fgsr-agree", "--colour-agree", daemon_->socket_path());
+    ASSERT_TRUE(r);
+    const auto &a = r->in_process["methods"]["fgsr"], &b = r->daemon["methods"]["fgsr"],
+               &c = r->plain["methods"]["fgsr"];
+    EXPECT_EQ(a["psnr"], b["psnr"]);
+    EXPECT_EQ(a["ssim"], b["ssim"]);
     for (const char* pass : {"agree", "luma", "match", "flow"}) {
-        EXPECT_TRUE(a["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << ev.out;
-        EXPECT_TRUE(b["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << rp.out;
-        EXPECT_FALSE(c["methods"]["fgsr"]["pass_ms"].contains(pass)) << pass << " in " << plain.out;
+        EXPECT_TRUE(a["pass_ms"].contains(pass)) << pass;
+        EXPECT_TRUE(b["pass_ms"].contains(pass)) << pass << " in " << r->daemon_out;
+        EXPECT_FALSE(c["pass_ms"].contains(pass)) << pass << " in " << r->plain_out;
     }
-    std::error_code ec;
-    fs::remove_all(dir, ec);
 }
 
 // `fgsr replay` and `fgsr eval` on the same small capture print the same PSNR and SSIM.

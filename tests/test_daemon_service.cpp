@@ -270,6 +270,15 @@ std::pair<fgsr_completion_entry, std::set<uint32_t>> submit_interpolating(RawSes
     return {v[0], passes};
 }
 
+// A frame-generation session (scale 1) of the default description with session `flags` and `modes`.
+fgsr_session_desc frame_generation_desc(uint32_t flags, uint32_t modes) {
+    fgsr_session_desc d = default_desc();
+    d.flags = flags;
+    d.modes = modes;
+    d.scale = 1.f;
+    return d;
+}
+
 // The motion estimation's passes (luma, match, flow) are among a completion's records, once each.
 void expect_motion_passes(const std::set<uint32_t>& passes) {
     for (uint32_t want : {uint32_t(FGSR_PASS_LUMA), uint32_t(FGSR_PASS_MATCH), uint32_t(FGSR_PASS_FLOW)})
@@ -279,11 +288,7 @@ void expect_motion_passes(const std::set<uint32_t>& passes) {
 // FGSR_SESSION_CORRECT_MVS (minor 4): the session has vectors and the daemon also runs the motion
 // passes on every submit after the first; their records come with the interpolated output.
 TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
-    fgsr_session_desc d = default_desc();
-    d.flags = FGSR_SESSION_CORRECT_MVS;
-    d.modes = FGSR_MODE_INTERPOLATE;
-    d.scale = 1.f;
-    auto c = open_session(path(), d);
+    auto c = open_session(path(), frame_generation_desc(FGSR_SESSION_CORRECT_MVS, FGSR_MODE_INTERPOLATE));
     ASSERT_TRUE(c);
     RawSession& s = *c->s;
     for (uint32_t frame = 0; frame < 2; ++frame) {
@@ -309,11 +314,8 @@ TEST_F(Daemon, AgreeingSessionsReportEachPassOnceWithItsRuns) {
     std::vector<std::vector<float>> frames[2]; // [flag] interp, extrap outputs
     for (const bool agree : {false, true}) {
         SCOPED_TRACE(agree ? "colour agree" : "given vectors only");
-        fgsr_session_desc d = default_desc();
-        d.flags = agree ? FGSR_SESSION_COLOUR_AGREE : 0u;
-        d.modes = FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
-        d.scale = 1.f;
-        auto c = open_session(path(), d);
+        auto c = open_session(path(), frame_generation_desc(agree ? FGSR_SESSION_COLOUR_AGREE : 0u,
+                                                            FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE));
         ASSERT_TRUE(c);
         RawSession& s = *c->s;
         for (uint32_t frame = 0; frame < 2; ++frame) {

@@ -1273,13 +1273,8 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     ASSERT_TRUE(im->colour) << "the colour-only twin's intermediates";
     const size_t n = size_t(w) * h;
     const ref::Warped given_w = warped_of(*im), colour_w = warped_of(*im->colour);
-    ref::AgreeParams ap{};
-    ap.g = params::gen_params(internal_format(w, h), p, alpha, false, true, true);
-    ap.radius = defaults::agree_radius;
-    ap.ratio = defaults::agree_ratio;
-    ap.margin = defaults::agree_margin;
-    ap.depth_band = defaults::agree_depth_band;
-    ap.colour_limit = defaults::agree_colour_limit;
+    const ref::AgreeParams ap =
+        params::agree_params(params::gen_params(internal_format(w, h), p, alpha, false, true, true));
     ref::Field given_f, colour_f;
     given_f.state = im->field_state;
     colour_f.state = im->colour->field_state;
@@ -1333,13 +1328,8 @@ TEST(Motion, AgreeExtrapolationGpuMatchesTheCpuReference) {
     std::vector<glm::vec2> colour_mv(n);
     for (size_t i = 0; i < n; ++i) colour_mv[i] = glm::vec2(cf->mv[2 * i], cf->mv[2 * i + 1]);
     for (size_t k = 0; k < alphas.size(); ++k) {
-        ref::AgreeParams ap{};
-        ap.g = params::gen_params(internal_format(w, h), agreeing, alphas[k], true, true, true);
-        ap.radius = defaults::agree_radius;
-        ap.ratio = defaults::agree_ratio;
-        ap.margin = defaults::agree_margin;
-        ap.depth_band = defaults::agree_depth_band;
-        ap.colour_limit = defaults::agree_colour_limit;
+        const ref::AgreeParams ap = params::agree_params(
+            params::gen_params(internal_format(w, h), agreeing, alphas[k], true, true, true));
         const auto expected =
             ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
                                     vec4s((*g)[k].color), vec4s((*c)[k].color), ap);

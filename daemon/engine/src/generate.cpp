@@ -350,8 +350,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
     FGSR_TRY(ensure_agree_buffers());
-    gpu::AgreeParams p =
-        agree_params(params::gen_params(format, params, alphas.front(), true, f0.has_mv, f1.has_mv));
+    const gpu::AgreeParams p =
+        params::agree_params(params::gen_params(format, params, alphas.front(), true, f0.has_mv, f1.has_mv));
     const BufRef colour_mv = colour.frames[size_t(colour.newest)].mv;
     FGSR_TRY(rec.begin());
     rec.timestamp(0);
@@ -416,22 +416,11 @@ Result<void> Session::Impl::ensure_agree_buffers() {
     return {};
 }
 
-gpu::AgreeParams Session::Impl::agree_params(const gpu::GenParams& g) {
-    gpu::AgreeParams p{};
-    p.g = g;
-    p.radius = defaults::agree_radius;
-    p.ratio = defaults::agree_ratio;
-    p.margin = defaults::agree_margin;
-    p.depth_band = defaults::agree_depth_band;
-    p.colour_limit = defaults::agree_colour_limit;
-    return p;
-}
-
 // The agree pass's three stages over the given field's warped frames and output (this session's,
 // from a call with separate passes) and the twin's.
 Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& colour) {
     FGSR_TRY(ensure_agree_buffers());
-    const gpu::AgreeParams p = agree_params(g);
+    const gpu::AgreeParams p = params::agree_params(g);
     const auto b = make_slots<PassId::agree>(
         at<AGREE_GIVEN_W0>(warped_color0), at<AGREE_GIVEN_D0>(warped_depth0),
         at<AGREE_GIVEN_W1>(warped_color1), at<AGREE_GIVEN_D1>(warped_depth1),

@@ -154,6 +154,17 @@ void set_dilate(IngestParams& p, const FrameFormat& f, const Params& params, boo
     p.dilate_depth = params.t_depth;
 }
 
+gpu::AgreeParams agree_params(const GenParams& g) {
+    gpu::AgreeParams p{};
+    p.g = g;
+    p.radius = defaults::agree_radius;
+    p.ratio = defaults::agree_ratio;
+    p.margin = defaults::agree_margin;
+    p.depth_band = defaults::agree_depth_band;
+    p.colour_limit = defaults::agree_colour_limit;
+    return p;
+}
+
 GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
                      bool frame0_has_mv, bool frame1_has_mv) {
     GenParams g{};

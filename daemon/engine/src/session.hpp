@@ -183,7 +183,6 @@ struct Session::Impl {
     // pass from the fields' residuals at the newest input (agree_residual) into the given ones.
     Result<std::vector<GeneratedFrame>> extrapolate_agreed(std::span<const float> alphas);
     Result<void> ensure_agree_buffers();
-    static gpu::AgreeParams agree_params(const gpu::GenParams& g);
 
     // Motion estimation from colour (motion.cpp): sessions without vectors.
     struct Motion {

@@ -32,6 +32,8 @@ void set_dilate(gpu::IngestParams& p, const FrameFormat& format, const Params& p
 // The push constants the engine uses for one generated frame.
 gpu::GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
                           bool frame0_has_mv, bool frame1_has_mv);
+// The agree pass's push constants (Params::colour_agree) for generated frame `g`.
+gpu::AgreeParams agree_params(const gpu::GenParams& g);
 
 // What a session measured of its input (Session::input_aliasing, Session::input_jittered).
 struct InputMeasure {
