@@ -137,7 +137,7 @@ typedef enum fgsr_queue_policy {
 /* Frame generation from two fields (minor 7): the daemon also estimates motion from colour, as for
  * NO_MVS, generates each interpolated and extrapolated frame from the given vectors and from the
  * estimate, and per pixel takes the estimate's frame where it explains the colour and the given
- * vectors do not (shading that moves on its own: sun shadows; docs/ACCURACY.md, changes 33 and 34).
+ * vectors do not (shading that moves on its own: sun shadows; docs/ACCURACY.md, changes 33 to 35).
  * Where the given vectors explain the colour the frame is the one without the flag. Costs the
  * motion passes at every submit and a second generation per frame (on lavapipe about five times an
  * interpolated frame's time). Refused together with NO_MVS, and with a scale other than 1. */

@@ -181,7 +181,7 @@ struct Params {
     // motion estimation's passes at every submit and a second generated frame. Only with scale 1
     // (validate refuses it otherwise); off in sessions without vectors, which estimate their own
     // motion (Session::params() says so). Protocol flag FGSR_SESSION_COLOUR_AGREE (docs/ACCURACY.md,
-    // changes 33 and 34).
+    // changes 33 to 35).
     bool colour_agree = false;
     float correct_ratio = defaults::correct_ratio;   // [0, 1]
     float correct_margin = defaults::correct_margin; // >= 0, luma units
