@@ -228,6 +228,14 @@ TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
     cli::MethodScore score;
     cli::add_timing(score, g);
     EXPECT_DOUBLE_EQ(score.pass_ms["match"], 2.5);
+    // A pass that ran twice for one frame (colour_agree's two fields) is one sample, its runs' sum,
+    // as fgsrd's records count it.
+    GeneratedFrame twice = g;
+    twice.passes.push_back(splat);
+    cli::MethodScore both;
+    cli::add_timing(both, twice);
+    EXPECT_EQ(both.pass_samples["splat"], std::vector<double>{20.0});
+    EXPECT_EQ(both.pass_samples["match"], std::vector<double>{2.5});
 
     nlohmann::json j = eval_json(
         "--capture builtin --frames 2 --no-skip-tiles --methods fgsr-colour"); // every pass every frame
