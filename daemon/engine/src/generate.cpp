@@ -355,29 +355,24 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
     const BufRef colour_mv = colour.frames[size_t(colour.newest)].mv;
     FGSR_TRY(rec.begin());
     rec.timestamp(0);
-    // Stage 4 reads the inputs in the slots of the given field's warped frames (bindings.h).
-    const auto residual = make_slots<PassId::agree>(
-        at<AGREE_FRAME_COLOR0>(f0.color), at<AGREE_FRAME_DEPTH0>(f0.depth), at<AGREE_FRAME_COLOR1>(f1.color),
-        at<AGREE_FRAME_DEPTH1>(f1.depth), at<AGREE_GIVEN_MV>(f1.mv), at<AGREE_COLOUR_MV>(colour_mv),
-        at<AGREE_COLOUR_D0>(unused(colour_mv)), at<AGREE_COLOUR_W1>(unused(colour_mv)),
-        at<AGREE_COLOUR_D1>(unused(colour_mv)), at<AGREE_COLOUR_STATE>(unused(colour_mv)),
-        at<AGREE_GIVEN>(outputs[0]), at<AGREE_COLOUR>(colour.outputs[0]), at<AGREE_E>(agree_e),
-        at<AGREE_ROWS>(agree_rows));
+    // Stage 4 reads the inputs in the slots of the given field's warped frames (bindings.h); the
+    // slots of the colour-only field's are unused there. Frame k's mix reads outputs k.
+    auto slots = [&](size_t k) {
+        return make_slots<PassId::agree>(
+            at<AGREE_FRAME_COLOR0>(f0.color), at<AGREE_FRAME_DEPTH0>(f0.depth),
+            at<AGREE_FRAME_COLOR1>(f1.color), at<AGREE_FRAME_DEPTH1>(f1.depth), at<AGREE_GIVEN_MV>(f1.mv),
+            at<AGREE_COLOUR_MV>(colour_mv), at<AGREE_COLOUR_D0>(unused(colour_mv)),
+            at<AGREE_COLOUR_W1>(unused(colour_mv)), at<AGREE_COLOUR_D1>(unused(colour_mv)),
+            at<AGREE_COLOUR_STATE>(unused(colour_mv)), at<AGREE_GIVEN>(outputs[k]),
+            at<AGREE_COLOUR>(colour.outputs[k]), at<AGREE_E>(agree_e), at<AGREE_ROWS>(agree_rows));
+    };
     for (Variant v : {Variant::agree_residual, Variant::agree_rows}) {
-        FGSR_TRY(rec.dispatch_pixels(v, residual, &p, format.width, format.height));
+        FGSR_TRY(rec.dispatch_pixels(v, slots(0), &p, format.width, format.height));
         rec.barrier();
     }
     rec.timestamp(1);
     for (size_t k = 0; k < alphas.size(); ++k) {
-        const auto mix = make_slots<PassId::agree>(
-            at<AGREE_FRAME_COLOR0>(unused(f0.color)), at<AGREE_FRAME_DEPTH0>(unused(f0.depth)),
-            at<AGREE_FRAME_COLOR1>(unused(f1.color)), at<AGREE_FRAME_DEPTH1>(unused(f1.depth)),
-            at<AGREE_GIVEN_MV>(unused(f1.mv)), at<AGREE_COLOUR_MV>(unused(colour_mv)),
-            at<AGREE_COLOUR_D0>(unused(colour_mv)), at<AGREE_COLOUR_W1>(unused(colour_mv)),
-            at<AGREE_COLOUR_D1>(unused(colour_mv)), at<AGREE_COLOUR_STATE>(unused(colour_mv)),
-            at<AGREE_GIVEN>(outputs[k]), at<AGREE_COLOUR>(colour.outputs[k]), at<AGREE_E>(agree_e),
-            at<AGREE_ROWS>(agree_rows));
-        FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix, mix, &p, format.width, format.height));
+        FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix, slots(k), &p, format.width, format.height));
         rec.barrier();
         rec.timestamp(uint32_t(k) + 2);
     }
