@@ -26,7 +26,8 @@
 //   4. e = (e_given, e_colour) at frame-1 pixel t: |brightness(frame 1 at t) - brightness(frame 0
 //      at t + mv)| for each field's frame-1 vector mv (frame 0 read bilinearly); 0 where t + mv
 //      leaves the frame, and for the given field where frame 0's depth there (nearest pixel) is not
-//      t's surface (depth_band x T_D: a disocclusion, which no vector explains). The weights are
+//      t's surface (depth_band x T_D, a wider band than stage 1's: the two depths are a whole frame
+//      step apart; outside it a disocclusion, which no vector explains; change 36). The weights are
 //      those of frame-1 pixels, applied at the extrapolated frame's pixels: the box spans 21
 //      pixels, the half step of motion between them lies mostly inside it.
 //

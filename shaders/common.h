@@ -320,7 +320,8 @@ struct AgreeParams {
     uint radius;  // the box's half side, pixels
     float ratio;  // the given field's disagreement is scaled by this ...
     float margin; // ... and must exceed the colour field's by more than this (brightness units)
-    float depth_band; // the two warped frames are one surface within depth_band x g.t_depth
+    float depth_band; // one surface within depth_band x g.t_depth (the two warped frames; stage 4: frame 0 at
+                      // t + mv and frame 1 at t)
     float colour_limit; // the colour frame's weight falls to 0 as its field's mean reaches this (0: off)
 };
 

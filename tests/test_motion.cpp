@@ -1221,6 +1221,41 @@ TEST(Motion, AgreeTakesTheColourFieldWhereAShadowSweepsOverStillGround) {
     expect_no_validation_errors();
 }
 
+// Extrapolation's depth test (agree.h stage 4) compares frame 0's depth at t + mv with frame 1's at
+// t, a whole frame step apart: a surface the camera approaches changes its depth between them by
+// more than interpolation's band (1.5 T_D) allows. The sweeping shadow on ground whose depth falls
+// by 15 % a frame (an orthographic camera moving towards it: the vectors stay zero) is one surface
+// in stage 4's band (5 T_D), so the colour-only frame is taken there as on still ground; in
+// interpolation's band every pixel would count as a disocclusion and the given frame would be kept
+// (docs/ACCURACY.md, change 36).
+TEST(Motion, AgreeExtrapolationTakesTheColourFieldOnAnApproachedSurface) {
+    const uint32_t w = 192, h = 96;
+    const float step = 7.f, shrink = 0.85f;
+    ASSERT_GT(1.f / shrink - 1.f, defaults::agree_depth_band * defaults::t_depth);
+    ASSERT_LT(1.f / shrink - 1.f, defaults::agree_extrap_depth_band * defaults::t_depth);
+    auto frame = [&](float t) {
+        RawFrame f = shadow_frame(w, h, t, step);
+        f.depth = bytes_of(std::vector<float>(size_t(w) * h, 10.f * std::pow(shrink, t)));
+        return f;
+    };
+    const std::vector<glm::vec4> truth =
+        colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, 2.5f, step); }));
+    double score[2] = {0, 0};
+    for (int agree = 0; agree < 2; ++agree) {
+        Params p;
+        p.colour_agree = agree != 0;
+        auto out = halfway_frame(w, h, p, frame, true);
+        ASSERT_TRUE(out);
+        score[agree] = psnr(out->color.rgba, truth);
+    }
+    std::printf(
+        "[ measured ] sweeping shadow on an approached surface, extrapolated: given vectors %.2f dB, with "
+        "the agree pass %.2f dB\n",
+        score[0], score[1]);
+    EXPECT_GT(score[1], score[0] + 3.0);
+    expect_no_validation_errors();
+}
+
 // The agree pass where the given vectors explain the colour: a textured square moving over a
 // still textured background with its exact vectors and depth. The given field's warped frames
 // agree (the uncovered background is a disocclusion, where blend takes one frame), so the pass

@@ -160,7 +160,7 @@ gpu::AgreeParams agree_params(const GenParams& g) {
     p.radius = defaults::agree_radius;
     p.ratio = defaults::agree_ratio;
     p.margin = defaults::agree_margin;
-    p.depth_band = defaults::agree_depth_band;
+    p.depth_band = g.extrapolate != 0u ? defaults::agree_extrap_depth_band : defaults::agree_depth_band;
     p.colour_limit = defaults::agree_colour_limit;
     return p;
 }

@@ -100,6 +100,16 @@ inline constexpr float agree_margin = 0.02f;
 // +0.03 / +0.01 / -0.01 / -0.04 / -0.13): the largest sum with no capture lower by more than
 // 0.005 (docs/ACCURACY.md, change 33).
 inline constexpr float agree_depth_band = 1.5f;
+// ... and in extrapolation (stage 4: frame 0's depth at t + mv against frame 1's at t, a whole frame
+// step apart, where interpolation's warped frames are half a step from either input) within this
+// times t_depth: a surface the camera approaches changes its depth by more between them (street-fg's
+// road and walls at 7.5 %), and a band as tight as interpolation's took it for a disocclusion, whose
+// residual counts 0, so the given field looked right there. Chosen on the train captures from 1.5 /
+// 3 / 4 / 5 / 6 / 7 / 10 / none (summed extrap gains +1.11 / +1.17 / +1.28 at 3 / 4 / 5; street-fg
+// +0.99 / +1.02 / +1.07, twirl-fg +0.08; from 6 on toss-fg -0.02 and lower, from 10 hdr-fg and
+// rotor-fg too): the largest sum with no capture lower by more than 0.005 (docs/ACCURACY.md,
+// change 36).
+inline constexpr float agree_extrap_depth_band = 5.0f;
 // ... and the colour-only frame's weight falls with the colour-only field's own mean disagreement
 // (interpolation) or residual (extrapolation), to 0 at this (brightness units): where neither field
 // explains the colour (turning blades, a turning ball's silhouette) the given frame is kept more.
