@@ -17,6 +17,7 @@ vec4 load_frame_colour(uint frame, uint i) { return unpack_color(as_uvec2(frame 
 float load_frame_depth(uint frame, uint i) { return frame == 0u ? depth0[i] : depth1[i]; }
 vec2 load_field_mv(uint field, uint i) { return field == 0u ? given_mv[i] : colour_mv[i]; }
 vec4 load_warped(uint field, uint frame, uint i) { return vec4(0.0f); }
+vec4 load_given_field(uint i) { return vec4(0.0f); }
 float load_warped_depth(uint field, uint frame, uint i) { return 0.0f; }
 uint load_field_state(uint field, uint i) { return 0u; }
 #else
@@ -30,6 +31,8 @@ layout(std430, binding = AGREE_COLOUR_D0) readonly buffer ColourD0 { float colou
 layout(std430, binding = AGREE_COLOUR_W1) readonly buffer ColourW1 { vec4 colour_w1[]; };
 layout(std430, binding = AGREE_COLOUR_D1) readonly buffer ColourD1 { float colour_d1[]; };
 layout(std430, binding = AGREE_COLOUR_STATE) readonly buffer ColourState { uint colour_state[]; };
+layout(std430, binding = AGREE_GIVEN_FIELD) readonly buffer GivenField { vec4 given_field[]; };
+vec4 load_given_field(uint i) { return given_field[i]; }
 
 vec4 load_warped(uint field, uint frame, uint i) {
     if (field == 0u) return frame == 0u ? given_w0[i] : given_w1[i];
@@ -65,7 +68,7 @@ void main() {
 #if AGREE_STAGE == 4
     e_buf[i] = agree_residual(t, pc.p);
 #elif AGREE_STAGE == 1
-    e_buf[i] = agree_error(i, pc.p);
+    e_buf[i] = agree_error(t, pc.p);
 #elif AGREE_STAGE == 2
     rows_buf[i] = agree_rows(t, pc.p);
 #else

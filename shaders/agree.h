@@ -15,6 +15,14 @@
 //      (relative), wider than blend's T_D, which a surface the camera approaches leaves between
 //      the two frames (blend then takes the nearer frame, and its shading is still the wrong
 //      one's); else 0 (an occlusion, a disocclusion, content leaving, a hole only frame 0 sees).
+//      For the given field the band first expects the depth change its motion implies: a surface
+//      patch's size on screen goes as 1 / depth, so frame 0's depth is frame 1's times
+//      s = sqrt(det(I + grad v1) / det(I + grad v0)) for a patch facing the camera, v0 and v1 the
+//      field's displacements to the two frames (central differences over the neighbours on the
+//      pixel's surface: frame-1 depths within T_D; s clamped to [1/2, 2]). A slanted patch changes
+//      by less, so frame 0's depth may lie anywhere between d1 and d1 x s before the band counts
+//      (change 37; as the motion's frame-0 test does, change 21). Where the field neither expands
+//      nor shrinks (s = 1) this is the plain test.
 //   2. Means of e over the box of side 2 radius + 1 around the pixel (clamped to the frame), as
 //      two separable stages: rows, then columns.
 //   3. w = clamp((ratio x mean e_given - mean e_colour - margin) / margin, 0, 1) x
@@ -26,8 +34,9 @@
 //   4. e = (e_given, e_colour) at frame-1 pixel t: |brightness(frame 1 at t) - brightness(frame 0
 //      at t + mv)| for each field's frame-1 vector mv (frame 0 read bilinearly); 0 where t + mv
 //      leaves the frame, and for the given field where frame 0's depth there (nearest pixel) is not
-//      t's surface (depth_band x T_D, a wider band than stage 1's: the two depths are a whole frame
-//      step apart; outside it a disocclusion, which no vector explains; change 36). The weights are
+//      t's surface (a disocclusion, which no vector explains): as in stage 1, the depth change the
+//      field's frame-1 vectors imply is expected (change 37), then depth_band x T_D, a wider band
+//      than stage 1's (change 36). The weights are
 //      those of frame-1 pixels, applied at the extrapolated frame's pixels: the box spans 21
 //      pixels, the half step of motion between them lies mostly inside it.
 //
@@ -37,20 +46,74 @@
 //   uint  load_field_state(uint field, uint i)
 //   vec2  load_e(uint i), load_rows(uint i)
 //   vec4  load_given(uint i), load_colour(uint i)
+//   vec4  load_given_field(uint i)                       the given field's (v0, v1) (stage 1)
 // and for stage 4:
 //   vec4  load_frame_colour(uint frame, uint i)          the inputs, frame 0 or 1 (newest)
 //   float load_frame_depth(uint frame, uint i)
 //   vec2  load_field_mv(uint field, uint i)              frame 1's vectors of each field
 
-// Stage 1: one field's disagreement at pixel i, and both fields' (given, colour).
-FGSR_INLINE float field_disagreement(uint field, uint i, AgreeParams p) {
+// Stage 1's expected depth change of the given field at pixel t, whose frame-1 depth is d1: the
+// range (min(1, s), max(1, s)) of d0 / d1.
+FGSR_INLINE vec2 given_depth_range(ivec2 t, float d1, AgreeParams p) {
+    vec4 v = load_given_field(uint(t.y) * p.g.width + uint(t.x));
+    vec4 g[2];
+    for (int axis = 0; axis < 2; ++axis) {
+        ivec2 step = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        int lim = axis == 0 ? int(p.g.width) - 1 : int(p.g.height) - 1;
+        int c = axis == 0 ? t.x : t.y;
+        uint lo = uint(t.y - step.y) * p.g.width + uint(t.x - step.x);
+        uint hi = uint(t.y + step.y) * p.g.width + uint(t.x + step.x);
+        float d_lo = c > 0 ? load_warped_depth(0u, 1u, lo) : -1.0f;
+        float d_hi = c < lim ? load_warped_depth(0u, 1u, hi) : -1.0f;
+        bool lo_ok = d_lo >= 0.0f && relative_depth_difference(d_lo, d1) <= p.g.t_depth;
+        bool hi_ok = d_hi >= 0.0f && relative_depth_difference(d_hi, d1) <= p.g.t_depth;
+        vec4 v_lo = lo_ok ? load_given_field(lo) : v, v_hi = hi_ok ? load_given_field(hi) : v;
+        float span = float(int(lo_ok) + int(hi_ok));
+        g[axis] = span > 0.0f ? (v_hi - v_lo) / span : vec4(0.0f);
+    }
+    float det0 = (1.0f + g[0].x) * (1.0f + g[1].y) - g[1].x * g[0].y;
+    float det1 = (1.0f + g[0].z) * (1.0f + g[1].w) - g[1].z * g[0].w;
+    float s = sqrt(clamp(det1 / max(det0, 1.0e-3f), 0.25f, 4.0f));
+    return vec2(min(1.0f, s), max(1.0f, s));
+}
+
+// Stage 4's: the range of d0 / d1 at frame-1 pixel t (depth d1) that the given field's frame-1
+// vectors imply (motion.h's frame1_depth_scale over the pass's inputs).
+FGSR_INLINE vec2 frame1_depth_range(ivec2 t, float d1, AgreeParams p) {
+    vec2 mc = load_field_mv(0u, uint(t.y) * p.g.width + uint(t.x));
+    vec2 grad[2];
+    for (int axis = 0; axis < 2; ++axis) {
+        ivec2 step = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        ivec2 lo_q = t - step, hi_q = t + step;
+        uint lo = uint(lo_q.y) * p.g.width + uint(lo_q.x), hi = uint(hi_q.y) * p.g.width + uint(hi_q.x);
+        bool lo_ok =
+            inside(lo_q, p.g) && relative_depth_difference(load_frame_depth(1u, lo), d1) <= p.g.t_depth;
+        bool hi_ok =
+            inside(hi_q, p.g) && relative_depth_difference(load_frame_depth(1u, hi), d1) <= p.g.t_depth;
+        vec2 m_lo = lo_ok ? load_field_mv(0u, lo) : mc, m_hi = hi_ok ? load_field_mv(0u, hi) : mc;
+        float span = float(int(lo_ok) + int(hi_ok));
+        grad[axis] = span > 0.0f ? (m_hi - m_lo) / span : vec2(0.0f);
+    }
+    float s = expansion_depth_scale(grad[0], grad[1]);
+    return vec2(min(1.0f, s), max(1.0f, s));
+}
+
+// Is frame 0's depth d0 off the surface of frame-1 depth d1, whose motion implies d0 / d1 in range?
+// With range (1, 1) the plain test relative_depth_difference(d0, d1) > band.
+FGSR_INLINE bool agree_off_surface(float d0, float d1, vec2 range, AgreeParams p) {
+    return relative_depth_difference(d0, clamp(d0, d1 * range.x, d1 * range.y)) > p.depth_band * p.g.t_depth;
+}
+
+// Stage 1: one field's disagreement at pixel t, and both fields' (given, colour).
+FGSR_INLINE float field_disagreement(uint field, ivec2 t, AgreeParams p) {
+    uint i = uint(t.y) * p.g.width + uint(t.x);
     float d0 = load_warped_depth(field, 0u, i), d1 = load_warped_depth(field, 1u, i);
     if (load_field_state(field, i) == FIELD_HOLE_FILLED || !(d0 >= 0.0f) || !(d1 >= 0.0f)) return 0.0f;
-    if (relative_depth_difference(d0, d1) > p.depth_band * p.g.t_depth) return 0.0f;
+    if (agree_off_surface(d0, d1, field == 0u ? given_depth_range(t, d1, p) : vec2(1.0f), p)) return 0.0f;
     return abs(brightness(load_warped(field, 0u, i)) - brightness(load_warped(field, 1u, i)));
 }
-FGSR_INLINE vec2 agree_error(uint i, AgreeParams p) {
-    return vec2(field_disagreement(0u, i, p), field_disagreement(1u, i, p));
+FGSR_INLINE vec2 agree_error(ivec2 t, AgreeParams p) {
+    return vec2(field_disagreement(0u, t, p), field_disagreement(1u, t, p));
 }
 
 // Stage 2: the mean of e along the row, within radius of t (clamped to the frame).
@@ -85,7 +148,7 @@ FGSR_INLINE float field_residual(uint field, ivec2 t, AgreeParams p) {
     if (field == 0u) {
         ivec2 c = ivec2(floor(q + vec2(0.5f)));
         float d1 = load_frame_depth(1u, i), d0 = load_frame_depth(0u, uint(c.y) * p.g.width + uint(c.x));
-        if (!(d0 > 0.0f) || !(d1 > 0.0f) || relative_depth_difference(d0, d1) > p.depth_band * p.g.t_depth)
+        if (!(d0 > 0.0f) || !(d1 > 0.0f) || agree_off_surface(d0, d1, frame1_depth_range(t, d1, p), p))
             return 0.0f;
     }
     ivec2 a = ivec2(floor(q));

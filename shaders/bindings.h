@@ -130,7 +130,9 @@
 #define AGREE_COLOUR 11 // the colour-only field's frame (vec4)
 #define AGREE_E 12      // stage 1 writes, stage 2 reads: vec2 (given, colour) per pixel
 #define AGREE_ROWS 13   // stage 2 writes, stage 3 reads: their means along rows
-#define AGREE_COUNT 14
+// The given field's vectors (vec4 v0, v1 per pixel, field.h): the depth change stage 1 expects.
+#define AGREE_GIVEN_FIELD 14
+#define AGREE_COUNT 15
 // Extrapolation's stage 1 (agree_residual) reads the inputs and each field's frame-1 vectors in
 // the first slots instead (agree.comp, AGREE_STAGE 4); the other slots are unused there.
 #define AGREE_FRAME_COLOR0 AGREE_GIVEN_W0 // pack_color

@@ -1256,6 +1256,63 @@ TEST(Motion, AgreeExtrapolationTakesTheColourFieldOnAnApproachedSurface) {
     expect_no_validation_errors();
 }
 
+// shadow_scene on ground the camera approaches: the ground's depth is 10 x 0.85^t, so its picture
+// grows about the frame's centre by 1 / 0.85 a frame (texture and shadow band fixed on the ground);
+// exact vectors and depth.
+struct ApproachedShadow {
+    uint32_t w, h;
+    float step;
+    static constexpr float kShrink = 0.85f;
+    float depth(float t) const { return 10.f * std::pow(kShrink, t); }
+    glm::vec2 centre() const { return glm::vec2(float(w), float(h)) / 2.f; }
+    // The ground point at screen position p at time t (screen position at t = 0).
+    glm::vec2 on_ground(glm::vec2 p, float t) const {
+        return centre() + (p - centre()) * (depth(t) / depth(0.f));
+    }
+    glm::vec4 colour(glm::vec2 p, float t) const { return shadow_scene(on_ground(p, t), t, step); }
+    RawFrame frame(float t) const {
+        std::vector<glm::vec2> mv(size_t(w) * h);
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                const glm::vec2 p(x + 0.5f, y + 0.5f);
+                mv[size_t(y) * w + x] = centre() + (p - centre()) * (depth(t) / depth(t - 1.f)) - p;
+            }
+        return with_geometry(render(w, h, [&](glm::vec2 p) { return colour(p, t); }), w, h, mv, depth(t));
+    }
+};
+
+// Both stages of the agree pass expect the depth change the given field implies (agree.h, change
+// 37): the sweeping shadow on ground the camera approaches by 15 % a frame, more than stage 1's band
+// (1.5 T_D) allows between the two warped frames and than stage 4's alone leaves (5 T_D) between
+// the inputs. The given field's warped frames are one surface there, their disagreement (the shadow
+// moving on its own) counts, and the colour-only frame is taken as on still ground, interpolated
+// and extrapolated. (Without the expected change the interpolated frame was the given one's.)
+TEST(Motion, AgreeTakesTheColourFieldOnGroundTheCameraApproaches) {
+    const ApproachedShadow scene{192, 96, 7.f};
+    ASSERT_GT(1.f / ApproachedShadow::kShrink - 1.f, defaults::agree_depth_band * defaults::t_depth);
+    for (const bool extrapolate : {false, true}) {
+        SCOPED_TRACE(extrapolate ? "extrapolation" : "interpolation");
+        const float at = extrapolate ? 2.5f : 1.5f;
+        const std::vector<glm::vec4> truth =
+            colours_of(render(scene.w, scene.h, [&](glm::vec2 p) { return scene.colour(p, at); }));
+        double score[2] = {0, 0};
+        for (int agree = 0; agree < 2; ++agree) {
+            Params p;
+            p.colour_agree = agree != 0;
+            auto out = halfway_frame(
+                scene.w, scene.h, p, [&](float t) { return scene.frame(t); }, extrapolate);
+            ASSERT_TRUE(out);
+            score[agree] = psnr(out->color.rgba, truth);
+        }
+        std::printf(
+            "[ measured ] sweeping shadow on approached ground, %s: given vectors %.2f dB, with the agree "
+            "pass %.2f dB\n",
+            extrapolate ? "extrapolated" : "interpolated", score[0], score[1]);
+        EXPECT_GT(score[1], score[0] + 2.0);
+    }
+    expect_no_validation_errors();
+}
+
 // The agree pass where the given vectors explain the colour: a textured square moving over a
 // still textured background with its exact vectors and depth. The given field's warped frames
 // agree (the uncovered background is a disocclusion, where blend takes one frame), so the pass
@@ -1291,39 +1348,67 @@ TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
 
 // The agree pass on the GPU against the CPU reference (ref::agree) on the same inputs: the given
 // field's and the colour-only twin's warped frames and states (read back after an agreeing call),
-// each field's blend (ref::blend), on the sweeping shadow, where the pass changes the frame.
+// each field's blend (ref::blend), on the sweeping shadow, where the pass changes the frame. Also
+// with the ground zoomed towards (vectors of a zoom about the centre, depth falling 10 % a frame),
+// where stage 1 expects the depth change the given field implies: there the reference with the
+// field's vectors differs from the one with zero vectors (the plain band), so the comparison covers it.
 TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     const uint32_t w = 160, h = 80;
     const float step = 6.f;
-    Params p;
-    p.colour_agree = true;
-    auto s = session_of(internal_format(w, h), p);
-    ASSERT_TRUE(s);
-    for (float t : {0.f, 1.f}) ASSERT_TRUE(s->submit(shadow_frame(w, h, t, step).view()));
-    const float alpha = 0.5f;
-    auto out = s->interpolate(std::span<const float>(&alpha, 1));
-    ASSERT_TRUE(out) << out.error().message;
-    auto im = s->read_intermediates();
-    ASSERT_TRUE(im) << im.error().message;
-    ASSERT_TRUE(im->colour) << "the colour-only twin's intermediates";
-    const size_t n = size_t(w) * h;
-    const ref::Warped given_w = warped_of(*im), colour_w = warped_of(*im->colour);
-    const ref::AgreeParams ap =
-        params::agree_params(params::gen_params(internal_format(w, h), p, alpha, false, true, true));
-    ref::Field given_f, colour_f;
-    given_f.state = im->field_state;
-    colour_f.state = im->colour->field_state;
-    const auto given = ref::blend(given_w, given_f, ap.g), colour = ref::blend(colour_w, colour_f, ap.g);
-    const auto expected =
-        ref::agree(given_w, im->field_state, given, colour_w, im->colour->field_state, colour, ap);
-    float largest = 0.f, moved = 0.f;
-    for (size_t i = 0; i < n; ++i)
-        for (int k = 0; k < 4; ++k) {
-            largest = std::max(largest, std::abs((*out)[0].color.rgba[4 * i + size_t(k)] - expected[i][k]));
-            moved = std::max(moved, std::abs(expected[i][k] - given[i][k]));
+    for (const bool zoom : {false, true}) {
+        SCOPED_TRACE(zoom ? "zoom" : "still ground");
+        Params p;
+        p.colour_agree = true;
+        auto s = session_of(internal_format(w, h), p);
+        ASSERT_TRUE(s);
+        for (float t : {0.f, 1.f}) {
+            RawFrame f = shadow_frame(w, h, t, step);
+            if (zoom) {
+                std::vector<glm::vec2> mv(size_t(w) * h);
+                for (uint32_t y = 0; y < h; ++y)
+                    for (uint32_t x = 0; x < w; ++x)
+                        mv[size_t(y) * w + x] =
+                            0.1f * (glm::vec2(w / 2.f, h / 2.f) - glm::vec2(x + 0.5f, y + 0.5f));
+                f = with_geometry(std::move(f), w, h, mv, 10.f * std::pow(0.9f, t));
+            }
+            ASSERT_TRUE(s->submit(f.view()));
         }
-    EXPECT_LT(largest, 1e-5f) << "GPU against CPU";
-    EXPECT_GT(moved, 0.1f) << "the pass changed the frame (the largest change)";
+        const float alpha = 0.5f;
+        auto out = s->interpolate(std::span<const float>(&alpha, 1));
+        ASSERT_TRUE(out) << out.error().message;
+        auto im = s->read_intermediates();
+        ASSERT_TRUE(im) << im.error().message;
+        ASSERT_TRUE(im->colour) << "the colour-only twin's intermediates";
+        const size_t n = size_t(w) * h;
+        const ref::Warped given_w = warped_of(*im), colour_w = warped_of(*im->colour);
+        const ref::AgreeParams ap =
+            params::agree_params(params::gen_params(internal_format(w, h), p, alpha, false, true, true));
+        ref::Field given_f, colour_f;
+        given_f.state = im->field_state;
+        given_f.v.resize(n);
+        std::memcpy(given_f.v.data(), im->field.data(), n * sizeof(glm::vec4));
+        colour_f.state = im->colour->field_state;
+        const auto given = ref::blend(given_w, given_f, ap.g), colour = ref::blend(colour_w, colour_f, ap.g);
+        const auto expected =
+            ref::agree(given_w, given_f, given, colour_w, im->colour->field_state, colour, ap);
+        ref::Field plain_f = given_f;
+        std::fill(plain_f.v.begin(), plain_f.v.end(), glm::vec4(0.f));
+        const auto plain = ref::agree(given_w, plain_f, given, colour_w, im->colour->field_state, colour, ap);
+        float largest = 0.f, moved = 0.f, by_depth_change = 0.f;
+        for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < 4; ++k) {
+                largest =
+                    std::max(largest, std::abs((*out)[0].color.rgba[4 * i + size_t(k)] - expected[i][k]));
+                moved = std::max(moved, std::abs(expected[i][k] - given[i][k]));
+                by_depth_change = std::max(by_depth_change, std::abs(expected[i][k] - plain[i][k]));
+            }
+        EXPECT_LT(largest, 1e-5f) << "GPU against CPU";
+        if (zoom)
+            EXPECT_GT(by_depth_change, 0.01f)
+                << "the expected depth change changed the frame (the largest change)";
+        else
+            EXPECT_GT(moved, 0.1f) << "the pass changed the frame (the largest change)";
+    }
     expect_no_validation_errors();
 }
 

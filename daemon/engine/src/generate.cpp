@@ -364,7 +364,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
             at<AGREE_COLOUR_MV>(colour_mv), at<AGREE_COLOUR_D0>(unused(colour_mv)),
             at<AGREE_COLOUR_W1>(unused(colour_mv)), at<AGREE_COLOUR_D1>(unused(colour_mv)),
             at<AGREE_COLOUR_STATE>(unused(colour_mv)), at<AGREE_GIVEN>(outputs[k]),
-            at<AGREE_COLOUR>(colour.outputs[k]), at<AGREE_E>(agree_e), at<AGREE_ROWS>(agree_rows));
+            at<AGREE_COLOUR>(colour.outputs[k]), at<AGREE_E>(agree_e), at<AGREE_ROWS>(agree_rows),
+            at<AGREE_GIVEN_FIELD>(unused(colour_mv)));
     };
     for (Variant v : {Variant::agree_residual, Variant::agree_rows}) {
         FGSR_TRY(rec.dispatch_pixels(v, slots(0), &p, format.width, format.height));
@@ -423,7 +424,7 @@ Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& co
         at<AGREE_COLOUR_D0>(colour.warped_depth0), at<AGREE_COLOUR_W1>(colour.warped_color1),
         at<AGREE_COLOUR_D1>(colour.warped_depth1), at<AGREE_COLOUR_STATE>(colour.field_state),
         at<AGREE_GIVEN>(outputs[0]), at<AGREE_COLOUR>(colour.outputs[0]), at<AGREE_E>(agree_e),
-        at<AGREE_ROWS>(agree_rows));
+        at<AGREE_ROWS>(agree_rows), at<AGREE_GIVEN_FIELD>(field));
     FGSR_TRY(rec.begin());
     rec.timestamp(0);
     for (Variant v : {Variant::agree_error, Variant::agree_rows, Variant::agree_mix}) {

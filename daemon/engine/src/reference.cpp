@@ -128,6 +128,8 @@ struct AgreeCpu {
     // Extrapolation's stage 4: the inputs (frame 0, frame 1) and each field's frame-1 vectors.
     const ref::InternalFrame* inputs[2] = {};
     const std::vector<vec2>* field_mv[2] = {};
+    const std::vector<vec4>* given_field = nullptr; // stage 1: the given field's (v0, v1)
+    vec4 load_given_field(uint i) const { return (*given_field)[i]; }
     vec4 load_frame_colour(uint f, uint i) const { return inputs[f]->color[i]; }
     float load_frame_depth(uint f, uint i) const { return inputs[f]->depth[i]; }
     vec2 load_field_mv(uint field, uint i) const { return (*field_mv[field])[i]; }
@@ -424,20 +426,21 @@ std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const Gen
     return out;
 }
 
-std::vector<glm::vec4> agree(const Warped& given_warped, const std::vector<uint32_t>& given_state,
+std::vector<glm::vec4> agree(const Warped& given_warped, const Field& given_field,
                              const std::vector<glm::vec4>& given, const Warped& colour_warped,
                              const std::vector<uint32_t>& colour_state, const std::vector<glm::vec4>& colour,
                              const AgreeParams& p) {
     const size_t n = size_t(p.g.width) * p.g.height;
     gpu::AgreeCpu cpu{
-        {&given_warped, &colour_warped}, {&given_state, &colour_state}, {&given, &colour}, {}, {}, n};
+        {&given_warped, &colour_warped}, {&given_field.state, &colour_state}, {&given, &colour}, {}, {}, n};
+    cpu.given_field = &given_field.v;
     cpu.e_buf.resize(n);
     cpu.rows_buf.resize(n);
-    for (size_t i = 0; i < n; ++i) cpu.e_buf[i] = cpu.agree_error(uint32_t(i), p);
     auto each = [&](auto f) {
         for (uint32_t y = 0; y < p.g.height; ++y)
             for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
     };
+    each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = cpu.agree_error(t, p); });
     each([&](glm::ivec2 t, size_t i) { cpu.rows_buf[i] = cpu.agree_rows(t, p); });
     std::vector<glm::vec4> out(n);
     each([&](glm::ivec2 t, size_t i) { out[i] = cpu.agree_pixel(t, p); });

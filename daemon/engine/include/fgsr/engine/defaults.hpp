@@ -98,7 +98,8 @@ inline constexpr float agree_margin = 0.02f;
 // same train captures after the rest, from 1 / 1.5 / 2 / 3 / 4 (street-fg +0.19 / +0.84 / +1.46 /
 // +2.65 / +3.32 dB over no agree pass, twirl-fg +0.96 / +1.14 / +1.21 / +1.25 / +1.26, toss-fg
 // +0.03 / +0.01 / -0.01 / -0.04 / -0.13): the largest sum with no capture lower by more than
-// 0.005 (docs/ACCURACY.md, change 33).
+// 0.005 (docs/ACCURACY.md, change 33). Since change 37 the band counts beyond the depth change the
+// given field's motion implies; swept again then (1 / 1.5 / 2 / 3), 1.5 stayed.
 inline constexpr float agree_depth_band = 1.5f;
 // ... and in extrapolation (stage 4: frame 0's depth at t + mv against frame 1's at t, a whole frame
 // step apart, where interpolation's warped frames are half a step from either input) within this
@@ -108,7 +109,8 @@ inline constexpr float agree_depth_band = 1.5f;
 // 3 / 4 / 5 / 6 / 7 / 10 / none (summed extrap gains +1.11 / +1.17 / +1.28 at 3 / 4 / 5; street-fg
 // +0.99 / +1.02 / +1.07, twirl-fg +0.08; from 6 on toss-fg -0.02 and lower, from 10 hdr-fg and
 // rotor-fg too): the largest sum with no capture lower by more than 0.005 (docs/ACCURACY.md,
-// change 36).
+// change 36). Since change 37 beyond the depth change the given vectors imply (1.5 then lost 0.03 to
+// 0.07 on twirl-fg, hdr-fg and orbit-fg; 5 stayed).
 inline constexpr float agree_extrap_depth_band = 5.0f;
 // ... and the colour-only frame's weight falls with the colour-only field's own mean disagreement
 // (interpolation) or residual (extrapolation), to 0 at this (brightness units): where neither field

@@ -17,8 +17,9 @@
 //                elsewhere (pan, spin, cut; docs/ACCURACY.md, changes 4 and 27), at several times
 //                the cost of a frame on CPU devices, and is refused with super resolution. Nor
 //                frame generation from both fields by agreement (switch colour_agree): it gains where
-//                shading moves on its own (sundial-fg interp +3.30 dB, shadow-fg +1.58) and loses
-//                0.04 on fan-fg, at about five times a frame's cost on CPU devices (changes 33-35).
+//                shading moves on its own (street-fg interp +3.64 dB, sundial-fg +3.30, shadow-fg
+//                +1.58) and loses 0.04 on fan-fg, at about five times a frame's cost on CPU devices
+//                (changes 33-37).
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
 // pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing),
 // and so is the scene-cut test of sessions with vectors (vector_cuts). The frame-0 depth test's

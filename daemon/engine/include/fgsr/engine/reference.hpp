@@ -107,9 +107,10 @@ void disocc(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat
 Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field, const GenParams& g);
 std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const GenParams& g);
 // The agree pass (Params::colour_agree, shaders/agree.h): the given field's warped frames (frame 0
-// then frame 1, as warp writes them), field states and blended frame, the same of the colour-only
-// field; the frame the pass writes.
-std::vector<glm::vec4> agree(const Warped& given_warped, const std::vector<uint32_t>& given_state,
+// then frame 1, as warp writes them), field (its vectors and states; the depth is not read) and
+// blended frame, the colour-only field's warped frames, states and blended frame; the frame the
+// pass writes.
+std::vector<glm::vec4> agree(const Warped& given_warped, const Field& given_field,
                              const std::vector<glm::vec4>& given, const Warped& colour_warped,
                              const std::vector<uint32_t>& colour_state, const std::vector<glm::vec4>& colour,
                              const AgreeParams& p);
