@@ -6,7 +6,9 @@
 #include "value_noise.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -1193,6 +1195,24 @@ TEST(Motion, CorrectionKeepsExactVectorsAtDisocclusions) {
 // field leaves the shadow where frame 1 has it and the colour-only field moves it on: the given
 // field's residual at frame 1 is large across the sweep, the colour-only one's small, and the frame
 // half a step later moves towards its truth as well.
+// PSNR against `truth` of the frame halfway_frame makes of `frame` without and with
+// Params::colour_agree (in that order); the agree pass is timed exactly where it is on.
+std::array<double, 2> agree_scores(uint32_t w, uint32_t h, const std::function<RawFrame(float)>& frame,
+                                   bool extrapolate, const std::vector<glm::vec4>& truth) {
+    std::array<double, 2> score{0, 0};
+    for (int agree = 0; agree < 2; ++agree) {
+        Params p;
+        p.colour_agree = agree != 0;
+        auto out = halfway_frame(w, h, p, frame, extrapolate);
+        if (!out) return score;
+        score[size_t(agree)] = psnr(out->color.rgba, truth);
+        const bool timed = std::any_of(out->passes.begin(), out->passes.end(),
+                                       [](const PassTiming& t) { return t.pass == PassId::agree; });
+        EXPECT_EQ(timed, agree != 0);
+    }
+    return score;
+}
+
 TEST(Motion, AgreeTakesTheColourFieldWhereAShadowSweepsOverStillGround) {
     const uint32_t w = 192, h = 96;
     const float step = 7.f;
@@ -1202,18 +1222,7 @@ TEST(Motion, AgreeTakesTheColourFieldWhereAShadowSweepsOverStillGround) {
         const float at = extrapolate ? 2.5f : 1.5f;
         const std::vector<glm::vec4> truth =
             colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, at, step); }));
-        double score[2] = {0, 0};
-        for (int agree = 0; agree < 2; ++agree) {
-            Params p;
-            p.colour_agree = agree != 0;
-            auto out = halfway_frame(w, h, p, frame, extrapolate);
-            ASSERT_TRUE(out);
-            score[agree] = psnr(out->color.rgba, truth);
-            const auto& passes = out->passes;
-            const bool timed = std::any_of(passes.begin(), passes.end(),
-                                           [](const PassTiming& t) { return t.pass == PassId::agree; });
-            EXPECT_EQ(timed, agree != 0);
-        }
+        const auto score = agree_scores(w, h, frame, extrapolate, truth);
         std::printf("[ measured ] sweeping shadow, %s: given vectors %.2f dB, with the agree pass %.2f dB\n",
                     extrapolate ? "extrapolated" : "interpolated", score[0], score[1]);
         EXPECT_GT(score[1], score[0] + 3.0);
@@ -1240,14 +1249,7 @@ TEST(Motion, AgreeExtrapolationTakesTheColourFieldOnAnApproachedSurface) {
     };
     const std::vector<glm::vec4> truth =
         colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, 2.5f, step); }));
-    double score[2] = {0, 0};
-    for (int agree = 0; agree < 2; ++agree) {
-        Params p;
-        p.colour_agree = agree != 0;
-        auto out = halfway_frame(w, h, p, frame, true);
-        ASSERT_TRUE(out);
-        score[agree] = psnr(out->color.rgba, truth);
-    }
+    const auto score = agree_scores(w, h, frame, true, truth);
     std::printf(
         "[ measured ] sweeping shadow on an approached surface, extrapolated: given vectors %.2f dB, with "
         "the agree pass %.2f dB\n",
@@ -1295,15 +1297,8 @@ TEST(Motion, AgreeTakesTheColourFieldOnGroundTheCameraApproaches) {
         const float at = extrapolate ? 2.5f : 1.5f;
         const std::vector<glm::vec4> truth =
             colours_of(render(scene.w, scene.h, [&](glm::vec2 p) { return scene.colour(p, at); }));
-        double score[2] = {0, 0};
-        for (int agree = 0; agree < 2; ++agree) {
-            Params p;
-            p.colour_agree = agree != 0;
-            auto out = halfway_frame(
-                scene.w, scene.h, p, [&](float t) { return scene.frame(t); }, extrapolate);
-            ASSERT_TRUE(out);
-            score[agree] = psnr(out->color.rgba, truth);
-        }
+        const auto score = agree_scores(
+            scene.w, scene.h, [&](float t) { return scene.frame(t); }, extrapolate, truth);
         std::printf(
             "[ measured ] sweeping shadow on approached ground, %s: given vectors %.2f dB, with the agree "
             "pass %.2f dB\n",
