@@ -16,6 +16,8 @@ layout(std430, binding = AGREE_COLOUR_MV) readonly buffer ColourMv { vec2 colour
 vec4 load_frame_colour(uint frame, uint i) { return unpack_color(as_uvec2(frame == 0u ? color0[i] : color1[i])); }
 float load_frame_depth(uint frame, uint i) { return frame == 0u ? depth0[i] : depth1[i]; }
 vec2 load_field_mv(uint field, uint i) { return field == 0u ? given_mv[i] : colour_mv[i]; }
+vec2 load_mv1(ivec2 q) { return given_mv[uint(q.y) * pc.p.g.width + uint(q.x)]; }
+float load_depth1(ivec2 q) { return depth1[uint(q.y) * pc.p.g.width + uint(q.x)]; }
 vec4 load_warped(uint field, uint frame, uint i) { return vec4(0.0f); }
 vec4 load_given_field(uint i) { return vec4(0.0f); }
 float load_warped_depth(uint field, uint frame, uint i) { return 0.0f; }
@@ -46,6 +48,8 @@ uint load_field_state(uint field, uint i) { return field == 0u ? given_state[i] 
 vec4 load_frame_colour(uint frame, uint i) { return vec4(0.0f); }
 float load_frame_depth(uint frame, uint i) { return 0.0f; }
 vec2 load_field_mv(uint field, uint i) { return vec2(0.0f); }
+vec2 load_mv1(ivec2 q) { return vec2(0.0f); }
+float load_depth1(ivec2 q) { return 0.0f; }
 #endif
 layout(std430, binding = AGREE_GIVEN) buffer Given { vec4 given[]; };
 layout(std430, binding = AGREE_COLOUR) readonly buffer Colour { vec4 colour[]; };

@@ -51,6 +51,10 @@
 //   vec4  load_frame_colour(uint frame, uint i)          the inputs, frame 0 or 1 (newest)
 //   float load_frame_depth(uint frame, uint i)
 //   vec2  load_field_mv(uint field, uint i)              frame 1's vectors of each field
+//   vec2  load_mv1(ivec2), float load_depth1(ivec2)      the given field's frame-1 vectors and
+//                                                        frame 1's depth (depth_change.h)
+
+#include "depth_change.h"
 
 // Stage 1's expected depth change of the given field at pixel t, whose frame-1 depth is d1: the
 // range (min(1, s), max(1, s)) of d0 / d1.
@@ -77,39 +81,17 @@ FGSR_INLINE vec2 given_depth_range(ivec2 t, float d1, AgreeParams p) {
     return vec2(min(1.0f, s), max(1.0f, s));
 }
 
-// Stage 4's: the range of d0 / d1 at frame-1 pixel t (depth d1) that the given field's frame-1
-// vectors imply (motion.h's frame1_depth_scale over the pass's inputs).
-FGSR_INLINE vec2 frame1_depth_range(ivec2 t, float d1, AgreeParams p) {
-    vec2 mc = load_field_mv(0u, uint(t.y) * p.g.width + uint(t.x));
-    vec2 grad[2];
-    for (int axis = 0; axis < 2; ++axis) {
-        ivec2 step = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
-        ivec2 lo_q = t - step, hi_q = t + step;
-        uint lo = uint(lo_q.y) * p.g.width + uint(lo_q.x), hi = uint(hi_q.y) * p.g.width + uint(hi_q.x);
-        bool lo_ok =
-            inside(lo_q, p.g) && relative_depth_difference(load_frame_depth(1u, lo), d1) <= p.g.t_depth;
-        bool hi_ok =
-            inside(hi_q, p.g) && relative_depth_difference(load_frame_depth(1u, hi), d1) <= p.g.t_depth;
-        vec2 m_lo = lo_ok ? load_field_mv(0u, lo) : mc, m_hi = hi_ok ? load_field_mv(0u, hi) : mc;
-        float span = float(int(lo_ok) + int(hi_ok));
-        grad[axis] = span > 0.0f ? (m_hi - m_lo) / span : vec2(0.0f);
-    }
-    float s = expansion_depth_scale(grad[0], grad[1]);
-    return vec2(min(1.0f, s), max(1.0f, s));
-}
-
-// Is frame 0's depth d0 off the surface of frame-1 depth d1, whose motion implies d0 / d1 in range?
-// With range (1, 1) the plain test relative_depth_difference(d0, d1) > band.
-FGSR_INLINE bool agree_off_surface(float d0, float d1, vec2 range, AgreeParams p) {
-    return relative_depth_difference(d0, clamp(d0, d1 * range.x, d1 * range.y)) > p.depth_band * p.g.t_depth;
-}
-
 // Stage 1: one field's disagreement at pixel t, and both fields' (given, colour).
 FGSR_INLINE float field_disagreement(uint field, ivec2 t, AgreeParams p) {
     uint i = uint(t.y) * p.g.width + uint(t.x);
     float d0 = load_warped_depth(field, 0u, i), d1 = load_warped_depth(field, 1u, i);
     if (load_field_state(field, i) == FIELD_HOLE_FILLED || !(d0 >= 0.0f) || !(d1 >= 0.0f)) return 0.0f;
-    if (agree_off_surface(d0, d1, field == 0u ? given_depth_range(t, d1, p) : vec2(1.0f), p)) return 0.0f;
+    float band = p.depth_band * p.g.t_depth;
+    // Beyond the plain band, the given field's frame 0 may still be the surface, where its motion
+    // implies the depth change (the range contains 1, so it only ever accepts more).
+    if (relative_depth_difference(d0, d1) > band &&
+        (field != 0u || surface_distance0(d0, d1, vec3(given_depth_range(t, d1, p), 0.0f)) > band))
+        return 0.0f;
     return abs(brightness(load_warped(field, 0u, i)) - brightness(load_warped(field, 1u, i)));
 }
 FGSR_INLINE vec2 agree_error(ivec2 t, AgreeParams p) {
@@ -148,8 +130,12 @@ FGSR_INLINE float field_residual(uint field, ivec2 t, AgreeParams p) {
     if (field == 0u) {
         ivec2 c = ivec2(floor(q + vec2(0.5f)));
         float d1 = load_frame_depth(1u, i), d0 = load_frame_depth(0u, uint(c.y) * p.g.width + uint(c.x));
-        if (!(d0 > 0.0f) || !(d1 > 0.0f) || agree_off_surface(d0, d1, frame1_depth_range(t, d1, p), p))
-            return 0.0f;
+        if (!(d0 > 0.0f) || !(d1 > 0.0f)) return 0.0f;
+        float band = p.depth_band * p.g.t_depth;
+        if (relative_depth_difference(d0, d1) > band) { // as in stage 1, then the motion's depth change
+            float s = frame1_depth_scale(t, d1, load_field_mv(0u, i), p.g);
+            if (surface_distance0(d0, d1, vec3(min(1.0f, s), max(1.0f, s), 0.0f)) > band) return 0.0f;
+        }
     }
     ivec2 a = ivec2(floor(q));
     ivec2 b = min(a + ivec2(1), ivec2(last));

@@ -58,28 +58,12 @@
 // depth changed by more than 4 T_D. The band only ever grows (s = 1 is the plain test): a tighter
 // one (2 T_D) kept another leaf or the ground behind an edge out, but lost more where a turning,
 // approaching ball's depth changes unlike its vectors' area (docs/ACCURACY.md, change 21).
-// mc: load_mv1(p1), which the caller has read already.
-FGSR_INLINE float frame1_depth_scale(ivec2 p1, float d1, vec2 mc, GenParams g) {
-    vec2 grad[2];
-    for (int axis = 0; axis < 2; ++axis) {
-        ivec2 step = axis == 0 ? ivec2(1, 0) : ivec2(0, 1);
-        ivec2 lo_q = p1 - step, hi_q = p1 + step;
-        bool lo_ok = inside(lo_q, g) && relative_depth_difference(load_depth1(lo_q), d1) <= g.t_depth;
-        bool hi_ok = inside(hi_q, g) && relative_depth_difference(load_depth1(hi_q), d1) <= g.t_depth;
-        vec2 m_lo = lo_ok ? load_mv1(lo_q) : mc, m_hi = hi_ok ? load_mv1(hi_q) : mc;
-        float span = float(int(lo_ok) + int(hi_ok));
-        grad[axis] = span > 0.0f ? (m_hi - m_lo) / span : vec2(0.0f);
-    }
-    return expansion_depth_scale(grad[0], grad[1]);
-}
+// frame1_depth_scale (s) and surface_distance0 are in depth_change.h.
+#include "depth_change.h"
 FGSR_INLINE vec3 surface_band(ivec2 p1, float d1, vec2 mv1, GenParams g) {
     if ((g.quadratic & MOTION_DEPTH_MOTION) == 0u) return vec3(1.0f, 1.0f, 4.0f * g.t_depth);
     float s = frame1_depth_scale(p1, d1, mv1, g);
     return vec3(min(1.0f, s), max(1.0f, s), MOTION_SURFACE_TD * g.t_depth);
-}
-// How far d0 lies outside [d1 lo, d1 hi], relative (0 inside): the edge neighbours' ranking.
-FGSR_INLINE float surface_distance0(float d0, float d1, vec3 band) {
-    return relative_depth_difference(d0, clamp(d0, d1 * band.x, d1 * band.y));
 }
 // With lo = hi = 1 this is the plain test relative_depth_difference(d0, d1) < tolerance, to the bit.
 FGSR_INLINE bool on_surface0(float d0, float d1, vec3 band) {

@@ -133,6 +133,9 @@ struct AgreeCpu {
     vec4 load_frame_colour(uint f, uint i) const { return inputs[f]->color[i]; }
     float load_frame_depth(uint f, uint i) const { return inputs[f]->depth[i]; }
     vec2 load_field_mv(uint field, uint i) const { return (*field_mv[field])[i]; }
+    uint width = 0; // stage 4's pixel reads by position (depth_change.h)
+    vec2 load_mv1(ivec2 q) const { return (*field_mv[0])[size_t(q.y) * width + size_t(q.x)]; }
+    float load_depth1(ivec2 q) const { return inputs[1]->depth[size_t(q.y) * width + size_t(q.x)]; }
     vec4 load_warped(uint field, uint f, uint i) const { return warped_frames[field]->color[f * n + i]; }
     float load_warped_depth(uint field, uint f, uint i) const { return warped_frames[field]->depth[f * n + i]; }
     uint load_field_state(uint field, uint i) const { return (*field_states[field])[i]; }
@@ -426,6 +429,26 @@ std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const Gen
     return out;
 }
 
+// The agree pass's stages over every pixel: the first (`first`: stage 1 or 4, e per pixel), the box's
+// rows, then its columns and the mix.
+namespace {
+template <class First>
+std::vector<glm::vec4> agree_stages(gpu::AgreeCpu& cpu, const AgreeParams& p, First first) {
+    const size_t n = size_t(p.g.width) * p.g.height;
+    cpu.e_buf.resize(n);
+    cpu.rows_buf.resize(n);
+    auto each = [&](auto f) {
+        for (uint32_t y = 0; y < p.g.height; ++y)
+            for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
+    };
+    each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = first(t); });
+    each([&](glm::ivec2 t, size_t i) { cpu.rows_buf[i] = cpu.agree_rows(t, p); });
+    std::vector<glm::vec4> out(n);
+    each([&](glm::ivec2 t, size_t i) { out[i] = cpu.agree_pixel(t, p); });
+    return out;
+}
+} // namespace
+
 std::vector<glm::vec4> agree(const Warped& given_warped, const Field& given_field,
                              const std::vector<glm::vec4>& given, const Warped& colour_warped,
                              const std::vector<uint32_t>& colour_state, const std::vector<glm::vec4>& colour,
@@ -434,17 +457,7 @@ std::vector<glm::vec4> agree(const Warped& given_warped, const Field& given_fiel
     gpu::AgreeCpu cpu{
         {&given_warped, &colour_warped}, {&given_field.state, &colour_state}, {&given, &colour}, {}, {}, n};
     cpu.given_field = &given_field.v;
-    cpu.e_buf.resize(n);
-    cpu.rows_buf.resize(n);
-    auto each = [&](auto f) {
-        for (uint32_t y = 0; y < p.g.height; ++y)
-            for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
-    };
-    each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = cpu.agree_error(t, p); });
-    each([&](glm::ivec2 t, size_t i) { cpu.rows_buf[i] = cpu.agree_rows(t, p); });
-    std::vector<glm::vec4> out(n);
-    each([&](glm::ivec2 t, size_t i) { out[i] = cpu.agree_pixel(t, p); });
-    return out;
+    return agree_stages(cpu, p, [&](glm::ivec2 t) { return cpu.agree_error(t, p); });
 }
 
 std::vector<glm::vec4> agree_extrapolated(const InternalFrame& f0, const InternalFrame& f1,
@@ -457,17 +470,8 @@ std::vector<glm::vec4> agree_extrapolated(const InternalFrame& f0, const Interna
     cpu.inputs[1] = &f1;
     cpu.field_mv[0] = &f1.mv;
     cpu.field_mv[1] = &colour_mv;
-    cpu.e_buf.resize(n);
-    cpu.rows_buf.resize(n);
-    auto each = [&](auto f) {
-        for (uint32_t y = 0; y < p.g.height; ++y)
-            for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
-    };
-    each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = cpu.agree_residual(t, p); });
-    each([&](glm::ivec2 t, size_t i) { cpu.rows_buf[i] = cpu.agree_rows(t, p); });
-    std::vector<glm::vec4> out(n);
-    each([&](glm::ivec2 t, size_t i) { out[i] = cpu.agree_pixel(t, p); });
-    return out;
+    cpu.width = p.g.width;
+    return agree_stages(cpu, p, [&](glm::ivec2 t) { return cpu.agree_residual(t, p); });
 }
 
 std::vector<glm::vec4> generate_fused(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat,
