@@ -46,6 +46,7 @@ vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.c.g.width) +
 vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.c.g.width) + q.x]); }
 
 #include "field.h"
+#include "depth_change.h"
 #include "blend.h"
 #include "classify.h"
 #include "tiles.h"
@@ -81,8 +82,8 @@ bool classify_quad(ivec2 p, uint quad, out uint neighbours) {
                                      pc.c.g);
         if (own == STATIC_NO) moving = true;
         if (own == STATIC_IF_NEIGHBOURS) neighbours |= 1u << uint(l);
-        c[l] = copy_through_values(unpack_color(unpack32(c0[l])), d0[l], unpack_color(unpack32(c1[l])), d1[l],
-                                   pc.c.g);
+        c[l] = copy_through_values(p + ivec2(l, 0), unpack_color(unpack32(c0[l])), d0[l],
+                                   unpack_color(unpack32(c1[l])), d1[l], pc.c.g);
     }
     if (!moving && pc.c.write_output != 0u) {
         outp_pair[2u * quad] = u64vec4(pack_pair(c[0].xy), pack_pair(c[0].zw), pack_pair(c[1].xy), pack_pair(c[1].zw));

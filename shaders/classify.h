@@ -90,14 +90,15 @@ FGSR_INLINE uint64_t own_key(ivec2 p, GenParams g) {
 
 // The generated frame at a pixel of a static tile that is not dirty: generate.h with the field
 // sample (0, 0, 0, 0) splatted, whose warps read both frames exactly at the pixel.
-FGSR_INLINE vec4 copy_through_values(vec4 c0, float d0, vec4 c1, float d1, GenParams g) {
+// c0, d0, c1, d1: the frames' values at p.
+FGSR_INLINE vec4 copy_through_values(ivec2 p, vec4 c0, float d0, vec4 c1, float d1, GenParams g) {
     if (g.extrapolate != 0u) return c1;
-    return select_blend(c0, d0, c1, d1, FIELD_SPLATTED, g);
+    return select_blend(c0, d0, c1, d1, blend_depth_band(d0, d1, p, g), FIELD_SPLATTED, g);
 }
 FGSR_INLINE vec4 copy_through(ivec2 p, GenParams g) {
     vec4 c1 = load_color1(p);
     if (g.extrapolate != 0u) return c1;
-    return copy_through_values(load_color0(p), load_depth0(p), c1, load_depth1(p), g);
+    return copy_through_values(p, load_color0(p), load_depth0(p), c1, load_depth1(p), g);
 }
 
 // Whether a whole tile is static (the CPU reference; the GPU entry reduces static_pixel itself).

@@ -109,13 +109,17 @@ struct GenParams {
     uint frame1_has_mv;
     float t_depth;  // T_D: relative depth difference (|d0-d1| / min(d0,d1)) that means disocclusion
     float t_bright; // T_B: luma difference (display-referred, [0,1]) that means a shading change
-    uint blend_mode; // 0: paper Eq. 1 (pick temporally closer), 1: weighted blend when similar
+    uint blend_mode; // BLEND_MIX: weighted blend when similar (else paper Eq. 1: the temporally
+                     // closer) | BLEND_DEPTH_MOTION (blend.h)
     uint fill_gaps;  // 1: refine fills grid-like gaps; 0: every empty pixel is a hole
     uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector;
                      // FGSR_FILL_HOLES_COVER: the same, and a hole pixel that the footprint of
                      // a surface in front overlaps takes that surface's vectors (disocc.h)
 };
 #define FGSR_FILL_HOLES_COVER 2u
+// GenParams::blend_mode
+#define BLEND_MIX 1u          // where the warped frames agree: the alpha-weighted mix (BlendMode::mix)
+#define BLEND_DEPTH_MOTION 2u // the depth test expects the depth change frame 1's vectors imply (blend.h)
 
 // `g` with the mode of a build that fixes it (FGSR_GENERATE_EXTRAPOLATE 0u or 1u: the CPU builds of
 // generate and generate_sr per mode, variants.def), so that the other mode's branch is compiled
@@ -356,6 +360,18 @@ FGSR_INLINE bool inside(ivec2 q, GenParams g) {
 // splat.h).
 FGSR_INLINE bool on_screen(vec2 pos, GenParams g) {
     return pos.x >= 0.0f && pos.y >= 0.0f && pos.x <= float(g.width) && pos.y <= float(g.height);
+}
+
+FGSR_INLINE ivec2 clamp_pixel(ivec2 q, GenParams g) {
+    return clamp(q, ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
+}
+
+// The pixel under a position (pixel units), clamped to the image: whose depth warp.h's samples
+// report, and where blend.h's depth test reads frame 1's vectors. Far-off positions are kept
+// finite before the conversion to integers.
+FGSR_INLINE ivec2 sample_pixel(vec2 pos, GenParams g) {
+    pos = clamp(pos, vec2(-1.0f), vec2(float(g.width) + 1.0f, float(g.height) + 1.0f));
+    return clamp_pixel(ivec2(floor(pos)), g);
 }
 
 // Edge neighbour k (0..3: left, right, up, down) of a pixel, as an offset: the frame-0 lookup of

@@ -7,10 +7,6 @@
 //   vec4  load_color0(ivec2 pixel), load_color1(ivec2 pixel)   internal colour (unpack_color)
 //   float load_depth0(ivec2 pixel), load_depth1(ivec2 pixel)
 
-FGSR_INLINE ivec2 clamp_pixel(ivec2 q, GenParams g) {
-    return clamp(q, ivec2(0), ivec2(int(g.width) - 1, int(g.height) - 1));
-}
-
 // Bilinear colour of frame `frame` at `pos` (pixel units, centres at +0.5).
 FGSR_INLINE vec4 sample_color(uint frame, vec2 pos, GenParams g) {
     vec2 x = pos - vec2(0.5f);
@@ -34,12 +30,12 @@ struct WarpSample {
 FGSR_INLINE WarpSample warp_sample(uint frame, vec2 centre, vec2 v, GenParams g) {
     vec2 pos = centre + v;
     bool ok = on_screen(pos, g);
-    // Keep far-off positions finite before converting to integers.
-    pos = clamp(pos, vec2(-1.0f), vec2(float(g.width) + 1.0f, float(g.height) + 1.0f));
-    ivec2 qn = clamp_pixel(ivec2(floor(pos)), g);
+    ivec2 qn = sample_pixel(pos, g);
     float d = frame == 0u ? load_depth0(qn) : load_depth1(qn);
     WarpSample w;
-    w.color = sample_color(frame, pos, g);
+    // Far-off positions kept finite (sample_pixel).
+    w.color =
+        sample_color(frame, clamp(pos, vec2(-1.0f), vec2(float(g.width) + 1.0f, float(g.height) + 1.0f)), g);
     w.depth = ok ? d : -1.0f;
     return w;
 }

@@ -1308,6 +1308,130 @@ TEST(Motion, AgreeTakesTheColourFieldOnGroundTheCameraApproaches) {
     expect_no_validation_errors();
 }
 
+// Blend's depth test expects the depth change frame 1's vectors imply (blend.h, change 38): on the
+// sweeping shadow on ground the camera approaches by 15 % a frame (exact vectors and depth), the
+// warped depths of the one surface differ by more than T_D, and the plain test took frame 0 alone,
+// with the shadow where it was at t = 1; with the rule the frames are mixed (the shadow halfway,
+// nearer the truth). Every path makes the same frame as the CPU reference (ref::generate): the
+// fused generate (the split form on CPU devices) and the separate passes (blend.comp). The rule
+// changes the frame wherever the shadow moved (10 % of it), so the comparison covers it.
+TEST(Blend, ApproachedGroundIsMixedLikeGroundAtOneDepth) {
+    const ApproachedShadow scene{192, 96, 7.f};
+    const uint32_t n = scene.w * scene.h;
+    ASSERT_GT(1.f / ApproachedShadow::kShrink - 1.f, 2.f * defaults::t_depth);
+    const std::vector<glm::vec4> truth =
+        colours_of(render(scene.w, scene.h, [&](glm::vec2 p) { return scene.colour(p, 1.5f); }));
+    std::vector<float> out[2]; // rule off, on
+    for (const bool rule : {false, true})
+        for (const bool separate : {false, true}) {
+            SCOPED_TRACE(std::string(rule ? "rule on" : "rule off") +
+                         (separate ? ", separate passes" : ", fused"));
+            Params p;
+            p.blend_depth_motion = rule;
+            p.separate_passes = separate;
+            auto s = session_of(internal_format(scene.w, scene.h), p);
+            ASSERT_TRUE(s);
+            for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(s->submit(scene.frame(t).view()));
+            const float alpha = 0.5f;
+            auto r = s->interpolate(std::span<const float>(&alpha, 1));
+            ASSERT_TRUE(r) << r.error().message;
+            auto r0 = s->read_frame(0), r1 = s->read_frame(1);
+            ASSERT_TRUE(r0 && r1);
+            const ref::InternalFrame f0 = to_internal(*r0, scene.w, scene.h),
+                                     f1 = to_internal(*r1, scene.w, scene.h);
+            const auto expected = ref::generate(
+                f0, f1, params::gen_params(internal_format(scene.w, scene.h), p, alpha, false, true, true));
+            const std::vector<float>& got = r->front().color.rgba;
+            size_t differ = 0;
+            for (size_t i = 0; i < n; ++i)
+                for (int k = 0; k < 4; ++k)
+                    differ += std::abs(got[4 * i + size_t(k)] - expected[i][k]) > 1e-3f ? 1 : 0;
+            EXPECT_LE(differ, n / 1000) << "against the CPU reference";
+            if (separate) {
+                ASSERT_EQ(out[rule].size(), got.size());
+                float largest = 0.f;
+                for (size_t i = 0; i < got.size(); ++i)
+                    largest = std::max(largest, std::abs(got[i] - out[rule][i]));
+                EXPECT_LT(largest, 1e-4f) << "separate passes against the fused generate";
+            } else {
+                out[rule] = got;
+            }
+        }
+    size_t changed = 0;
+    for (size_t i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k)
+            changed += std::abs(out[0][4 * i + size_t(k)] - out[1][4 * i + size_t(k)]) > 1e-3f ? 1 : 0;
+    const double off = psnr(out[0], truth), on = psnr(out[1], truth);
+    std::printf("[ measured ] sweeping shadow on approached ground, interpolated: plain depth test %.2f dB, "
+                "expected depth change %.2f dB (%.0f %% of the values changed)\n",
+                off, on, 100.0 * double(changed) / (3.0 * n));
+    EXPECT_GT(changed, size_t(3 * n / 20)); // 5 % of the colour values: where the shadow moved
+    EXPECT_GT(on, off + 1.5);
+    expect_no_validation_errors();
+}
+
+// The depth band of blend's test (depth_change.h, blend_depth_band) through the CPU reference
+// (ref::blend) on hand-made warped samples, against decisions worked out by hand: a row of frame 1
+// whose depth rises 4 % a pixel (one surface, T_D = 5 %) and whose vectors either stay still or
+// expand the picture (a surface farther in frame 0 by s = 1 / sqrt(det J)). The warped frames are
+// both sampled at the row's middle pixel, colours (1, 0, 0) and (0, 0, 1).
+TEST(Blend, DepthBandHoldsTheSurfaceItsVectorsAndSlopeAllow) {
+    const uint32_t w = 9;
+    const float slope = 1.04f, d1 = 10.f, alpha = 0.5f;
+    ASSERT_LT(slope - 1.f, defaults::t_depth);
+    const glm::vec4 c0(1.f, 0.f, 0.f, 1.f), c1(0.f, 0.f, 1.f, 1.f), mixed = glm::mix(c0, c1, alpha);
+    struct Case {
+        float expand;  // frame 1's vectors: mv(x) = (expand - 1) * (x - centre), a magnification
+        float d0;      // frame 0's warped depth, relative to d1
+        glm::vec4 on;  // the frame with the rule
+        glm::vec4 off; // with the plain test
+        const char* what;
+    };
+    // expand 0.9: det J = 0.9 (the vectors vary along x only), s = 1 / sqrt(0.9) = 1.054.
+    const float s = 1.f / std::sqrt(0.9f);
+    const Case cases[] = {
+        {1.f, 1.07f, mixed, c0, "still: 7 % farther is within a pixel's slope (1.04 x 1.05)"},
+        {1.f, 1.10f, c0, c0, "still: 10 % farther is another surface (beyond 1.04 x 1.05 = 1.092)"},
+        {1.f, 1.f / 1.07f, mixed, c1, "still: 7 % nearer, within the slope"},
+        {0.9f, s * slope * 1.04f, mixed, c0, "expanding: within s x slope x T_D"},
+        {0.9f, s * slope * 1.06f, c0, c0, "expanding: beyond s x slope x T_D"},
+        {0.9f, 1.f / (slope * 1.06f), c1, c1, "expanding: nearer, the band widens only by the slope"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.what);
+        ref::InternalFrame f1;
+        f1.width = w;
+        f1.height = 1;
+        f1.has_mv = true;
+        for (uint32_t x = 0; x < w; ++x) {
+            f1.color.push_back(c1);
+            f1.depth.push_back(d1 * std::pow(slope, float(x) - 4.f));
+            f1.mv.push_back(glm::vec2((c.expand - 1.f) * (float(x) - 4.f), 0.f));
+        }
+        const ref::InternalFrame f0 = f1;
+        ref::Warped warped;
+        warped.color.assign(2 * w, glm::vec4(0.f));
+        warped.depth.assign(2 * w, 1.f);
+        warped.color[4] = c0;
+        warped.depth[4] = d1 * c.d0;
+        warped.color[w + 4] = c1;
+        warped.depth[w + 4] = d1;
+        ref::Field field;
+        field.v.assign(w, glm::vec4(0.f));
+        field.state.assign(w, ref::kFieldSplatted);
+        for (const bool rule : {false, true}) {
+            Params p;
+            p.blend_depth_motion = rule;
+            FrameFormat fmt = internal_format(w, 1);
+            const auto g = params::gen_params(fmt, p, alpha, false, true, true);
+            const glm::vec4 got = ref::blend(f0, f1, warped, field, g)[4];
+            const glm::vec4 want = rule ? c.on : c.off;
+            for (int k = 0; k < 4; ++k)
+                EXPECT_NEAR(got[k], want[k], 1e-6f) << (rule ? "rule on" : "rule off");
+        }
+    }
+}
+
 // The agree pass where the given vectors explain the colour: a textured square moving over a
 // still textured background with its exact vectors and depth. The given field's warped frames
 // agree (the uncovered background is a disocclusion, where blend takes one frame), so the pass
@@ -1383,7 +1507,17 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
         given_f.v.resize(n);
         std::memcpy(given_f.v.data(), im->field.data(), n * sizeof(glm::vec4));
         colour_f.state = im->colour->field_state;
-        const auto given = ref::blend(given_w, given_f, ap.g), colour = ref::blend(colour_w, colour_f, ap.g);
+        colour_f.v.resize(n);
+        std::memcpy(colour_f.v.data(), im->colour->field.data(), n * sizeof(glm::vec4));
+        auto r0 = s->read_frame(0), r1 = s->read_frame(1);
+        ASSERT_TRUE(r0 && r1);
+        const ref::InternalFrame f0 = to_internal(*r0, w, h), f1 = to_internal(*r1, w, h);
+        // The twin's depth is flow's proxy, within FLOW_PROXY_RANGE (4 %) of 1: never T_D apart, so
+        // its blend never reads frame 1's vectors (BLEND_DEPTH_MOTION), which are the twin's own.
+        gpu::GenParams colour_g = ap.g;
+        colour_g.blend_mode &= ~BLEND_DEPTH_MOTION;
+        const auto given = ref::blend(f0, f1, given_w, given_f, ap.g);
+        const auto colour = ref::blend(f0, f1, colour_w, colour_f, colour_g);
         const auto expected =
             ref::agree(given_w, given_f, given, colour_w, im->colour->field_state, colour, ap);
         ref::Field plain_f = given_f;

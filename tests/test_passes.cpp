@@ -219,7 +219,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     EXPECT_LE(depth_diff, n / 1000) << "warp depth (nearest pixel) differs on " << depth_diff << " pixels";
 
     if (!c.extrapolate) {
-        std::vector<glm::vec4> blended = ref::blend(warped_of(*post), post_field, g);
+        std::vector<glm::vec4> blended = ref::blend(f0, f1, warped_of(*post), post_field, g);
         double blend_err = 0;
         for (size_t i = 0; i < n; ++i)
             for (int k = 0; k < 4; ++k)

@@ -244,10 +244,11 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_frames(std::span<con
         rec.timestamp(q++);
         timings[k].push_back(PassId::warp);
         if (!extrapolate) {
-            const auto bb =
-                make_slots<PassId::blend>(at<BLEND_COLOR0>(warped_color0), at<BLEND_DEPTH0>(warped_depth0),
-                                          at<BLEND_COLOR1>(warped_color1), at<BLEND_DEPTH1>(warped_depth1),
-                                          at<BLEND_FIELD_STATE>(field_state), at<BLEND_OUTPUT>(out));
+            const auto bb = make_slots<PassId::blend>(
+                at<BLEND_COLOR0>(warped_color0), at<BLEND_DEPTH0>(warped_depth0),
+                at<BLEND_COLOR1>(warped_color1), at<BLEND_DEPTH1>(warped_depth1),
+                at<BLEND_FIELD_STATE>(field_state), at<BLEND_OUTPUT>(out), at<BLEND_FIELD>(field),
+                at<BLEND_MV1>(f1.mv), at<BLEND_FRAME_DEPTH1>(f1.depth));
             FGSR_TRY(rec.dispatch_pixels(Variant::blend, bb, &g, format.width, format.height));
             rec.barrier();
             rec.timestamp(q++);

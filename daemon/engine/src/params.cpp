@@ -184,7 +184,8 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     g.frame1_has_mv = frame1_has_mv ? 1u : 0u;
     g.t_depth = params.t_depth;
     g.t_bright = params.t_bright;
-    g.blend_mode = uint32_t(params.blend);
+    g.blend_mode = (params.blend == BlendMode::mix ? BLEND_MIX : 0u) |
+                   (params.blend_depth_motion ? BLEND_DEPTH_MOTION : 0u);
     g.fill_gaps = params.fill_gaps ? 1u : 0u;
     g.fill_holes = params.fill_holes ? (params.cover_edges ? FGSR_FILL_HOLES_COVER : 1u) : 0u;
     return g;

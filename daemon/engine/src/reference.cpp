@@ -114,8 +114,9 @@ struct WarpCpu : FramesCpu {
 #include "warp.h"
 };
 
-struct BlendCpu {
+struct BlendCpu : FramesCpu {
 #include "field.h"
+#include "depth_change.h"
 #include "blend.h"
 };
 
@@ -158,6 +159,7 @@ struct GenerateCpu : KeysCpu {
 
 struct ClassifyCpu : FramesCpu {
 #include "field.h"
+#include "depth_change.h"
 #include "blend.h"
 #include "classify.h"
 };
@@ -419,13 +421,19 @@ Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field
     return out;
 }
 
-std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const GenParams& g) {
+std::vector<glm::vec4> blend(const InternalFrame& f0, const InternalFrame& f1, const Warped& warped,
+                             const Field& field, const GenParams& g) {
     const size_t n = size_t(g.width) * g.height;
     std::vector<glm::vec4> out(n);
-    gpu::BlendCpu cpu;
-    for (size_t i = 0; i < n; ++i)
-        out[i] = cpu.select_blend(warped.color[i], warped.depth[i], warped.color[n + i], warped.depth[n + i],
-                                  field.state[i], g);
+    gpu::BlendCpu cpu{{&f0, &f1}};
+    for_each_pixel(g.width, g.height, [&](glm::ivec2 q) {
+        const size_t i = cpu.at(q);
+        const float d0 = warped.depth[i], d1 = warped.depth[n + i];
+        const glm::vec2 v1(field.v[i].z, field.v[i].w);
+        const glm::vec2 band =
+            cpu.blend_depth_band(d0, d1, gpu::sample_pixel(glm::vec2(q) + 0.5f + v1, g), g);
+        out[i] = cpu.select_blend(warped.color[i], d0, warped.color[n + i], d1, band, field.state[i], g);
+    });
     return out;
 }
 
@@ -491,7 +499,7 @@ std::vector<glm::vec4> generate(const InternalFrame& f0, const InternalFrame& f1
         const size_t n = size_t(g.width) * g.height;
         return std::vector<glm::vec4>(warped.color.begin() + long(n), warped.color.end());
     }
-    return blend(warped, field, g);
+    return blend(f0, f1, warped, field, g);
 }
 
 std::vector<uint32_t> classify(const InternalFrame& f0, const InternalFrame& f1, const ClassifyParams& c) {

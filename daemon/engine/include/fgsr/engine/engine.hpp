@@ -123,6 +123,12 @@ struct Params {
     // reads per source pixel in splat. Not carried by the wire protocol: fgsrd's sessions use the
     // default.
     bool accel_depth_motion = true;
+    // Interpolation's blend: the depth test of the two warped frames expects the depth change frame
+    // 1's vectors imply (shaders/blend.h; the warped depths are each their own frame's, so a surface
+    // the camera approaches by more than t_depth a frame step was never mixed, docs/ACCURACY.md
+    // change 38). Reads frame 1's vectors and depth only where the plain test fails. Not carried by
+    // the wire protocol: fgsrd's sessions use the default.
+    bool blend_depth_motion = true;
     // Sessions with vectors (ingest's cut stage, shaders/cut.h): a frame whose own vectors do not
     // explain its colour against the previous frame's (most of its 8x8 blocks without a match, a
     // jump from the session's typical share: ref::is_vector_cut) is a scene cut the client did not

@@ -125,7 +125,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
-inline constexpr std::array<SwitchInfo, 18> kSwitches{{
+inline constexpr std::array<SwitchInfo, 19> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -136,14 +136,34 @@ inline constexpr std::array<SwitchInfo, 18> kSwitches{{
     {"passes", {"fused", "separate", ""}, "one fused generate pass or refine/disocc/warp/blend"},
     {"correct_vectors", {"on", "off", ""}, "given vectors corrected where shading moves (shadows)"},
     {"fast_motion", {"on", "off", ""}, "without vectors: no refinement of the estimated vectors"},
-    {"dilate_edges", {"on", "off", ""}, "ingest: edge pixels take the front's vector where colour follows it"},
-    {"accel_search", {"on", "off", ""}, "extrapolation: frame-0 vector of the smallest acceleration among same-surface neighbours"},
-    {"accel_median", {"on", "off", ""}, "interpolation: median acceleration of the same surface's 3x3 neighbours"},
-    {"accel_depth", {"on", "off", ""}, "quadratic motion: frame-0 depth test expects the depth change the motion implies"},
-    {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
-    {"vector_cuts", {"on", "off", ""}, "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
-    {"motion_consensus", {"on", "off", ""}, "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
-    {"colour_agree", {"on", "off", ""}, "per pixel the frame from vectors estimated from colour where they explain the colour and the given vectors do not"},
+    {"dilate_edges",
+     {"on", "off", ""},
+     "ingest: edge pixels take the front's vector where colour follows it"},
+    {"accel_search",
+     {"on", "off", ""},
+     "extrapolation: frame-0 vector of the smallest acceleration among same-surface neighbours"},
+    {"accel_median",
+     {"on", "off", ""},
+     "interpolation: median acceleration of the same surface's 3x3 neighbours"},
+    {"accel_depth",
+     {"on", "off", ""},
+     "quadratic motion: frame-0 depth test expects the depth change the motion implies"},
+    {"blend_depth",
+     {"on", "off", ""},
+     "interpolation: blend's depth test expects the depth change frame 1's vectors imply"},
+    {"cover_edges",
+     {"on", "off", ""},
+     "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
+    {"vector_cuts",
+     {"on", "off", ""},
+     "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
+    {"motion_consensus",
+     {"on", "off", ""},
+     "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
+    {"colour_agree",
+     {"on", "off", ""},
+     "per pixel the frame from vectors estimated from colour where they explain the colour and the given "
+     "vectors do not"},
 }};
 
 // The value of switch `key` in p ("" for an unknown key).
@@ -163,6 +183,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "accel_search") return onoff(p.accel_search);
     if (key == "accel_median") return onoff(p.accel_median);
     if (key == "accel_depth") return onoff(p.accel_depth_motion);
+    if (key == "blend_depth") return onoff(p.blend_depth_motion);
     if (key == "cover_edges") return onoff(p.cover_edges);
     if (key == "vector_cuts") return onoff(p.vector_cuts);
     if (key == "motion_consensus") return onoff(p.motion_consensus);
@@ -184,7 +205,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
                 "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, "
-                "cover_edges, vector_cuts, motion_consensus, colour_agree)");
+                "blend_depth, cover_edges, vector_cuts, motion_consensus, colour_agree)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -209,6 +230,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "accel_search") p.accel_search = on;
     if (key == "accel_median") p.accel_median = on;
     if (key == "accel_depth") p.accel_depth_motion = on;
+    if (key == "blend_depth") p.blend_depth_motion = on;
     if (key == "cover_edges") p.cover_edges = on;
     if (key == "vector_cuts") p.vector_cuts = on;
     if (key == "motion_consensus") p.motion_consensus = on;

@@ -105,7 +105,9 @@ Field refine(const InternalFrame& f0, const InternalFrame& f1, const Splat& spla
 void disocc(const InternalFrame& f0, const InternalFrame& f1, const Splat& splat, Field& field,
             const GenParams& g);
 Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field, const GenParams& g);
-std::vector<glm::vec4> blend(const Warped& warped, const Field& field, const GenParams& g);
+// Frame 1's vectors and depth: GenParams::blend_mode's BLEND_DEPTH_MOTION (shaders/blend.h).
+std::vector<glm::vec4> blend(const InternalFrame& f0, const InternalFrame& f1, const Warped& warped,
+                             const Field& field, const GenParams& g);
 // The agree pass (Params::colour_agree, shaders/agree.h): the given field's warped frames (frame 0
 // then frame 1, as warp writes them), field (its vectors and states; the depth is not read) and
 // blended frame, the colour-only field's warped frames, states and blended frame; the frame the
