@@ -58,7 +58,7 @@
 #define BLEND_FIELD_STATE 4
 #define BLEND_OUTPUT 5
 #define BLEND_FIELD 6 // the field's vectors (v0, v1): where warped frame 1 sampled
-#define BLEND_MV1 7   // frame 1's vectors and depth (BLEND_DEPTH_MOTION's depth change)
+#define BLEND_MV1 7   // frame 1's vectors and depth (BLEND_DEPTH_MOTION, blend_depth.h)
 #define BLEND_FRAME_DEPTH1 8
 #define BLEND_COUNT 9
 

@@ -19,12 +19,13 @@ float load_depth1(ivec2 q) { return frame_depth1[q.y * int(pc.g.width) + q.x]; }
 
 #include "field.h"
 #include "depth_change.h"
+#include "blend_depth.h"
 #include "blend.h"
 
 void main() {
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
     if (!inside(t, pc.g)) return;
     uint i = uint(t.y) * pc.g.width + uint(t.x);
-    vec2 band = blend_depth_band(depth0[i], depth1[i], sample_pixel(vec2(t) + vec2(0.5f) + field[i].zw, pc.g), pc.g);
-    outp[i] = select_blend(color0[i], depth0[i], color1[i], depth1[i], band, field_state[i], pc.g);
+    vec2 d = blend_depths(depth0[i], depth1[i], sample_pixel(vec2(t) + vec2(0.5f) + field[i].zw, pc.g), pc.g);
+    outp[i] = select_blend(color0[i], d.x, color1[i], d.y, field_state[i], pc.g);
 }

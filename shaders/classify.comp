@@ -47,6 +47,7 @@ vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.c.g.width) +
 
 #include "field.h"
 #include "depth_change.h"
+#include "blend_depth.h"
 #include "blend.h"
 #include "classify.h"
 #include "tiles.h"

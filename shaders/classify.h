@@ -93,7 +93,8 @@ FGSR_INLINE uint64_t own_key(ivec2 p, GenParams g) {
 // c0, d0, c1, d1: the frames' values at p.
 FGSR_INLINE vec4 copy_through_values(ivec2 p, vec4 c0, float d0, vec4 c1, float d1, GenParams g) {
     if (g.extrapolate != 0u) return c1;
-    return select_blend(c0, d0, c1, d1, blend_depth_band(d0, d1, p, g), FIELD_SPLATTED, g);
+    vec2 d = blend_depths(d0, d1, p, g);
+    return select_blend(c0, d.x, c1, d.y, FIELD_SPLATTED, g);
 }
 FGSR_INLINE vec4 copy_through(ivec2 p, GenParams g) {
     vec4 c1 = load_color1(p);

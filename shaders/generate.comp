@@ -43,6 +43,7 @@ void store_output(uint i, vec4 c) { outp[i] = as_u64vec2(c); }
 #include "refine.h"
 #include "disocc.h"
 #include "warp.h"
+#include "blend_depth.h"
 #include "blend.h"
 #include "generate.h"
 

@@ -71,6 +71,7 @@ vec4 load_lut4(uint row) { return as_vec4(lut[row]); }
 #include "refine.h"
 #include "disocc.h"
 #include "warp.h"
+#include "blend_depth.h"
 #include "blend.h"
 #include "resample.h"
 #include "generate_sr.h"

@@ -62,12 +62,11 @@ FGSR_INLINE vec4 generate_sr_finish(ivec2 q, vec4 v, uint state, GenParams g, Sr
     vec2 p0 = qc + vec2(v.x, v.y) * s.scale;
     bool ok0 = p0.x >= 0.0f && p0.y >= 0.0f && p0.x <= float(s.hr_width) && p0.y <= float(s.hr_height);
     vec4 c0 = clip_history(max(resample(p0, out_size, s.resample), vec4(0.0f)), 0u, p0 / s.scale, g, s);
-    float d0 = load_depth0(clamp_pixel(ivec2(floor(p0 / s.scale)), g));
+    float d0 = ok0 ? load_depth0(clamp_pixel(ivec2(floor(p0 / s.scale)), g)) : -1.0f;
     vec2 lr1 = pos - vec2(s.jitter_x, s.jitter_y);
     WarpSample w1 = warp_sample(1u, lr1, vec2(v.z, v.w), g);
-    if (!ok0) d0 = -1.0f;
-    vec2 band = blend_depth_band(d0, w1.depth, sample_pixel(lr1 + vec2(v.z, v.w), g), g);
-    return select_blend(c0, d0, w1.color, w1.depth, band, state, g);
+    vec2 d = blend_depths(d0, w1.depth, sample_pixel(lr1 + vec2(v.z, v.w), g), g);
+    return select_blend(c0, d.x, w1.color, d.y, state, g);
 }
 
 FGSR_INLINE vec4 generate_sr_pixel(ivec2 q, GenParams g, SrParams s) {

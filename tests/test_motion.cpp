@@ -1308,7 +1308,7 @@ TEST(Motion, AgreeTakesTheColourFieldOnGroundTheCameraApproaches) {
     expect_no_validation_errors();
 }
 
-// Blend's depth test expects the depth change frame 1's vectors imply (blend.h, change 38): on the
+// Blend's depth test expects the depth change frame 1's vectors imply (blend_depth.h, change 38): on the
 // sweeping shadow on ground the camera approaches by 15 % a frame (exact vectors and depth), the
 // warped depths of the one surface differ by more than T_D, and the plain test took frame 0 alone,
 // with the shadow where it was at t = 1; with the rule the frames are mixed (the shadow halfway,
@@ -1370,18 +1370,20 @@ TEST(Blend, ApproachedGroundIsMixedLikeGroundAtOneDepth) {
     expect_no_validation_errors();
 }
 
-// The depth band of blend's test (depth_change.h, blend_depth_band) through the CPU reference
-// (ref::blend) on hand-made warped samples, against decisions worked out by hand: a row of frame 1
-// whose depth rises 4 % a pixel (one surface, T_D = 5 %) and whose vectors either stay still or
-// expand the picture (a surface farther in frame 0 by s = 1 / sqrt(det J)). The warped frames are
-// both sampled at the row's middle pixel, colours (1, 0, 0) and (0, 0, 1).
-TEST(Blend, DepthBandHoldsTheSurfaceItsVectorsAndSlopeAllow) {
+// The depths blend's test compares (blend_depth.h, blend_depths) through the CPU reference
+// (ref::blend) on hand-made warped samples, against decisions worked out by hand. Frame 1 is a row
+// whose depth rises 4 % a pixel (one surface; T_D = 5 %), or that has an edge right of the middle
+// pixel (background 3 times as far), and whose vectors either stay still or expand the picture (a
+// surface farther in frame 0 by s = 1 / sqrt(det J)). Both warped frames are sampled at the row's
+// middle pixel, colours (1, 0, 0) and (0, 0, 1).
+TEST(Blend, DepthRangeHoldsWhatFrameOneShowsWithinAPixelAndItsDepthChange) {
     const uint32_t w = 9;
     const float slope = 1.04f, d1 = 10.f, alpha = 0.5f;
     ASSERT_LT(slope - 1.f, defaults::t_depth);
     const glm::vec4 c0(1.f, 0.f, 0.f, 1.f), c1(0.f, 0.f, 1.f, 1.f), mixed = glm::mix(c0, c1, alpha);
     struct Case {
         float expand;  // frame 1's vectors: mv(x) = (expand - 1) * (x - centre), a magnification
+        bool edge;     // frame 1: pixels right of the middle at 3 d1 (else the slope)
         float d0;      // frame 0's warped depth, relative to d1
         glm::vec4 on;  // the frame with the rule
         glm::vec4 off; // with the plain test
@@ -1390,12 +1392,17 @@ TEST(Blend, DepthBandHoldsTheSurfaceItsVectorsAndSlopeAllow) {
     // expand 0.9: det J = 0.9 (the vectors vary along x only), s = 1 / sqrt(0.9) = 1.054.
     const float s = 1.f / std::sqrt(0.9f);
     const Case cases[] = {
-        {1.f, 1.07f, mixed, c0, "still: 7 % farther is within a pixel's slope (1.04 x 1.05)"},
-        {1.f, 1.10f, c0, c0, "still: 10 % farther is another surface (beyond 1.04 x 1.05 = 1.092)"},
-        {1.f, 1.f / 1.07f, mixed, c1, "still: 7 % nearer, within the slope"},
-        {0.9f, s * slope * 1.04f, mixed, c0, "expanding: within s x slope x T_D"},
-        {0.9f, s * slope * 1.06f, c0, c0, "expanding: beyond s x slope x T_D"},
-        {0.9f, 1.f / (slope * 1.06f), c1, c1, "expanding: nearer, the band widens only by the slope"},
+        {1.f, false, 1.07f, mixed, c0, "still: 7 % farther is within T_D of a neighbour (1.04 x 1.05)"},
+        {1.f, false, 1.10f, c0, c0, "still: 10 % farther is another surface (beyond 1.04 x 1.05 = 1.092)"},
+        {1.f, false, 1.f / 1.07f, mixed, c1, "still: 7 % nearer, within T_D of the nearer neighbour"},
+        {0.9f, false, s * slope * 1.04f, mixed, c0, "expanding: within s x 1.04 x (1 + T_D)"},
+        {0.9f, false, s * slope * 1.06f, c0, c0, "expanding: beyond s x 1.04 x (1 + T_D)"},
+        {0.9f, false, 1.f / (slope * 1.06f), c1, c1,
+         "expanding: nearer, the range widens only by the neighbour"},
+        {1.f, true, 3.f, mixed, c0, "edge: frame 0 shows the background a pixel away"},
+        {1.f, true, 2.f, mixed, c0, "edge: between the two surfaces (the range is an interval)"},
+        {1.f, true, 3.3f, c0, c0, "edge: beyond the background by more than T_D"},
+        {1.f, true, 0.5f, c1, c1, "edge: nearer than either surface"},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.what);
@@ -1405,7 +1412,7 @@ TEST(Blend, DepthBandHoldsTheSurfaceItsVectorsAndSlopeAllow) {
         f1.has_mv = true;
         for (uint32_t x = 0; x < w; ++x) {
             f1.color.push_back(c1);
-            f1.depth.push_back(d1 * std::pow(slope, float(x) - 4.f));
+            f1.depth.push_back(c.edge ? (x > 4 ? 3.f * d1 : d1) : d1 * std::pow(slope, float(x) - 4.f));
             f1.mv.push_back(glm::vec2((c.expand - 1.f) * (float(x) - 4.f), 0.f));
         }
         const ref::InternalFrame f0 = f1;

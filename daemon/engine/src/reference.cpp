@@ -117,6 +117,7 @@ struct WarpCpu : FramesCpu {
 struct BlendCpu : FramesCpu {
 #include "field.h"
 #include "depth_change.h"
+#include "blend_depth.h"
 #include "blend.h"
 };
 
@@ -153,6 +154,7 @@ struct GenerateCpu : KeysCpu {
     std::vector<vec4>* out;
     void store_output(uint i, vec4 c) { (*out)[i] = c; }
 #include "warp.h"
+#include "blend_depth.h"
 #include "blend.h"
 #include "generate.h"
 };
@@ -160,6 +162,7 @@ struct GenerateCpu : KeysCpu {
 struct ClassifyCpu : FramesCpu {
 #include "field.h"
 #include "depth_change.h"
+#include "blend_depth.h"
 #include "blend.h"
 #include "classify.h"
 };
@@ -214,6 +217,7 @@ struct GenerateSrCpu : KeysCpu {
     vec4 load_src(ivec2 q) const { return (*src)[size_t(q.y) * hr_w + size_t(q.x)]; }
     vec4 load_lut4(uint r) const { return vec4(lut[4 * r], lut[4 * r + 1], lut[4 * r + 2], lut[4 * r + 3]); }
 #include "warp.h"
+#include "blend_depth.h"
 #include "blend.h"
 #include "resample.h"
 #include "generate_sr.h"
@@ -430,9 +434,8 @@ std::vector<glm::vec4> blend(const InternalFrame& f0, const InternalFrame& f1, c
         const size_t i = cpu.at(q);
         const float d0 = warped.depth[i], d1 = warped.depth[n + i];
         const glm::vec2 v1(field.v[i].z, field.v[i].w);
-        const glm::vec2 band =
-            cpu.blend_depth_band(d0, d1, gpu::sample_pixel(glm::vec2(q) + 0.5f + v1, g), g);
-        out[i] = cpu.select_blend(warped.color[i], d0, warped.color[n + i], d1, band, field.state[i], g);
+        const glm::vec2 d = cpu.blend_depths(d0, d1, gpu::sample_pixel(glm::vec2(q) + 0.5f + v1, g), g);
+        out[i] = cpu.select_blend(warped.color[i], d.x, warped.color[n + i], d.y, field.state[i], g);
     });
     return out;
 }

@@ -123,11 +123,13 @@ struct Params {
     // reads per source pixel in splat. Not carried by the wire protocol: fgsrd's sessions use the
     // default.
     bool accel_depth_motion = true;
-    // Interpolation's blend: the depth test of the two warped frames expects the depth change frame
-    // 1's vectors imply (shaders/blend.h; the warped depths are each their own frame's, so a surface
-    // the camera approaches by more than t_depth a frame step was never mixed, docs/ACCURACY.md
-    // change 38). Reads frame 1's vectors and depth only where the plain test fails. Not carried by
-    // the wire protocol: fgsrd's sessions use the default.
+    // Interpolation's blend: where the two warped depths differ by more than t_depth, frame 0's is
+    // compared with what frame 1 may show at its sample, the depths of its pixel and edge neighbours
+    // extended by the depth change frame 1's vectors imply (shaders/blend_depth.h). Each warped depth
+    // is its own frame's nearest pixel's, so a surface the camera approaches by more than t_depth a
+    // frame step, and pixels along edges, took one frame alone (docs/ACCURACY.md change 38). Reads
+    // frame 1's vectors and depths only where the plain test fails. Not carried by the wire
+    // protocol: fgsrd's sessions use the default.
     bool blend_depth_motion = true;
     // Sessions with vectors (ingest's cut stage, shaders/cut.h): a frame whose own vectors do not
     // explain its colour against the previous frame's (most of its 8x8 blocks without a match, a

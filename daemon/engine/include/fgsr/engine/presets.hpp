@@ -150,7 +150,8 @@ inline constexpr std::array<SwitchInfo, 19> kSwitches{{
      "quadratic motion: frame-0 depth test expects the depth change the motion implies"},
     {"blend_depth",
      {"on", "off", ""},
-     "interpolation: blend's depth test expects the depth change frame 1's vectors imply"},
+     "interpolation: blend compares frame 0's depth with what frame 1 shows within a pixel, moved by its "
+     "vectors' depth change"},
     {"cover_edges",
      {"on", "off", ""},
      "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
