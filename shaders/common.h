@@ -119,7 +119,7 @@ struct GenParams {
 #define FGSR_FILL_HOLES_COVER 2u
 // GenParams::blend_mode
 #define BLEND_MIX 1u          // where the warped frames agree: the alpha-weighted mix (BlendMode::mix)
-#define BLEND_DEPTH_MOTION 2u // the depth test expects the depth change frame 1's vectors imply (blend.h)
+#define BLEND_DEPTH_MOTION 2u // the depth test: frame 0's depth against what frame 1 may show (blend_depth.h)
 
 // `g` with the mode of a build that fixes it (FGSR_GENERATE_EXTRAPOLATE 0u or 1u: the CPU builds of
 // generate and generate_sr per mode, variants.def), so that the other mode's branch is compiled

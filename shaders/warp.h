@@ -30,12 +30,12 @@ struct WarpSample {
 FGSR_INLINE WarpSample warp_sample(uint frame, vec2 centre, vec2 v, GenParams g) {
     vec2 pos = centre + v;
     bool ok = on_screen(pos, g);
+    // Keep far-off positions finite (as sample_pixel does).
+    pos = clamp(pos, vec2(-1.0f), vec2(float(g.width) + 1.0f, float(g.height) + 1.0f));
     ivec2 qn = sample_pixel(pos, g);
     float d = frame == 0u ? load_depth0(qn) : load_depth1(qn);
     WarpSample w;
-    // Far-off positions kept finite (sample_pixel).
-    w.color =
-        sample_color(frame, clamp(pos, vec2(-1.0f), vec2(float(g.width) + 1.0f, float(g.height) + 1.0f)), g);
+    w.color = sample_color(frame, pos, g);
     w.depth = ok ? d : -1.0f;
     return w;
 }

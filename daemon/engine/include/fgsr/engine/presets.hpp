@@ -125,6 +125,7 @@ struct SwitchInfo {
     std::string_view meaning;
 };
 
+// clang-format off
 inline constexpr std::array<SwitchInfo, 19> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
@@ -136,36 +137,17 @@ inline constexpr std::array<SwitchInfo, 19> kSwitches{{
     {"passes", {"fused", "separate", ""}, "one fused generate pass or refine/disocc/warp/blend"},
     {"correct_vectors", {"on", "off", ""}, "given vectors corrected where shading moves (shadows)"},
     {"fast_motion", {"on", "off", ""}, "without vectors: no refinement of the estimated vectors"},
-    {"dilate_edges",
-     {"on", "off", ""},
-     "ingest: edge pixels take the front's vector where colour follows it"},
-    {"accel_search",
-     {"on", "off", ""},
-     "extrapolation: frame-0 vector of the smallest acceleration among same-surface neighbours"},
-    {"accel_median",
-     {"on", "off", ""},
-     "interpolation: median acceleration of the same surface's 3x3 neighbours"},
-    {"accel_depth",
-     {"on", "off", ""},
-     "quadratic motion: frame-0 depth test expects the depth change the motion implies"},
-    {"blend_depth",
-     {"on", "off", ""},
-     "interpolation: blend compares frame 0's depth with what frame 1 shows within a pixel, moved by its "
-     "vectors' depth change"},
-    {"cover_edges",
-     {"on", "off", ""},
-     "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
-    {"vector_cuts",
-     {"on", "off", ""},
-     "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
-    {"motion_consensus",
-     {"on", "off", ""},
-     "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
-    {"colour_agree",
-     {"on", "off", ""},
-     "per pixel the frame from vectors estimated from colour where they explain the colour and the given "
-     "vectors do not"},
+    {"dilate_edges", {"on", "off", ""}, "ingest: edge pixels take the front's vector where colour follows it"},
+    {"accel_search", {"on", "off", ""}, "extrapolation: frame-0 vector of the smallest acceleration among same-surface neighbours"},
+    {"accel_median", {"on", "off", ""}, "interpolation: median acceleration of the same surface's 3x3 neighbours"},
+    {"accel_depth", {"on", "off", ""}, "quadratic motion: frame-0 depth test expects the depth change the motion implies"},
+    {"blend_depth", {"on", "off", ""}, "interpolation: frame 0's depth against what frame 1 shows within a pixel, with its vectors' depth change"},
+    {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
+    {"vector_cuts", {"on", "off", ""}, "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
+    {"motion_consensus", {"on", "off", ""}, "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
+    {"colour_agree", {"on", "off", ""}, "per pixel the frame from vectors estimated from colour where they explain the colour and the given vectors do not"},
 }};
+// clang-format on
 
 // The value of switch `key` in p ("" for an unknown key).
 inline std::string_view switch_value(const Params& p, std::string_view key) {
