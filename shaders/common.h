@@ -115,6 +115,7 @@ struct GenParams {
     uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector;
                      // FGSR_FILL_HOLES_COVER: the same, and a hole pixel that the footprint of
                      // a surface in front overlaps takes that surface's vectors (disocc.h)
+    uint warp_cubic; // 1: warp samples colour with the de-ringed Catmull-Rom cubic; 0: bilinear (warp.h)
 };
 #define FGSR_FILL_HOLES_COVER 2u
 // GenParams::blend_mode
@@ -352,6 +353,15 @@ FGSR_INLINE float linear_luminance(vec4 c) { return 0.2126f * c.x + 0.7152f * c.
 // even steps). What motion estimation matches (luma.h) and the scene-cut test compares (cut.h).
 FGSR_INLINE float motion_luma(vec4 c) { return sqrt(clamp(linear_luminance(c), 0.0f, 1.0f)); }
 
+// The Catmull-Rom cubic's weights of the 4 taps around t in [0, 1) (bicubic with a = -0.5;
+// resample.h, warp.h).
+FGSR_INLINE vec4 catmull_rom_weights(float t) {
+    float t2 = t * t;
+    float t3 = t2 * t;
+    return vec4(-0.5f * t3 + t2 - 0.5f * t, 1.5f * t3 - 2.5f * t2 + 1.0f, -1.5f * t3 + 2.0f * t2 + 0.5f * t,
+                0.5f * t3 - 0.5f * t2);
+}
+
 FGSR_INLINE bool inside(ivec2 q, GenParams g) {
     return q.x >= 0 && q.y >= 0 && q.x < int(g.width) && q.y < int(g.height);
 }
@@ -415,14 +425,15 @@ FGSR_INLINE uint udiv(uint a, uint b) {
 }
 
 #ifdef __cplusplus
-static_assert(sizeof(IngestParams) == 68 && sizeof(GenParams) == 48 && sizeof(SrParams) == 64,
+static_assert(sizeof(IngestParams) == 68 && sizeof(GenParams) == 52 && sizeof(SrParams) == 64,
               "push constants are 4-byte scalars");
-static_assert(sizeof(ClassifyParams) == 80 && offsetof(ClassifyParams, tile) == 48, "classify push constants");
+static_assert(sizeof(ClassifyParams) == 84 && offsetof(ClassifyParams, tile) == 52,
+              "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
                   sizeof(PolishParams) == 72,
               "motion push constants");
-static_assert(sizeof(AgreeParams) == 68, "agree push constants");
+static_assert(sizeof(AgreeParams) == 72, "agree push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

@@ -23,12 +23,6 @@
 #define FGSR_LUT_LEVELS 32
 #define FGSR_LUT_SIZE (FGSR_LUT_LEVELS * FGSR_LUT_LEVELS * 16)
 
-FGSR_INLINE vec4 catmull_rom_weights(float t) {
-    float t2 = t * t;
-    float t3 = t2 * t;
-    return vec4(-0.5f * t3 + t2 - 0.5f * t, 1.5f * t3 - 2.5f * t2 + 1.0f, -1.5f * t3 + 2.0f * t2 + 0.5f * t, 0.5f * t3 - 0.5f * t2);
-}
-
 // The cubic B-spline's weights of the 4 taps around t in [0, 1): smooth, not interpolating (a
 // low-pass the Catmull-Rom weights are not).
 FGSR_INLINE vec4 bspline_weights(float t) {

@@ -1,25 +1,43 @@
 // Pass `warp` (paper 3.4): backward warps frame 1 (and frame 0 when interpolating) to the generated
-// instant with the reconstructed field. Colour is sampled bilinearly with taps clamped to the
-// image (never wrapped); depth is taken from the nearest pixel so that edges keep one surface's
-// depth. A sample position outside the image is reported by a negative depth.
+// instant with the reconstructed field. Colour is sampled bilinearly, or with g.warp_cubic by the
+// Catmull-Rom cubic clamped per channel to the range of its inner 2x2 taps (no ringing: the result
+// stays within the colours bilinear mixes, and an HDR highlight casts no negative lobes), taps
+// clamped to the image (never wrapped). Bilinear at a fractional position low-passes the frame (at
+// half a pixel, a [1/2 1/2] filter per axis); the cubic keeps the detail of antialiased input
+// (docs/ACCURACY.md, change 39). Depth is taken from the nearest pixel so that edges keep one
+// surface's depth. A sample position outside the image is reported by a negative depth.
 //
 // Entry provides:
 //   vec4  load_color0(ivec2 pixel), load_color1(ivec2 pixel)   internal colour (unpack_color)
 //   float load_depth0(ivec2 pixel), load_depth1(ivec2 pixel)
 
-// Bilinear colour of frame `frame` at `pos` (pixel units, centres at +0.5).
+FGSR_INLINE vec4 load_frame_color(uint frame, ivec2 q, GenParams g) {
+    ivec2 c = clamp_pixel(q, g);
+    return frame == 0u ? load_color0(c) : load_color1(c);
+}
+
+// Colour of frame `frame` at `pos` (pixel units, centres at +0.5): bilinear, or with g.warp_cubic
+// the de-ringed Catmull-Rom cubic (the file's head).
 FGSR_INLINE vec4 sample_color(uint frame, vec2 pos, GenParams g) {
     vec2 x = pos - vec2(0.5f);
     vec2 f = floor(x);
     vec2 w = x - f;
     ivec2 q = ivec2(f);
-    ivec2 q00 = clamp_pixel(q, g), q10 = clamp_pixel(q + ivec2(1, 0), g);
-    ivec2 q01 = clamp_pixel(q + ivec2(0, 1), g), q11 = clamp_pixel(q + ivec2(1, 1), g);
-    vec4 c00 = frame == 0u ? load_color0(q00) : load_color1(q00);
-    vec4 c10 = frame == 0u ? load_color0(q10) : load_color1(q10);
-    vec4 c01 = frame == 0u ? load_color0(q01) : load_color1(q01);
-    vec4 c11 = frame == 0u ? load_color0(q11) : load_color1(q11);
-    return mix(mix(c00, c10, w.x), mix(c01, c11, w.x), w.y);
+    vec4 c00 = load_frame_color(frame, q, g), c10 = load_frame_color(frame, q + ivec2(1, 0), g);
+    vec4 c01 = load_frame_color(frame, q + ivec2(0, 1), g), c11 = load_frame_color(frame, q + ivec2(1, 1), g);
+    if (g.warp_cubic == 0u) return mix(mix(c00, c10, w.x), mix(c01, c11, w.x), w.y);
+    vec4 wx = catmull_rom_weights(w.x), wy = catmull_rom_weights(w.y);
+    // The inner 2x2 taps, weighted as they are, then the outer ring of twelve.
+    vec4 sum = wy[1] * (wx[1] * c00 + wx[2] * c10) + wy[2] * (wx[1] * c01 + wx[2] * c11);
+    for (int j = 0; j < 4; ++j) {
+        sum += wx[0] * wy[j] * load_frame_color(frame, q + ivec2(-1, j - 1), g);
+        sum += wx[3] * wy[j] * load_frame_color(frame, q + ivec2(2, j - 1), g);
+    }
+    for (int i = 1; i < 3; ++i) {
+        sum += wx[i] * wy[0] * load_frame_color(frame, q + ivec2(i - 1, -1), g);
+        sum += wx[i] * wy[3] * load_frame_color(frame, q + ivec2(i - 1, 2), g);
+    }
+    return clamp(sum, min(min(c00, c10), min(c01, c11)), max(max(c00, c10), max(c01, c11)));
 }
 
 struct WarpSample {

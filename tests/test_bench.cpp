@@ -126,6 +126,9 @@ TEST(Presets, MapToTheParamsTheyClaim) {
     EXPECT_TRUE(q.accel_depth_motion); // as the default Params (docs/ACCURACY.md, changes 21, 23)
     EXPECT_FALSE(bal.accel_depth_motion);
     EXPECT_FALSE(perf.accel_depth_motion);
+    EXPECT_EQ(perf.warp_kernel, fgsr::WarpKernel::bilinear); // the cubic's reads cost (change 39)
+    EXPECT_EQ(bal.warp_kernel, fgsr::WarpKernel::automatic);
+    EXPECT_EQ(q.warp_kernel, fgsr::WarpKernel::automatic);
     EXPECT_TRUE(fgsr::Params{}.accel_depth_motion);
 
     // Calibrated thresholds and the scene-cut check in every preset.
@@ -175,11 +178,19 @@ TEST(Presets, SwitchesApplyAndToggle) {
     EXPECT_TRUE(p.motion_consensus); // every preset has the block matching's consensus
     ASSERT_TRUE(fgsr::apply_switch(p, "motion_consensus=off"));
     EXPECT_FALSE(p.motion_consensus);
+    EXPECT_EQ(p.warp_kernel, fgsr::WarpKernel::automatic); // balanced chooses the warp by the input
+    EXPECT_EQ(fgsr::switch_value(p, "warp"), "auto");
+    ASSERT_TRUE(fgsr::apply_switch(p, "warp=cubic"));
+    EXPECT_EQ(p.warp_kernel, fgsr::WarpKernel::cubic);
+    ASSERT_TRUE(fgsr::apply_switch(p, "warp=bilinear"));
+    EXPECT_EQ(p.warp_kernel, fgsr::WarpKernel::bilinear);
+    EXPECT_EQ(fgsr::switch_value(p, "warp"), "bilinear");
     const fgsr::Params before = p;
     auto e = fgsr::apply_switch(p, "motion=cubic");
     ASSERT_FALSE(e);
     EXPECT_NE(e.error().message.find("cubic"), std::string::npos);
     EXPECT_FALSE(fgsr::apply_switch(p, "warp=fast"));
+    EXPECT_FALSE(fgsr::apply_switch(p, "warp_drive=on"));
     EXPECT_FALSE(fgsr::apply_switch(p, "fill_gaps"));
     EXPECT_EQ(p.motion, before.motion); // errors leave p unchanged
     EXPECT_EQ(p.fill_gaps, before.fill_gaps);
@@ -187,12 +198,17 @@ TEST(Presets, SwitchesApplyAndToggle) {
     // From balanced, every toggle changes exactly the switch it names.
     const fgsr::Params base = *fgsr::preset_params("balanced");
     const std::vector<std::string> toggles = fgsr::switch_toggles(base);
-    const std::set<std::string> expected{
-        "motion=linear",   "resample=catmull_rom", "resample=lut",         "fill_gaps=off",
-        "fill_holes=off",  "blend=select",         "dilate_mvs=on",        "denoise=off",
-        "passes=separate", "correct_vectors=on",   "fast_motion=on",       "dilate_edges=on",
-        "accel_search=on", "accel_median=on",      "accel_depth=on",       "blend_depth=off",
-        "cover_edges=off", "vector_cuts=off",      "motion_consensus=off", "colour_agree=on"};
+    const std::set<std::string> expected{"motion=linear",        "resample=catmull_rom",
+                                         "resample=lut",         "fill_gaps=off",
+                                         "fill_holes=off",       "blend=select",
+                                         "dilate_mvs=on",        "denoise=off",
+                                         "passes=separate",      "correct_vectors=on",
+                                         "fast_motion=on",       "dilate_edges=on",
+                                         "accel_search=on",      "accel_median=on",
+                                         "accel_depth=on",       "blend_depth=off",
+                                         "cover_edges=off",      "vector_cuts=off",
+                                         "motion_consensus=off", "colour_agree=on",
+                                         "warp=bilinear",        "warp=cubic"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

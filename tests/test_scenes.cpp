@@ -699,5 +699,186 @@ TEST(Scenes, ForegroundWinsAtOverlaps) {
     }
 }
 
+// The warps' colour kernel (shaders/warp.h, Params::warp_kernel; docs/ACCURACY.md change 39). A
+// band-limited pattern (three sinusoids per channel, at most 0.25 cycles a pixel: point samples of it
+// are antialiased) translates by u = (3, 1) px a frame with exact vectors, so that interpolation at
+// alpha 0.5 samples both inputs half a pixel off their grid, where bilinear sampling is a [1/2 1/2]
+// low-pass per axis. The truth is the pattern at the generated instant, scored away from the
+// frame's edges (content entering there is not the kernel's).
+struct MovingPattern {
+    uint32_t w = 160, h = 96;
+    glm::vec2 u{3.f, 1.f};
+    bool aliased = false; // a per-texel hash of 0.7 px texels, point-sampled: aliased input
+
+    float value(glm::vec2 q, int c) const {
+        if (aliased) {
+            const glm::ivec2 t = glm::ivec2(glm::floor(q / 0.7f));
+            uint32_t x = uint32_t(t.x) * 73856093u ^ uint32_t(t.y) * 19349663u ^ uint32_t(c + 1) * 83492791u;
+            x ^= x >> 13;
+            x *= 0x5bd1e995u;
+            x ^= x >> 15;
+            return 0.2f + 0.6f * float(x & 1023u) / 1023.f;
+        }
+        const float k = 6.2831853f, ph = float(c);
+        return 0.5f + 0.18f * std::sin(k * (0.23f * q.x + 0.05f * q.y) + ph) +
+               0.12f * std::sin(k * (0.07f * q.x - 0.21f * q.y) + 1.f + 2.f * ph) +
+               0.08f * std::sin(k * (0.17f * q.x + 0.13f * q.y) + 2.f + ph);
+    }
+    std::vector<glm::vec4> colour(float t) const {
+        std::vector<glm::vec4> c(size_t(w) * h);
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                const glm::vec2 q = glm::vec2(float(x) + 0.5f, float(y) + 0.5f) - u * t;
+                c[size_t(y) * w + x] = glm::vec4(value(q, 0), value(q, 1), value(q, 2), 1.f);
+            }
+        return c;
+    }
+    RawFrame frame(float t) const {
+        return make_raw(colour(t), std::vector<float>(size_t(w) * h, 10.f),
+                        t == 0.f ? std::vector<glm::vec2>{} : std::vector<glm::vec2>(size_t(w) * h, -u));
+    }
+    // PSNR of rgba32f pixels against the truth over the pixels at least 8 from the frame's edges.
+    double interior_psnr(const std::vector<float>& got, const std::vector<glm::vec4>& truth) const {
+        double se = 0;
+        size_t count = 0;
+        for (uint32_t y = 8; y + 8 < h; ++y)
+            for (uint32_t x = 8; x + 8 < w; ++x)
+                for (int k = 0; k < 3; ++k) {
+                    const size_t i = size_t(y) * w + x;
+                    const double d = double(got[4 * i + size_t(k)]) - double(truth[i][k]);
+                    se += d * d;
+                    ++count;
+                }
+        return 10.0 * std::log10(1.0 / std::max(se / double(count), 1e-12));
+    }
+};
+
+struct WarpRun {
+    std::vector<float> interp, extrap;
+    float aliasing = -1.f;
+    std::vector<glm::vec4> reference; // ref::generate of the interpolated frame, with the session's measure
+};
+
+// colour_only: a session without vectors and depth (motion estimated from colour).
+WarpRun run_warp(const MovingPattern& scene, WarpKernel kernel, bool colour_only = false) {
+    Params p;
+    p.warp_kernel = kernel;
+    WarpRun r;
+    FrameFormat format = internal_format(scene.w, scene.h);
+    format.has_vectors = format.has_depth = !colour_only;
+    auto s = engine().create_session(format, p);
+    EXPECT_TRUE(s);
+    if (!s) return r;
+    for (float t : {0.f, 1.f, 2.f}) {
+        const RawFrame f = scene.frame(t);
+        FrameView v = f.view();
+        if (colour_only) v.depth = v.mv = {};
+        EXPECT_TRUE((*s)->submit(v));
+    }
+    const float a[] = {0.5f};
+    auto i = (*s)->interpolate(a);
+    auto e = (*s)->extrapolate(a);
+    EXPECT_TRUE(i && e);
+    if (!i || !e) return r;
+    r.interp = i->front().color.rgba;
+    r.extrap = e->front().color.rgba;
+    r.aliasing = (*s)->input_aliasing();
+    auto f0 = (*s)->read_frame(0), f1 = (*s)->read_frame(1);
+    EXPECT_TRUE(f0 && f1);
+    if (f0 && f1 && !colour_only)
+        r.reference = ref::generate(to_internal(*f0, scene.w, scene.h), to_internal(*f1, scene.w, scene.h),
+                                    params::gen_params(internal_format(scene.w, scene.h), p, 0.5f, false,
+                                                       true, true, params::InputMeasure{r.aliasing, false}));
+    return r;
+}
+
+float largest_difference(const std::vector<float>& a, const std::vector<float>& b) {
+    EXPECT_EQ(a.size(), b.size());
+    float m = 0.f;
+    for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+    return m;
+}
+
+// On antialiased input the cubic keeps the detail bilinear sampling blurs, and automatic takes it in
+// interpolation with the client's vectors only (not in extrapolation, nor with vectors estimated from
+// colour); the engine's frame is the CPU reference's.
+TEST(Warp, CubicKeepsTheDetailOfAntialiasedInputThatBilinearBlurs) {
+    const MovingPattern scene;
+    const WarpRun bil = run_warp(scene, WarpKernel::bilinear), cub = run_warp(scene, WarpKernel::cubic),
+                  aut = run_warp(scene, WarpKernel::automatic);
+    ASSERT_FALSE(aut.interp.empty());
+    EXPECT_GE(aut.aliasing, 0.f);
+    EXPECT_LT(aut.aliasing, defaults::antialiased_aliasing) << "the pattern is band-limited";
+    const auto truth = scene.colour(1.5f);
+    const double pb = scene.interior_psnr(bil.interp, truth), pc = scene.interior_psnr(cub.interp, truth);
+    std::printf("[ measured ] band-limited pattern at half-pixel phases, interpolated: bilinear %.2f dB, "
+                "cubic %.2f dB (input aliasing %.2f)\n",
+                pb, pc, aut.aliasing);
+    EXPECT_GT(pc, pb + 3.0);
+    EXPECT_EQ(largest_difference(aut.interp, cub.interp), 0.f) << "automatic interpolates with the cubic";
+    EXPECT_EQ(largest_difference(aut.extrap, bil.extrap), 0.f) << "automatic extrapolates with bilinear";
+    const WarpRun colour_bil = run_warp(scene, WarpKernel::bilinear, true),
+                  colour_aut = run_warp(scene, WarpKernel::automatic, true);
+    ASSERT_FALSE(colour_aut.interp.empty());
+    EXPECT_EQ(largest_difference(colour_aut.interp, colour_bil.interp), 0.f)
+        << "automatic interpolates with bilinear where the vectors are estimated from colour";
+    EXPECT_GT(largest_difference(cub.interp, bil.interp), 0.01f);
+    std::vector<float> expected;
+    for (const glm::vec4& c : aut.reference) expected.insert(expected.end(), {c.x, c.y, c.z, c.w});
+    EXPECT_LT(largest_difference(aut.interp, expected), 1e-4f) << "against the CPU reference";
+    expect_no_validation_errors();
+}
+
+// On aliased input (point samples of texels smaller than a pixel) automatic keeps bilinear sampling:
+// the cubic would interpolate the aliasing (docs/ACCURACY.md change 39, the jittered SR captures).
+TEST(Warp, AutomaticKeepsBilinearOnAliasedInput) {
+    MovingPattern scene;
+    scene.aliased = true;
+    const WarpRun bil = run_warp(scene, WarpKernel::bilinear), cub = run_warp(scene, WarpKernel::cubic),
+                  aut = run_warp(scene, WarpKernel::automatic);
+    ASSERT_FALSE(aut.interp.empty());
+    EXPECT_GE(aut.aliasing, defaults::antialiased_aliasing);
+    EXPECT_EQ(largest_difference(aut.interp, bil.interp), 0.f);
+    EXPECT_GT(largest_difference(cub.interp, bil.interp), 0.01f);
+    expect_no_validation_errors();
+}
+
+// The cubic is clamped to the range of its inner 2x2 taps: a highlight (400 in linear colour, one
+// pixel, on 0.02) moving a pixel a frame casts no negative lobes. Without the clamp the Catmull-Rom
+// weight of a tap 1.5 pixels away at phase 1/2 is -1/16, which would put 0.02 - 400/16 < 0 there.
+TEST(Warp, CubicCastsNoRingingAroundAHighlight) {
+    const uint32_t w = 64, h = 32;
+    const float background = 0.02f, peak = 400.f;
+    auto frame = [&](int t) {
+        std::vector<glm::vec4> c(size_t(w) * h, glm::vec4(background, background, background, 1.f));
+        c[size_t(16) * w + 20 + uint32_t(t)] = glm::vec4(peak, peak, peak, 1.f);
+        return make_raw(c, std::vector<float>(size_t(w) * h, 10.f),
+                        t == 0 ? std::vector<glm::vec2>{}
+                               : std::vector<glm::vec2>(size_t(w) * h, glm::vec2(-1.f, 0.f)));
+    };
+    // Keys' cubic convolution kernel with a = -0.5 (Catmull-Rom) at 1 < |x| < 2.
+    const float a = -0.5f, x = 1.5f, outer = a * x * x * x - 5.f * a * x * x + 8.f * a * x - 4.f * a;
+    ASSERT_LT(background + peak * outer, 0.f) << "the unclamped cubic rings below zero";
+    Params p;
+    p.warp_kernel = WarpKernel::cubic;
+    auto s = engine().create_session(internal_format(w, h), p);
+    ASSERT_TRUE(s);
+    for (int t : {0, 1, 2}) ASSERT_TRUE((*s)->submit(frame(t).view()));
+    const float alpha[] = {0.5f};
+    auto r = (*s)->interpolate(alpha);
+    ASSERT_TRUE(r) << r.error().message;
+    const std::vector<float>& c = r->front().color.rgba;
+    float lowest = 1e9f, highest = 0.f;
+    for (size_t i = 0; i < c.size(); i += 4)
+        for (int k = 0; k < 3; ++k) {
+            lowest = std::min(lowest, c[i + size_t(k)]);
+            highest = std::max(highest, c[i + size_t(k)]);
+        }
+    EXPECT_GE(lowest, background - 1e-4f);
+    EXPECT_GT(highest, 0.25f * peak) << "the highlight is kept";
+    EXPECT_LE(highest, peak);
+    expect_no_validation_errors();
+}
+
 } // namespace
 } // namespace fgsr::test

@@ -825,7 +825,9 @@ TEST(Sr, JointPassMatchesReference) {
         std::vector<glm::vec4> src(size_t(4) * n);
         std::memcpy(src.data(), prev_out->color.rgba.data(), src.size() * 16);
         const FrameFormat fmt = internal_format(w, h);
-        const ref::GenParams g = params::gen_params(fmt, p, 0.5f, extrap, true, true);
+        const ref::GenParams g =
+            params::gen_params(fmt, p, 0.5f, extrap, true, true,
+                               params::InputMeasure{(*s)->input_aliasing(), (*s)->input_jittered()});
         const ref::SrParams sr = params::generate_sr_params(fmt, p, 2 * w, 2 * h, v_jitter(2), 0.f);
         auto expect = ref::generate_sr(in->f0, in->f1, in->splat, src, g, sr, default_lut(2.f).weights);
         double err = 0;

@@ -131,7 +131,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_frames(std::span<con
     std::vector<std::vector<PassId>> timings(alphas.size()); // passes timed per generated frame, in order
     FGSR_TRY(rec.begin());
     for (size_t k = 0; k < alphas.size(); ++k) {
-        gpu::GenParams g = params::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv);
+        gpu::GenParams g =
+            params::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv, input_measure());
         if (sr()) g.fill_holes = std::min(g.fill_holes, 1u); // generate_sr has no edge cover (disocc.h)
         const uint32_t q0 = uint32_t(k) * kQueriesPerFrame;
         uint32_t q = q0;
@@ -316,8 +317,9 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_agreed(std::span<con
         auto from_colour = colour.generate_frames(std::span<const float>(&alpha, 1), false);
         colour.force_separate = false;
         if (!from_colour) return from_colour.error();
-        const gpu::GenParams g = params::gen_params(
-            format, params, alpha, false, frames[size_t(1 - newest)].has_mv, frames[size_t(newest)].has_mv);
+        const gpu::GenParams g =
+            params::gen_params(format, params, alpha, false, frames[size_t(1 - newest)].has_mv,
+                               frames[size_t(newest)].has_mv, input_measure());
         auto timing = record_agree(g, colour);
         if (!timing) return timing.error();
         last_agreed = true;
@@ -351,8 +353,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
     FGSR_TRY(ensure_agree_buffers());
-    const gpu::AgreeParams p =
-        params::agree_params(params::gen_params(format, params, alphas.front(), true, f0.has_mv, f1.has_mv));
+    const gpu::AgreeParams p = params::agree_params(
+        params::gen_params(format, params, alphas.front(), true, f0.has_mv, f1.has_mv, input_measure()));
     const BufRef colour_mv = colour.frames[size_t(colour.newest)].mv;
     FGSR_TRY(rec.begin());
     rec.timestamp(0);

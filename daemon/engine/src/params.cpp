@@ -51,9 +51,13 @@ Result<void> validate(const Params& p) {
                           "colour_agree is for sessions without super resolution (scale 1), not scale " +
                               std::to_string(p.scale));
     if (uint32_t(p.motion) > uint32_t(MotionModel::linear) || uint32_t(p.blend) > uint32_t(BlendMode::mix) ||
-        uint32_t(p.resample) > uint32_t(Resample::lut) || uint32_t(p.warp_resample) > uint32_t(Resample::lut) ||
-        uint32_t(p.sr_spatial) > uint32_t(SrSpatial::bspline))
-        return make_error(Errc::invalid_argument, "unknown motion model, blend mode, resampling kind or sr spatial kernel");
+        uint32_t(p.resample) > uint32_t(Resample::lut) ||
+        uint32_t(p.warp_resample) > uint32_t(Resample::lut) ||
+        uint32_t(p.sr_spatial) > uint32_t(SrSpatial::bspline) ||
+        uint32_t(p.warp_kernel) > uint32_t(WarpKernel::cubic))
+        return make_error(
+            Errc::invalid_argument,
+            "unknown motion model, blend mode, resampling kind, sr spatial kernel or warp kernel");
     if (!p.lut.empty() && p.lut.size() != kLutSize)
         return make_error(Errc::invalid_argument, "LUT has " + std::to_string(p.lut.size()) +
                                                       " weights, expected " + std::to_string(kLutSize));
@@ -166,7 +170,7 @@ gpu::AgreeParams agree_params(const GenParams& g) {
 }
 
 GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
-                     bool frame0_has_mv, bool frame1_has_mv) {
+                     bool frame0_has_mv, bool frame1_has_mv, InputMeasure input) {
     GenParams g{};
     g.width = format.width;
     g.height = format.height;
@@ -188,6 +192,13 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
                    (params.blend_depth_motion ? BLEND_DEPTH_MOTION : 0u);
     g.fill_gaps = params.fill_gaps ? 1u : 0u;
     g.fill_holes = params.fill_holes ? (params.cover_edges ? FGSR_FILL_HOLES_COVER : 1u) : 0u;
+    // automatic: the cubic where the positions are the client's vectors' (not estimated from colour)
+    // and the frames are inputs on both sides of the instant (docs/ACCURACY.md change 39).
+    g.warp_cubic = params.warp_kernel == WarpKernel::cubic ||
+                           (params.warp_kernel == WarpKernel::automatic && !extrapolate &&
+                            format.has_vectors && measures_antialiased(input.aliasing))
+                       ? 1u
+                       : 0u;
     return g;
 }
 

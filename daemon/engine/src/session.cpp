@@ -142,11 +142,10 @@ uint64_t Session::frames_submitted() const {
     return impl_->submitted;
 }
 float Session::input_aliasing() const {
-    const auto& h = impl_->sr_history;
-    return impl_->sr() ? aliasing_ratio(h.aliasing) : -1.f;
+    return aliasing_ratio(impl_->input_aliasing);
 }
 bool Session::input_jittered() const {
-    return impl_->sr_history.jittered;
+    return impl_->input_jittered;
 }
 NoiseEstimate Session::last_noise_estimate() const {
     return impl_->denoiser.estimate;
@@ -446,21 +445,20 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         s.rec.barrier();
         s.rec.timestamp(q++);
     }
+    // The input's aliasing, measured on the host from the client's colour over the first frames
+    // where something decides by it (super resolution; WarpKernel::automatic with the client's
+    // vectors): strips of 4 rows, 16 rows apart up to 540 rows and about 32 strips above (1.3-1.8
+    // ms a frame at 960x540 on the 2-core VM, busy).
+    if (frame.jitter_x != 0.f || frame.jitter_y != 0.f) s.input_jittered = true;
+    const bool measures = s.sr() || (s.params.warp_kernel == WarpKernel::automatic && s.format.has_vectors);
+    if (measures && s.input_aliasing.frames < defaults::aliasing_frames)
+        s.input_aliasing += aliasing_sums(s.format.width, s.format.height, s.format.color_format, frame.color,
+                                          std::max(16u, (s.format.height / 32u) & ~3u));
     bool sr_tiled = false;
     if (s.sr()) {
-        // The input's aliasing, measured on the host from the client's colour over the first
-        // frames, while no frame had jitter: strips of 4 rows, 16 rows apart up to 540 rows and
-        // about 32 strips above (1.3-1.8 ms a frame at 960x540 on the 2-core VM, busy).
-        auto& h = s.sr_history;
-        if (frame.jitter_x != 0.f || frame.jitter_y != 0.f)
-            h.jittered = true;
-        if (h.aliasing.frames < defaults::aliasing_frames)
-            h.aliasing += aliasing_sums(s.format.width, s.format.height, s.format.color_format, frame.color,
-                                        std::max(16u, (s.format.height / 32u) & ~3u));
         const gpu::SrParams sp =
             params::sr_params(s.format, s.params, s.out_w, s.out_h, frame.jitter_x, frame.jitter_y,
-                              !restart && s.sr_history.valid && frame_has_mv,
-                              params::InputMeasure{aliasing_ratio(h.aliasing), h.jittered});
+                              !restart && s.sr_history.valid && frame_has_mv, s.input_measure());
         auto tiled = s.record_sr(sp, f, prev, q);
         if (!tiled) return tiled.error();
         sr_tiled = *tiled;

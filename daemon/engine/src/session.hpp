@@ -8,6 +8,7 @@
 #include <fgsr/engine/color.hpp>
 #include <fgsr/engine/defaults.hpp>
 #include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/params.hpp>
 #include <fgsr/engine/reference.hpp>
 
 #include "context.hpp"
@@ -122,12 +123,16 @@ struct Session::Impl {
         vk::Buffer lut;                            // kLutSize weights (Resample::lut)
         vk::Buffer noise;                          // vec2 per input pixel: sr.h's (r, q), variant sr_noise
         PassTiming timing = timing_of(PassId::sr); // of the last submit
-        // The input's aliasing measure (fgsr/engine/color.hpp) over its first
-        // defaults::aliasing_frames frames; jittered once any frame had jitter. Together they
-        // decide Params::sr_disagree and the spatial upsample's kernel (params::sr_params).
-        AliasingSums aliasing;
-        bool jittered = false;
     } sr_history;
+
+    // The input's aliasing measure (fgsr/engine/color.hpp) over its first defaults::aliasing_frames
+    // frames; jittered once any frame had jitter. They decide WarpKernel::automatic
+    // (params::gen_params), Params::sr_disagree and the spatial upsample's kernel (params::sr_params).
+    AliasingSums input_aliasing;
+    bool input_jittered = false;
+    params::InputMeasure input_measure() const {
+        return params::InputMeasure{aliasing_ratio(input_aliasing), input_jittered};
+    }
 
     // Params::denoise (denoise.cpp, shaders/denoise.h).
     struct Denoiser {

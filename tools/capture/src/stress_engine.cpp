@@ -302,7 +302,8 @@ class Runner {
         const bool extrap = st.op == Op::extrapolate;
         for (float a : st.alphas) {
             const ref::GenParams g =
-                params::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv, cs_.f1.has_mv);
+                params::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv, cs_.f1.has_mv,
+                                   params::InputMeasure{s.input_aliasing(), s.input_jittered()});
             std::vector<glm::vec4> out;
             if (sr) {
                 const ref::Splat sp = ref::splat(cs_.f0, cs_.f1, g);

@@ -6,6 +6,7 @@
 #include <fgsr/capture/image_io.hpp>
 #include <fgsr/capture/metrics.hpp>
 #include <fgsr/capture/synthetic.hpp>
+#include <fgsr/engine/color.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -298,6 +299,21 @@ Result<EvalReport> run_eval(const EvalOptions& o) {
         if (o.out) FGSR_TRY(capture::write_png(*o.out / "reference" / fmt::format("{:04d}.png", k + 1), gt));
     }
     rep.ingest_ms = ingest_count ? ingest_sum / double(ingest_count) : 0;
+    // The input's aliasing measure, which decides WarpKernel::automatic.
+    if (o.progress)
+        for (const std::string& m : o.methods)
+            if (is_engine_method(m)) {
+                const float a = sessions[m]->input_aliasing();
+                if (a < 0.f)
+                    std::fprintf(stderr, "[eval] %s %s: input aliasing not measured\n", cap.name.c_str(),
+                                 rep.mode.c_str());
+                else
+                    std::fprintf(stderr, "[eval] %s %s: input aliasing %.2f (%s)\n", cap.name.c_str(),
+                                 rep.mode.c_str(), a,
+                                 measures_antialiased(a) ? "antialiased: cubic warp in interpolation"
+                                                         : "aliased: bilinear warp");
+                break;
+            }
     finish_means(rep);
     if (o.out) FGSR_TRY(write_metrics_json(rep, *o.out));
     return rep;

@@ -56,6 +56,14 @@ enum class SrSpatial : uint32_t {
     bspline = 2,     // cubic B-spline: smooth, low-passes the point samples' aliasing
 };
 
+// The colour kernel of frame generation's warps at input resolution (shaders/warp.h).
+enum class WarpKernel : uint32_t {
+    automatic = 0, // cubic in interpolation with the client's vectors on input that measures
+                   // antialiased (Session::input_aliasing), else bilinear (docs/ACCURACY.md, change 39)
+    bilinear = 1,
+    cubic = 2, // Catmull-Rom, clamped to the range of its inner 2x2 taps (no ringing)
+};
+
 // Algorithm parameters. Depth threshold is relative (|d0 - d1| / min(d0, d1)), so it holds for
 // any linear depth unit; brightness threshold is on display-referred luma in [0, 1].
 struct Params {
@@ -131,6 +139,15 @@ struct Params {
     // frame 1's vectors and depths only where the plain test fails. Not carried by the wire
     // protocol: fgsrd's sessions use the default.
     bool blend_depth_motion = true;
+    // The warps' colour kernel (shaders/warp.h). Bilinear sampling at a fractional position
+    // low-passes the frame; the cubic keeps an antialiased input's detail. automatic takes it in
+    // interpolation with the client's vectors on input that measures antialiased (the measure of
+    // Session::input_aliasing, over the first frames), and bilinear where the positions are less
+    // sure than the blur costs: in extrapolation (predicted), with vectors estimated from colour
+    // (colour-only sessions, the colour_agree twin), and on aliased input (the cubic interpolates
+    // the aliasing): docs/ACCURACY.md change 39. Not carried by the wire protocol: fgsrd's sessions
+    // use the default.
+    WarpKernel warp_kernel = WarpKernel::automatic;
     // Sessions with vectors (ingest's cut stage, shaders/cut.h): a frame whose own vectors do not
     // explain its colour against the previous frame's (most of its 8x8 blocks without a match, a
     // jump from the session's typical share: ref::is_vector_cut) is a scene cut the client did not
@@ -401,12 +418,13 @@ class Session {
     float last_lighting_gain() const;
     // The last submit's noise estimate (Params::denoise; zeros without it).
     NoiseEstimate last_noise_estimate() const;
-    // Super-resolution sessions: the aliasing measure of the input's first frames (fgsr/engine/
-    // color.hpp, aliasing_ratio): below defaults::antialiased_aliasing and without jitter
-    // Params::sr_disagree applies; at or above it SrSpatial::automatic takes the B-spline.
-    // Negative without super resolution or before the first frame.
+    // The aliasing measure of the input's first frames (fgsr/engine/color.hpp, aliasing_ratio):
+    // below defaults::antialiased_aliasing WarpKernel::automatic takes the cubic in interpolation,
+    // and in super-resolution sessions without jitter Params::sr_disagree applies; at or above it
+    // SrSpatial::automatic takes the B-spline. Negative before the first frame, and in sessions
+    // that decide nothing by it (no super resolution, and a fixed warp kernel or no client vectors).
     float input_aliasing() const;
-    // Whether some frame so far carried jitter (super-resolution sessions).
+    // Whether some frame so far carried jitter.
     bool input_jittered() const;
     // TILE_* flags of the last submit's super-resolution classification (empty when it was not
     // classified: no history, or Params::skip_tiles off), tiles of tile_side() pixels.

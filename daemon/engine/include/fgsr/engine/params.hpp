@@ -29,17 +29,18 @@ gpu::IngestParams ingest_params(const FrameFormat& format, bool has_mv);
 // frame, no scene cut). Otherwise off (0).
 void set_dilate(gpu::IngestParams& p, const FrameFormat& format, const Params& params, bool has_previous);
 
-// The push constants the engine uses for one generated frame.
-gpu::GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
-                          bool frame0_has_mv, bool frame1_has_mv);
-// The agree pass's push constants (Params::colour_agree) for generated frame `g`.
-gpu::AgreeParams agree_params(const gpu::GenParams& g);
-
 // What a session measured of its input (Session::input_aliasing, Session::input_jittered).
 struct InputMeasure {
     float aliasing = -1.f; // aliasing_ratio of the first frames; negative: not measured
     bool jittered = false; // some frame so far carried jitter
 };
+
+// The push constants the engine uses for one generated frame. The input measure decides
+// WarpKernel::automatic (the cubic in interpolation where the input measures antialiased).
+gpu::GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
+                          bool frame0_has_mv, bool frame1_has_mv, InputMeasure input = {});
+// The agree pass's push constants (Params::colour_agree) for generated frame `g`.
+gpu::AgreeParams agree_params(const gpu::GenParams& g);
 
 // The push constants of the `sr` pass for a frame (has_history: a previous output exists and
 // the frame is no reset). The input measure decides Params::sr_disagree (only without jitter and

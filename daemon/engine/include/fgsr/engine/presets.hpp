@@ -3,11 +3,13 @@
 //
 // Presets span the run-time / error trade-off (figures: docs/PERFORMANCE.md):
 //   performance  uniform-velocity motion (Eqs. 14-15, no frame-0 vector lookups), no gap refinement,
-//                the paper's select blend, bilinear SR history resampling, fused passes; without
-//                vectors, fast motion estimation (no refinement of the estimated vectors).
-//   balanced     uniform-acceleration motion, gap and hole filling, mix blend, bilinear SR history
-//                resampling (on orbit-sr as good as the LUT and cheaper), fused passes; no edge
-//                rule of ingest's dilate stage (on CPU devices a third to all of ingest's time again).
+//                the paper's select blend, bilinear warps and SR history resampling, fused passes;
+//                without vectors, fast motion estimation (no refinement of the estimated vectors).
+//   balanced     uniform-acceleration motion, gap and hole filling, mix blend, the warps' kernel
+//                chosen by the input (warp=auto: the cubic in interpolation of antialiased input),
+//                bilinear SR history resampling (on orbit-sr as good as the LUT and cheaper), fused
+//                passes; no edge rule of ingest's dilate stage (on CPU devices a third to all of
+//                ingest's time again).
 //   quality      everything on: uniform acceleration, gap and hole filling, mix blend, the learned
 //                LUT for SR history, depth-informed vector dilation, the dilate stage's edge rule
 //                (as the default Params), fused passes (the separate
@@ -65,6 +67,7 @@ inline Params preset_params(Preset preset) {
         p.accel_median = false;
         p.accel_depth_motion = false;
         p.cover_edges = false;
+        p.warp_kernel = WarpKernel::bilinear; // the cubic's 16 reads a warped sample
         break;
     case Preset::balanced:
         p.motion = MotionModel::quadratic;
@@ -126,7 +129,7 @@ struct SwitchInfo {
 };
 
 // clang-format off
-inline constexpr std::array<SwitchInfo, 19> kSwitches{{
+inline constexpr std::array<SwitchInfo, 20> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -142,6 +145,7 @@ inline constexpr std::array<SwitchInfo, 19> kSwitches{{
     {"accel_median", {"on", "off", ""}, "interpolation: median acceleration of the same surface's 3x3 neighbours"},
     {"accel_depth", {"on", "off", ""}, "quadratic motion: frame-0 depth test expects the depth change the motion implies"},
     {"blend_depth", {"on", "off", ""}, "interpolation: frame 0's depth against what frame 1 shows within a pixel, with its vectors' depth change"},
+    {"warp", {"auto", "bilinear", "cubic"}, "warps' colour kernel: auto = cubic in interpolation of input that measures antialiased"},
     {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
     {"vector_cuts", {"on", "off", ""}, "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
     {"motion_consensus", {"on", "off", ""}, "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
@@ -167,6 +171,10 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "accel_median") return onoff(p.accel_median);
     if (key == "accel_depth") return onoff(p.accel_depth_motion);
     if (key == "blend_depth") return onoff(p.blend_depth_motion);
+    if (key == "warp")
+        return p.warp_kernel == WarpKernel::bilinear ? "bilinear"
+               : p.warp_kernel == WarpKernel::cubic  ? "cubic"
+                                                     : "auto";
     if (key == "cover_edges") return onoff(p.cover_edges);
     if (key == "vector_cuts") return onoff(p.vector_cuts);
     if (key == "motion_consensus") return onoff(p.motion_consensus);
@@ -188,7 +196,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
                 "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, "
-                "blend_depth, cover_edges, vector_cuts, motion_consensus, colour_agree)");
+                "blend_depth, warp, cover_edges, vector_cuts, motion_consensus, colour_agree)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -214,6 +222,10 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "accel_median") p.accel_median = on;
     if (key == "accel_depth") p.accel_depth_motion = on;
     if (key == "blend_depth") p.blend_depth_motion = on;
+    if (key == "warp")
+        p.warp_kernel = value == "bilinear" ? WarpKernel::bilinear
+                        : value == "cubic"  ? WarpKernel::cubic
+                                            : WarpKernel::automatic;
     if (key == "cover_edges") p.cover_edges = on;
     if (key == "vector_cuts") p.vector_cuts = on;
     if (key == "motion_consensus") p.motion_consensus = on;
