@@ -16,7 +16,7 @@ FGSR_INLINE void generate_finish(ivec2 t, FieldSample f, GenParams g) {
         return;
     }
     WarpSample w0 = warp_sample(0u, centre, vec2(f.v.x, f.v.y), g);
-    vec2 d = blend_depths(w0.depth, w1.depth, sample_pixel(centre + vec2(f.v.z, f.v.w), g), g);
+    vec2 d = blend_depths(w0.depth, w1.depth, w1.pixel, g);
     store_output(i, select_blend(w0.color, d.x, w1.color, d.y, f.state, g));
 }
 

@@ -65,7 +65,7 @@ FGSR_INLINE vec4 generate_sr_finish(ivec2 q, vec4 v, uint state, GenParams g, Sr
     float d0 = ok0 ? load_depth0(clamp_pixel(ivec2(floor(p0 / s.scale)), g)) : -1.0f;
     vec2 lr1 = pos - vec2(s.jitter_x, s.jitter_y);
     WarpSample w1 = warp_sample(1u, lr1, vec2(v.z, v.w), g);
-    vec2 d = blend_depths(d0, w1.depth, sample_pixel(lr1 + vec2(v.z, v.w), g), g);
+    vec2 d = blend_depths(d0, w1.depth, w1.pixel, g);
     return select_blend(c0, d.x, w1.color, d.y, state, g);
 }
 

@@ -43,6 +43,7 @@ FGSR_INLINE vec4 sample_color(uint frame, vec2 pos, GenParams g) {
 struct WarpSample {
     vec4 color;
     float depth; // negative: the sample position is off screen
+    ivec2 pixel; // the pixel whose depth it reports (sample_pixel): blend_depths reads frame 1's there
 };
 
 FGSR_INLINE WarpSample warp_sample(uint frame, vec2 centre, vec2 v, GenParams g) {
@@ -55,5 +56,6 @@ FGSR_INLINE WarpSample warp_sample(uint frame, vec2 centre, vec2 v, GenParams g)
     WarpSample w;
     w.color = sample_color(frame, pos, g);
     w.depth = ok ? d : -1.0f;
+    w.pixel = qn;
     return w;
 }

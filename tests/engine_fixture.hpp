@@ -3,6 +3,7 @@
 #pragma once
 
 #include <fgsr/engine/engine.hpp>
+#include <fgsr/engine/params.hpp>
 #include <fgsr/engine/reference.hpp>
 
 #include <gtest/gtest.h>
@@ -58,6 +59,11 @@ inline FrameFormat internal_format(uint32_t w, uint32_t h) {
 inline RawFrame make_raw(const std::vector<glm::vec4>& color, const std::vector<float>& depth,
                          const std::vector<glm::vec2>& mv) {
     return RawFrame{bytes_of(color), bytes_of(depth), mv.empty() ? std::vector<std::byte>{} : bytes_of(mv)};
+}
+
+// What session s measured of its input, as the engine passes it to params::gen_params / sr_params.
+inline params::InputMeasure input_measure_of(const Session& s) {
+    return params::InputMeasure{s.input_aliasing(), s.input_jittered()};
 }
 
 inline ref::InternalFrame to_internal(const Session::InternalFrameData& d, uint32_t w, uint32_t h) {

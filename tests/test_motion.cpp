@@ -1339,10 +1339,10 @@ TEST(Blend, ApproachedGroundIsMixedLikeGroundAtOneDepth) {
             ASSERT_TRUE(r0 && r1);
             const ref::InternalFrame f0 = to_internal(*r0, scene.w, scene.h),
                                      f1 = to_internal(*r1, scene.w, scene.h);
-            const auto expected = ref::generate(
-                f0, f1,
-                params::gen_params(internal_format(scene.w, scene.h), p, alpha, false, true, true,
-                                   params::InputMeasure{s->input_aliasing(), s->input_jittered()}));
+            const auto expected =
+                ref::generate(f0, f1,
+                              params::gen_params(internal_format(scene.w, scene.h), p, alpha, false, true,
+                                                 true, input_measure_of(*s)));
             const std::vector<float>& got = r->front().color.rgba;
             size_t differ = 0;
             for (size_t i = 0; i < n; ++i)
@@ -1510,8 +1510,7 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
         const size_t n = size_t(w) * h;
         const ref::Warped given_w = warped_of(*im), colour_w = warped_of(*im->colour);
         const ref::AgreeParams ap = params::agree_params(
-            params::gen_params(internal_format(w, h), p, alpha, false, true, true,
-                               params::InputMeasure{s->input_aliasing(), s->input_jittered()}));
+            params::gen_params(internal_format(w, h), p, alpha, false, true, true, input_measure_of(*s)));
         ref::Field given_f, colour_f;
         given_f.state = im->field_state;
         given_f.v.resize(n);
@@ -1587,9 +1586,8 @@ TEST(Motion, AgreeExtrapolationGpuMatchesTheCpuReference) {
     std::vector<glm::vec2> colour_mv(n);
     for (size_t i = 0; i < n; ++i) colour_mv[i] = glm::vec2(cf->mv[2 * i], cf->mv[2 * i + 1]);
     for (size_t k = 0; k < alphas.size(); ++k) {
-        const ref::AgreeParams ap = params::agree_params(
-            params::gen_params(internal_format(w, h), agreeing, alphas[k], true, true, true,
-                               params::InputMeasure{a->input_aliasing(), a->input_jittered()}));
+        const ref::AgreeParams ap = params::agree_params(params::gen_params(
+            internal_format(w, h), agreeing, alphas[k], true, true, true, input_measure_of(*a)));
         const auto expected =
             ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
                                     vec4s((*g)[k].color), vec4s((*c)[k].color), ap);
