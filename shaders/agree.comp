@@ -60,22 +60,28 @@ vec2 load_e(uint i) { return e_buf[i]; }
 vec2 load_rows(uint i) { return rows_buf[i]; }
 vec4 load_given(uint i) { return given[i]; }
 vec4 load_colour(uint i) { return colour[i]; }
+void store_rows(uint i, vec2 v) { rows_buf[i] = v; }
+void store_agreed(uint i, vec4 c) { given[i] = c; }
 
 #include "field.h"
 #include "blend.h"
 #include "agree.h"
 
+// Stages 1 and 4: one invocation per pixel; stage 2: per segment of a row (x: the segment, y: the
+// row); stage 3: per segment of a column (x: the column, y: the segment).
 void main() {
+#if AGREE_STAGE == 2
+    agree_rows_segment(gl_GlobalInvocationID.xy, pc.p);
+#elif AGREE_STAGE == 3
+    agree_column_segment(gl_GlobalInvocationID.xy, pc.p);
+#else
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
     if (!inside(t, pc.p.g)) return;
     uint i = uint(t.y) * pc.p.g.width + uint(t.x);
 #if AGREE_STAGE == 4
     e_buf[i] = agree_residual(t, pc.p);
-#elif AGREE_STAGE == 1
-    e_buf[i] = agree_error(t, pc.p);
-#elif AGREE_STAGE == 2
-    rows_buf[i] = agree_rows(t, pc.p);
 #else
-    given[i] = agree_pixel(t, pc.p);
+    e_buf[i] = agree_error(t, pc.p);
+#endif
 #endif
 }

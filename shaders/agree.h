@@ -24,7 +24,8 @@
 //      (change 37; as the motion's frame-0 test does, change 21). Where the field neither expands
 //      nor shrinks (s = 1) this is the plain test.
 //   2. Means of e over the box of side 2 radius + 1 around the pixel (clamped to the frame), as
-//      two separable stages: rows, then columns.
+//      two separable stages: rows, then columns, each a running sum along a segment of
+//      AGREE_SEGMENT pixels per invocation.
 //   3. w = clamp((ratio x mean e_given - mean e_colour - margin) / margin, 0, 1) x
 //      clamp(1 - mean e_colour / colour_limit, 0, 1) (where neither field explains the colour, the
 //      given frame is kept more; change 35); the result is mix(given frame, colour frame, w).
@@ -45,7 +46,9 @@
 //   float load_warped_depth(uint field, uint frame, uint i)
 //   uint  load_field_state(uint field, uint i)
 //   vec2  load_e(uint i), load_rows(uint i)
+//   void  store_rows(uint i, vec2 means)                 stage 2
 //   vec4  load_given(uint i), load_colour(uint i)
+//   void  store_agreed(uint i, vec4 colour)              stage 3
 //   vec4  load_given_field(uint i)                       the given field's (v0, v1) (stage 1)
 // and for stage 4:
 //   vec4  load_frame_colour(uint frame, uint i)          the inputs, frame 0 or 1 (newest)
@@ -98,24 +101,63 @@ FGSR_INLINE vec2 agree_error(ivec2 t, AgreeParams p) {
     return vec2(field_disagreement(0u, t, p), field_disagreement(1u, t, p));
 }
 
-// Stage 2: the mean of e along the row, within radius of t (clamped to the frame).
-FGSR_INLINE vec2 agree_rows(ivec2 t, AgreeParams p) {
-    int lo = max(t.x - int(p.radius), 0), hi = min(t.x + int(p.radius), int(p.g.width) - 1);
+// Stages 2 and 3 walk AGREE_SEGMENT pixels of a row (stage 2) or a column (stage 3) per invocation
+// with one running sum over the box's side: about 3 reads a pixel instead of 2 radius + 1 (the sum
+// is started afresh each segment, so its rounding does not build up along the frame).
+
+// Stage 2: the means of e along row s.y within radius of each pixel (clamped to the frame), for the
+// pixels of segment s.x.
+FGSR_INLINE void agree_rows_segment(uvec2 s, AgreeParams p) {
+    int w = int(p.g.width), r = int(p.radius);
+    int x0 = int(s.x * AGREE_SEGMENT);
+    if (x0 >= w || s.y >= p.g.height) return;
+    int x1 = min(x0 + int(AGREE_SEGMENT), w);
+    uint row = s.y * p.g.width;
+    int lo = max(x0 - r, 0), hi = min(x0 + r, w - 1);
     vec2 sum = vec2(0.0f);
-    for (int x = lo; x <= hi; ++x) sum += load_e(uint(t.y) * p.g.width + uint(x));
-    return sum / float(hi - lo + 1);
+    for (int x = lo; x <= hi; ++x) sum += load_e(row + uint(x));
+    for (int x = x0; x < x1; ++x) {
+        store_rows(row + uint(x), sum / float(hi - lo + 1));
+        if (x - r >= 0) { // the box of x + 1 leaves x - r behind
+            sum -= load_e(row + uint(x - r));
+            lo = x - r + 1;
+        }
+        if (x + r + 1 < w) { // ... and reaches x + r + 1
+            sum += load_e(row + uint(x + r + 1));
+            hi = x + r + 1;
+        }
+    }
 }
 
-// Stage 3: the box means along the column, the colour frame's weight and the result.
-FGSR_INLINE vec4 agree_pixel(ivec2 t, AgreeParams p) {
-    int lo = max(t.y - int(p.radius), 0), hi = min(t.y + int(p.radius), int(p.g.height) - 1);
-    vec2 sum = vec2(0.0f);
-    for (int y = lo; y <= hi; ++y) sum += load_rows(uint(y) * p.g.width + uint(t.x));
-    vec2 e = sum / float(hi - lo + 1);
+// Stage 3 at pixel i with its box means e: the colour frame's weight and the result.
+FGSR_INLINE vec4 agree_mix_pixel(uint i, vec2 e, AgreeParams p) {
     float w = clamp((p.ratio * e.x - e.y - p.margin) / max(p.margin, 1.0e-6f), 0.0f, 1.0f);
     if (p.colour_limit > 0.0f) w *= clamp((p.colour_limit - e.y) / p.colour_limit, 0.0f, 1.0f);
-    uint i = uint(t.y) * p.g.width + uint(t.x);
     return mix(load_given(i), load_colour(i), w);
+}
+
+// Stage 3: the box means along column s.x (of stage 2's row means), then the mix, for the pixels of
+// segment s.y.
+FGSR_INLINE void agree_column_segment(uvec2 s, AgreeParams p) {
+    int h = int(p.g.height), r = int(p.radius);
+    int y0 = int(s.y * AGREE_SEGMENT);
+    if (s.x >= p.g.width || y0 >= h) return;
+    int y1 = min(y0 + int(AGREE_SEGMENT), h);
+    int lo = max(y0 - r, 0), hi = min(y0 + r, h - 1);
+    vec2 sum = vec2(0.0f);
+    for (int y = lo; y <= hi; ++y) sum += load_rows(uint(y) * p.g.width + s.x);
+    for (int y = y0; y < y1; ++y) {
+        uint i = uint(y) * p.g.width + s.x;
+        store_agreed(i, agree_mix_pixel(i, sum / float(hi - lo + 1), p));
+        if (y - r >= 0) {
+            sum -= load_rows(uint(y - r) * p.g.width + s.x);
+            lo = y - r + 1;
+        }
+        if (y + r + 1 < h) {
+            sum += load_rows(uint(y + r + 1) * p.g.width + s.x);
+            hi = y + r + 1;
+        }
+    }
 }
 
 // Stage 4: one field's residual at frame-1 pixel t, and both fields' (given, colour).

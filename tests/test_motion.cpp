@@ -1474,6 +1474,75 @@ TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
     expect_no_validation_errors();
 }
 
+// The agree pass's box stages (stages 2 and 3) run a sum along segments of AGREE_SEGMENT pixels of a
+// row, then of a column. Against the box written out here (every pixel of the clamped box summed,
+// then the weight and the mix as agree.h's head states them), on random disagreements, on a frame
+// whose sides are not multiples of the segment, with a box smaller than a segment, one wider than
+// the frame, and a box of one pixel.
+TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
+    const uint32_t w = 77, h = 45;
+    const size_t n = size_t(w) * h;
+    ASSERT_NE(w % AGREE_SEGMENT, 0u);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> grey(0.f, 1.f);
+    // Grey warped frames on one surface (equal depths, no filled holes): a field's disagreement at
+    // a pixel is |sqrt(a) - sqrt(b)| of its two greys.
+    ref::Warped given_w{std::vector<glm::vec4>(2 * n), std::vector<float>(2 * n, 10.f)};
+    ref::Warped colour_w = given_w;
+    std::vector<glm::vec2> e(n);
+    auto bright = [](float v) {
+        return std::sqrt(std::clamp(0.2126f * v + 0.7152f * v + 0.0722f * v, 0.f, 1.f));
+    };
+    std::vector<glm::vec4> given(n), colour(n);
+    for (size_t i = 0; i < n; ++i) {
+        // Sparse strong disagreements on a weak background, so that weights span (0, 1).
+        const float a = grey(rng), b = grey(rng) < 0.2f ? grey(rng) : a, c = grey(rng),
+                    d = grey(rng) < 0.1f ? grey(rng) : c;
+        given_w.color[i] = glm::vec4(a, a, a, 1.f);
+        given_w.color[n + i] = glm::vec4(b, b, b, 1.f);
+        colour_w.color[i] = glm::vec4(c, c, c, 1.f);
+        colour_w.color[n + i] = glm::vec4(d, d, d, 1.f);
+        e[i] = glm::vec2(std::abs(bright(a) - bright(b)), std::abs(bright(c) - bright(d)));
+        given[i] = glm::vec4(grey(rng), grey(rng), grey(rng), 1.f);
+        colour[i] = glm::vec4(grey(rng), grey(rng), grey(rng), 1.f);
+    }
+    ref::Field given_f;
+    given_f.v.assign(n, glm::vec4(0.f));
+    given_f.state.assign(n, ref::kFieldSplatted);
+    const std::vector<uint32_t> colour_state(n, ref::kFieldSplatted);
+    ref::AgreeParams p =
+        params::agree_params(params::gen_params(internal_format(w, h), Params{}, 0.5f, false, true, true));
+    for (const uint32_t radius : {defaults::agree_radius, 60u, 0u}) {
+        SCOPED_TRACE("radius " + std::to_string(radius));
+        p.radius = radius;
+        const auto got = ref::agree(given_w, given_f, given, colour_w, colour_state, colour, p);
+        ASSERT_EQ(got.size(), n);
+        float largest = 0.f;
+        size_t mixed = 0;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                const int x0 = std::max(int(x) - int(radius), 0),
+                          x1 = std::min(int(x) + int(radius), int(w) - 1);
+                const int y0 = std::max(int(y) - int(radius), 0),
+                          y1 = std::min(int(y) + int(radius), int(h) - 1);
+                glm::dvec2 sum(0.0);
+                for (int yy = y0; yy <= y1; ++yy)
+                    for (int xx = x0; xx <= x1; ++xx) sum += glm::dvec2(e[size_t(yy) * w + size_t(xx)]);
+                const glm::dvec2 mean = sum / double((x1 - x0 + 1) * (y1 - y0 + 1));
+                double wc = std::clamp((p.ratio * mean.x - mean.y - p.margin) / p.margin, 0.0, 1.0);
+                wc *= std::clamp(1.0 - mean.y / p.colour_limit, 0.0, 1.0);
+                const size_t i = size_t(y) * w + x;
+                const glm::vec4 expected = given[i] + float(wc) * (colour[i] - given[i]);
+                largest = std::max(largest, glm::length(got[i] - expected));
+                mixed += wc > 0.05 && wc < 0.95 ? 1u : 0u;
+            }
+        EXPECT_LT(largest, 1e-4f);
+        if (radius > 0) {
+            EXPECT_GT(mixed, n / 20) << "the weights are not all 0 or 1";
+        }
+    }
+}
+
 // The agree pass on the GPU against the CPU reference (ref::agree) on the same inputs: the given
 // field's and the colour-only twin's warped frames and states (read back after an agreeing call),
 // each field's blend (ref::blend), on the sweeping shadow, where the pass changes the frame. Also

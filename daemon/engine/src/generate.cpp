@@ -12,6 +12,12 @@
 #include <cstring>
 
 namespace fgsr {
+namespace {
+// Invocations along a row or column of `pixels` in the agree pass's box stages (one per segment).
+uint32_t agree_segments(uint32_t pixels) {
+    return (pixels + AGREE_SEGMENT - 1) / AGREE_SEGMENT;
+}
+} // namespace
 
 Result<void> Session::Impl::ensure_outputs(size_t count) {
     while (outputs.size() < count) {
@@ -370,13 +376,15 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
             at<AGREE_COLOUR>(colour.outputs[k]), at<AGREE_E>(agree_e), at<AGREE_ROWS>(agree_rows),
             at<AGREE_GIVEN_FIELD>(unused(colour_mv)));
     };
-    for (Variant v : {Variant::agree_residual, Variant::agree_rows}) {
-        FGSR_TRY(rec.dispatch_pixels(v, slots(0), &p, format.width, format.height));
-        rec.barrier();
-    }
+    FGSR_TRY(rec.dispatch_pixels(Variant::agree_residual, slots(0), &p, format.width, format.height));
+    rec.barrier();
+    FGSR_TRY(
+        rec.dispatch_pixels(Variant::agree_rows, slots(0), &p, agree_segments(format.width), format.height));
+    rec.barrier();
     rec.timestamp(1);
     for (size_t k = 0; k < alphas.size(); ++k) {
-        FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix, slots(k), &p, format.width, format.height));
+        FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix, slots(k), &p, format.width,
+                                     agree_segments(format.height)));
         rec.barrier();
         rec.timestamp(uint32_t(k) + 2);
     }
@@ -430,10 +438,12 @@ Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& co
         at<AGREE_ROWS>(agree_rows), at<AGREE_GIVEN_FIELD>(field));
     FGSR_TRY(rec.begin());
     rec.timestamp(0);
-    for (Variant v : {Variant::agree_error, Variant::agree_rows, Variant::agree_mix}) {
-        FGSR_TRY(rec.dispatch_pixels(v, b, &p, format.width, format.height));
-        rec.barrier();
-    }
+    FGSR_TRY(rec.dispatch_pixels(Variant::agree_error, b, &p, format.width, format.height));
+    rec.barrier();
+    FGSR_TRY(rec.dispatch_pixels(Variant::agree_rows, b, &p, agree_segments(format.width), format.height));
+    rec.barrier();
+    FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix, b, &p, format.width, agree_segments(format.height)));
+    rec.barrier();
     rec.timestamp(1);
     FGSR_TRY(rec.finish(true));
     auto t = rec.read_times(0, 1);

@@ -143,6 +143,9 @@ struct AgreeCpu {
     uint load_field_state(uint field, uint i) const { return (*field_states[field])[i]; }
     vec2 load_e(uint i) const { return e_buf[i]; }
     vec2 load_rows(uint i) const { return rows_buf[i]; }
+    void store_rows(uint i, vec2 v) { rows_buf[i] = v; }
+    std::vector<vec4>* agreed = nullptr; // stage 3's output
+    void store_agreed(uint i, vec4 c) { (*agreed)[i] = c; }
     vec4 load_given(uint i) const { return (*frames[0])[i]; }
     vec4 load_colour(uint i) const { return (*frames[1])[i]; }
 #include "field.h"
@@ -441,7 +444,7 @@ std::vector<glm::vec4> blend(const InternalFrame& f0, const InternalFrame& f1, c
 }
 
 // The agree pass's stages over every pixel: the first (`first`: stage 1 or 4, e per pixel), the box's
-// rows, then its columns and the mix.
+// rows, then its columns and the mix (stages 2 and 3 per segment, as the GPU runs them).
 namespace {
 template <class First>
 std::vector<glm::vec4> agree_stages(gpu::AgreeCpu& cpu, const AgreeParams& p, First first) {
@@ -453,9 +456,14 @@ std::vector<glm::vec4> agree_stages(gpu::AgreeCpu& cpu, const AgreeParams& p, Fi
             for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
     };
     each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = first(t); });
-    each([&](glm::ivec2 t, size_t i) { cpu.rows_buf[i] = cpu.agree_rows(t, p); });
+    const uint32_t segments_x = (p.g.width + AGREE_SEGMENT - 1) / AGREE_SEGMENT;
+    const uint32_t segments_y = (p.g.height + AGREE_SEGMENT - 1) / AGREE_SEGMENT;
+    for (uint32_t y = 0; y < p.g.height; ++y)
+        for (uint32_t sx = 0; sx < segments_x; ++sx) cpu.agree_rows_segment(glm::uvec2(sx, y), p);
     std::vector<glm::vec4> out(n);
-    each([&](glm::ivec2 t, size_t i) { out[i] = cpu.agree_pixel(t, p); });
+    cpu.agreed = &out;
+    for (uint32_t sy = 0; sy < segments_y; ++sy)
+        for (uint32_t x = 0; x < p.g.width; ++x) cpu.agree_column_segment(glm::uvec2(x, sy), p);
     return out;
 }
 } // namespace
