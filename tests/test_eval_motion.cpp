@@ -251,6 +251,31 @@ TEST(EvalMotionTiming, MotionPassesAddToTheFrame) {
     EXPECT_NEAR(c["ms"].get<double>(), all, 1e-6 * all) << "ms is the sum of every pass, motion included";
 }
 
+// eval reports the median GPU time of the generated frames beside their mean: one slow frame (a
+// pipeline compiled at its first dispatch, a neighbour's build) moves the mean, not the median.
+TEST(EvalMotionTiming, MedianOfTheFramesBesideTheMean) {
+    for (const std::vector<double>& ms :
+         {std::vector<double>{1.0, 10.0, 3.0}, std::vector<double>{1.0, 10.0, 3.0, 5.0}}) {
+        cli::EvalReport r;
+        r.method_order = {"fgsr"};
+        cli::MethodScore& s = r.methods["fgsr"];
+        for (double v : ms) {
+            GeneratedFrame f;
+            f.gpu_ms = v;
+            cli::add_timing(s, f);
+            s.psnr.push_back(30.0);
+            s.ssim.push_back(0.9);
+        }
+        cli::finish_means(r);
+        const double mean = ms.size() == 3 ? 14.0 / 3.0 : 19.0 / 4.0, median = ms.size() == 3 ? 3.0 : 4.0;
+        EXPECT_DOUBLE_EQ(r.methods["fgsr"].mean_ms, mean);
+        EXPECT_DOUBLE_EQ(r.methods["fgsr"].median_ms, median);
+        const nlohmann::json j = nlohmann::json::parse(cli::report_json(r, false));
+        EXPECT_DOUBLE_EQ(j["methods"]["fgsr"]["ms"].get<double>(), mean);
+        EXPECT_DOUBLE_EQ(j["methods"]["fgsr"]["ms_median"].get<double>(), median);
+    }
+}
+
 // A cut the capture does not flag (the inputs from 5 on come from another scene): the colour-only
 // session detects it and refuses the pair across it; eval shows the nearest input there, counts
 // it and carries on (it used to stop the whole evaluation with the refusal). The session with the

@@ -127,7 +127,15 @@ void finish_means(EvalReport& report) {
         const double n = double(s.psnr.size());
         for (double v : s.psnr) s.mean_psnr += v / n;
         for (double v : s.ssim) s.mean_ssim += v / n;
-        if (!s.ms_samples.empty()) s.mean_ms /= double(s.ms_samples.size());
+        if (!s.ms_samples.empty()) {
+            s.mean_ms /= double(s.ms_samples.size());
+            std::vector<double> v = s.ms_samples;
+            const size_t mid = v.size() / 2;
+            std::nth_element(v.begin(), v.begin() + long(mid), v.end());
+            s.median_ms = v[mid];
+            if (v.size() % 2 == 0) // the mean of the two middle samples
+                s.median_ms = 0.5 * (s.median_ms + *std::max_element(v.begin(), v.begin() + long(mid)));
+        }
         for (auto& [pass, ms] : s.pass_ms) ms /= double(std::max<size_t>(s.pass_samples[pass].size(), 1));
         for (double v : s.epe) s.mean_epe += v / double(s.epe.size());
     }
@@ -370,6 +378,7 @@ std::string report_json(const EvalReport& r, bool per_frame) {
         jm["psnr"] = s.mean_psnr;
         jm["ssim"] = s.mean_ssim;
         jm["ms"] = s.mean_ms;
+        jm["ms_median"] = s.median_ms;
         if (s.scores_vectors)
             jm["epe"] = s.epe.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(s.mean_epe);
         if (is_engine_method(m)) jm["scene_cuts"] = s.scene_cuts;
@@ -402,8 +411,8 @@ std::string report_table(const EvalReport& r) {
         fmt::format("capture {} ({}x{}), mode {}, alpha {}, {} frames{}{}\n", r.capture, r.width, r.height,
                     r.mode, r.alpha, r.frames, r.composed_vectors ? ", composed two-frame vectors" : "",
                     r.device.empty() ? "" : ", device " + r.device);
-    s += fmt::format("{:<13} {:>9} {:>7} {:>9} {:>8}   per pass (ms)\n", "method", "PSNR dB", "SSIM",
-                     "GPU ms", "EPE px");
+    s += fmt::format("{:<13} {:>9} {:>7} {:>9} {:>9} {:>8}   per pass (ms, means)\n", "method", "PSNR dB",
+                     "SSIM", "GPU ms", "median", "EPE px");
     for (const std::string& m : r.method_order) {
         const MethodScore& ms = r.methods.at(m);
         std::string passes;
@@ -411,8 +420,8 @@ std::string report_table(const EvalReport& r) {
         const std::string epe = !ms.scores_vectors ? ""
                                 : ms.epe.empty()   ? "-"
                                                    : fmt::format("{:.3f}", ms.mean_epe);
-        s += fmt::format("{:<13} {:>9.2f} {:>7.4f} {:>9.2f} {:>8}   {}\n", m, ms.mean_psnr, ms.mean_ssim,
-                         ms.mean_ms, epe, passes);
+        s += fmt::format("{:<13} {:>9.2f} {:>7.4f} {:>9.2f} {:>9.2f} {:>8}   {}\n", m, ms.mean_psnr,
+                         ms.mean_ssim, ms.mean_ms, ms.median_ms, epe, passes);
         std::string skipped;
         for (const char* p : kPassOrder)
             if (ms.pass_tiles.count(p) && p != std::string("classify"))

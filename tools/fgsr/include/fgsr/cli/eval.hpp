@@ -53,6 +53,7 @@ struct MethodScore {
     std::vector<double> psnr, ssim; // per generated frame
     double mean_psnr = 0, mean_ssim = 0;
     double mean_ms = 0;                    // engine GPU milliseconds per generated frame (0 for baselines)
+    double median_ms = 0;                  // ... their median (one slow frame moves the mean, not this)
     std::map<std::string, double> pass_ms; // mean per pass over the frames it ran for (its runs' sum)
     // Every timed engine call (one per generated frame): total and per-pass GPU milliseconds.
     std::vector<double> ms_samples;
