@@ -318,11 +318,11 @@ struct PolishParams {
     uint block_shift;  // blocks of MOTION_BLOCK << shift frame pixels, vectors x 2^shift
 };
 
-// agree.h: interpolation in sessions with vectors that also generate from colour-only motion
-// (Params::colour_agree), one stage per dispatch (agree.comp, AGREE_STAGE).
 // Pixels per invocation of the agree pass's box stages (agree.h stages 2 and 3): a segment of a row,
 // then of a column.
 #define AGREE_SEGMENT 32u
+// agree.h: interpolation in sessions with vectors that also generate from colour-only motion
+// (Params::colour_agree), one stage per dispatch (agree.comp, AGREE_STAGE).
 struct AgreeParams {
     GenParams g;  // the generated frame's (both fields' blend decisions: t_depth)
     uint radius;  // the box's half side, pixels
