@@ -13,6 +13,9 @@
 // has nothing to go by (flat, noise) or where every pixel disagrees with its given vector (the pan).
 // Two run with fast motion estimation too (Params::fast_motion: the vectors without refinement):
 // flat colour that brightens and noise, where nothing but the refinement smooths the estimate.
+// The same three with zero vectors given run in sessions that also generate from colour-only motion
+// (Params::colour_agree: the agree pass, its box by running sums over 32-pixel segments), with noise
+// at sizes whose sides are 1, 7, 23, 33 and 65 pixels (no full segment, a partial last one).
 #include "stress_internal.hpp"
 
 #include <cmath>
@@ -93,14 +96,15 @@ const std::vector<float> kExtrap = {1e-6f, 0.5f, 1.f};
 // Three frames made by `frame(k)`: every request after the second and the third (SR outputs with
 // a scale), then one more interpolation.
 Case sequence_case(std::string name, std::string checks, const FrameFormat& f, float scale,
-                   std::function<Frame(int)> frame, bool fast_motion = false) {
+                   std::function<Frame(int)> frame, bool fast_motion = false, bool agree = false) {
     const bool sr = scale > 1.f;
     Case c;
     c.name = sr ? name + "/sr" : std::move(name);
     c.checks = std::move(checks);
     c.format = f;
     c.params = params_of(scale);
-    c.params.correct_vectors = f.has_vectors; // the corrected/* cases below
+    c.params.correct_vectors = f.has_vectors && !agree; // the corrected/* cases below
+    c.params.colour_agree = agree;                      // the agreeing/* cases (scale 1)
     c.params.fast_motion = fast_motion;
     c.cpu_reference = false; // the CPU reference has no motion estimation; GPU-CPU tests are the passes'
     c.max_seconds = kMaxSeconds;
@@ -165,6 +169,27 @@ void add_colour_only_cases(std::vector<Case>& out) {
     out.push_back(sequence_case("corrected/pan-216px",
                                 "corrected vectors: 480x270, full-frame pan of 216 px per frame, given zero",
                                 zf, 1.f, [zf](int k) { return panned(zf, glm::vec2(216.f * float(k), 0.f), 7); }));
+
+    // The same content with zero vectors and depth given, in sessions that also generate from
+    // colour-only motion and take per pixel the field whose warped frames agree.
+    out.push_back(sequence_case(
+        "agreeing/flat-changing", "colour_agree: flat colour that brightens every frame, zero vectors given",
+        z, 1.f, [z](int k) { return flat(z, 0.2f + 0.3f * float(k)); }, false, true));
+    out.push_back(sequence_case(
+        "agreeing/noise", "colour_agree: independent uniform noise every frame, zero vectors given", z, 1.f,
+        [z](int k) { return noise(z, uint32_t(k)); }, false, true));
+    out.push_back(sequence_case(
+        "agreeing/pan-216px", "colour_agree: 480x270, full-frame pan of 216 px per frame, zero vectors given",
+        zf, 1.f, [zf](int k) { return panned(zf, glm::vec2(216.f * float(k), 0.f), 7); }, false, true));
+    for (const glm::uvec2 size :
+         {glm::uvec2(1, 1), glm::uvec2(7, 1), glm::uvec2(1, 7), glm::uvec2(37, 23), glm::uvec2(33, 65)}) {
+        const FrameFormat a = format_of(size.x, size.y);
+        const std::string wh = std::to_string(size.x) + "x" + std::to_string(size.y);
+        out.push_back(sequence_case(
+            "agreeing/noise-" + wh,
+            "colour_agree: " + wh + " frames of independent noise, zero vectors given", a, 1.f,
+            [a](int k) { return noise(a, uint32_t(k)); }, false, true));
+    }
 
     // A cut the client does not flag: two frames of one scene (a slow pan), then another scene.
     const FrameFormat g = colour_format(96, 54);
