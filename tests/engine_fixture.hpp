@@ -61,11 +61,6 @@ inline RawFrame make_raw(const std::vector<glm::vec4>& color, const std::vector<
     return RawFrame{bytes_of(color), bytes_of(depth), mv.empty() ? std::vector<std::byte>{} : bytes_of(mv)};
 }
 
-// What session s measured of its input, as the engine passes it to params::gen_params / sr_params.
-inline params::InputMeasure input_measure_of(const Session& s) {
-    return params::InputMeasure{s.input_aliasing(), s.input_jittered()};
-}
-
 inline ref::InternalFrame to_internal(const Session::InternalFrameData& d, uint32_t w, uint32_t h) {
     ref::InternalFrame f;
     f.width = w;

@@ -1342,7 +1342,7 @@ TEST(Blend, ApproachedGroundIsMixedLikeGroundAtOneDepth) {
             const auto expected =
                 ref::generate(f0, f1,
                               params::gen_params(internal_format(scene.w, scene.h), p, alpha, false, true,
-                                                 true, input_measure_of(*s)));
+                                                 true, params::input_measure(*s)));
             const std::vector<float>& got = r->front().color.rgba;
             size_t differ = 0;
             for (size_t i = 0; i < n; ++i)
@@ -1582,8 +1582,8 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
             ASSERT_TRUE(im->colour) << "the colour-only twin's intermediates";
             const size_t n = size_t(w) * h;
             const ref::Warped given_w = warped_of(*im), colour_w = warped_of(*im->colour);
-            const ref::AgreeParams ap = params::agree_params(
-                params::gen_params(internal_format(w, h), p, alpha, false, true, true, input_measure_of(*s)));
+            const ref::AgreeParams ap = params::agree_params(params::gen_params(
+                internal_format(w, h), p, alpha, false, true, true, params::input_measure(*s)));
             ref::Field given_f, colour_f;
             given_f.state = im->field_state;
             given_f.v.resize(n);
@@ -1661,7 +1661,7 @@ TEST(Motion, AgreeExtrapolationGpuMatchesTheCpuReference) {
     for (size_t i = 0; i < n; ++i) colour_mv[i] = glm::vec2(cf->mv[2 * i], cf->mv[2 * i + 1]);
     for (size_t k = 0; k < alphas.size(); ++k) {
         const ref::AgreeParams ap = params::agree_params(params::gen_params(
-            internal_format(w, h), agreeing, alphas[k], true, true, true, input_measure_of(*a)));
+            internal_format(w, h), agreeing, alphas[k], true, true, true, params::input_measure(*a)));
         const auto expected =
             ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
                                     vec4s((*g)[k].color), vec4s((*c)[k].color), ap);

@@ -134,7 +134,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     auto pre = session.read_intermediates();
     ASSERT_TRUE(pre);
     ref::GenParams g =
-        params::gen_params(fmt, params, c.alpha, c.extrapolate, true, true, input_measure_of(session));
+        params::gen_params(fmt, params, c.alpha, c.extrapolate, true, true, params::input_measure(session));
     ref::Splat sp = ref::splat(f0, f1, g);
     size_t key_diff = 0, occupied = 0;
     double motion_err = 0;
@@ -181,7 +181,7 @@ TEST_P(PassesMatchReference, EveryPass) {
 
     params.fill_holes = true;
     session.set_params(params);
-    g = params::gen_params(fmt, params, c.alpha, c.extrapolate, true, true, input_measure_of(session));
+    g = params::gen_params(fmt, params, c.alpha, c.extrapolate, true, true, params::input_measure(session));
     auto out = c.extrapolate ? session.extrapolate(alphas) : session.interpolate(alphas);
     ASSERT_TRUE(out) << out.error().message;
     auto post = session.read_intermediates();

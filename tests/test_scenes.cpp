@@ -788,7 +788,7 @@ WarpRun run_warp(const MovingPattern& scene, WarpKernel kernel, bool colour_only
     if (f0 && f1 && !colour_only)
         r.reference = ref::generate(to_internal(*f0, scene.w, scene.h), to_internal(*f1, scene.w, scene.h),
                                     params::gen_params(internal_format(scene.w, scene.h), p, 0.5f, false,
-                                                       true, true, input_measure_of(**s)));
+                                                       true, true, params::input_measure(**s)));
     return r;
 }
 

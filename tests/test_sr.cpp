@@ -628,7 +628,7 @@ TEST(Sr, PassMatchesReference) {
             std::vector<glm::vec4> hist(size_t(4 * w * h));
             std::memcpy(hist.data(), history->color.rgba.data(), hist.size() * 16);
             const ref::SrParams sp = params::sr_params(internal_format(w, h), p, 2 * w, 2 * h, v1.jitter_x,
-                                                       v1.jitter_y, true, input_measure_of(**s));
+                                                       v1.jitter_y, true, params::input_measure(**s));
             EXPECT_GT((*s)->input_aliasing(), defaults::antialiased_aliasing);
             const Lut lut = default_lut(2.f);
             auto expect = ref::super_resolve(cur, g0->depth, hist, sp, lut.weights);
@@ -824,7 +824,8 @@ TEST(Sr, JointPassMatchesReference) {
         std::vector<glm::vec4> src(size_t(4) * n);
         std::memcpy(src.data(), prev_out->color.rgba.data(), src.size() * 16);
         const FrameFormat fmt = internal_format(w, h);
-        const ref::GenParams g = params::gen_params(fmt, p, 0.5f, extrap, true, true, input_measure_of(**s));
+        const ref::GenParams g =
+            params::gen_params(fmt, p, 0.5f, extrap, true, true, params::input_measure(**s));
         const ref::SrParams sr = params::generate_sr_params(fmt, p, 2 * w, 2 * h, v_jitter(2), 0.f);
         auto expect = ref::generate_sr(in->f0, in->f1, in->splat, src, g, sr, default_lut(2.f).weights);
         double err = 0;

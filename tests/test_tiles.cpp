@@ -199,7 +199,7 @@ size_t expect_classify_matches(uint32_t w, uint32_t h, uint32_t seed) {
             const ref::InternalFrame f0 = to_internal(*(*s)->read_frame(0), w, h);
             const ref::InternalFrame f1 = to_internal(*(*s)->read_frame(1), w, h);
             ref::ClassifyParams c{};
-            c.g = params::gen_params(fmt, p, alpha, false, true, true, input_measure_of(**s));
+            c.g = params::gen_params(fmt, p, alpha, false, true, true, params::input_measure(**s));
             c.tile = tile;
             c.mode = CLASSIFY_GENERATE;
             const std::vector<uint32_t> want = ref::classify(f0, f1, c);
@@ -260,7 +260,7 @@ TEST(Tiles, StillPairIsStaticInBothForms) {
         const ref::InternalFrame f0 = to_internal(*(*s)->read_frame(0), w, h);
         const ref::InternalFrame f1 = to_internal(*(*s)->read_frame(1), w, h);
         const ref::GenParams gp =
-            params::gen_params(fmt, Params{}, alpha, false, true, true, input_measure_of(**s));
+            params::gen_params(fmt, Params{}, alpha, false, true, true, params::input_measure(**s));
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x) {
                 const glm::vec4 e = ref::copy_through(f0, f1, glm::ivec2(int(x), int(y)), gp);

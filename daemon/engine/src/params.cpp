@@ -169,6 +169,10 @@ gpu::AgreeParams agree_params(const GenParams& g) {
     return p;
 }
 
+InputMeasure input_measure(const Session& s) {
+    return InputMeasure{s.input_aliasing(), s.input_jittered()};
+}
+
 GenParams gen_params(const FrameFormat& format, const Params& params, float alpha, bool extrapolate,
                      bool frame0_has_mv, bool frame1_has_mv, InputMeasure input) {
     GenParams g{};

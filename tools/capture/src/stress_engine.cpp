@@ -273,9 +273,9 @@ class Runner {
         if (sr) {
             // The session's measure of its input decides Params::sr_disagree and the spatial
             // upsample's kernel (shaders/sr.h steps 5, 6).
-            const ref::SrParams p = params::sr_params(
-                f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
-                !restart && cs_.hr_valid && cur.has_mv, params::InputMeasure{s.input_aliasing(), s.input_jittered()});
+            const ref::SrParams p =
+                params::sr_params(f, c_.params, s.output_width(), s.output_height(), fr.jitter_x, fr.jitter_y,
+                                  !restart && cs_.hr_valid && cur.has_mv, params::input_measure(s));
             if (cs_.hr_new.empty()) cs_.hr_new.assign(size_t(p.hr_width) * p.hr_height, glm::vec4(0.f));
             const std::vector<float>& prev_depth = cs_.frames > 0 ? cs_.f1.depth : cur.depth;
             std::vector<glm::vec4> out = ref::super_resolve(cur, prev_depth, cs_.hr_new, p, lut);
@@ -301,9 +301,8 @@ class Runner {
         size_t k = 0;
         const bool extrap = st.op == Op::extrapolate;
         for (float a : st.alphas) {
-            const ref::GenParams g =
-                params::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv, cs_.f1.has_mv,
-                                   params::InputMeasure{s.input_aliasing(), s.input_jittered()});
+            const ref::GenParams g = params::gen_params(c_.format, c_.params, a, extrap, cs_.f0.has_mv,
+                                                        cs_.f1.has_mv, params::input_measure(s));
             std::vector<glm::vec4> out;
             if (sr) {
                 const ref::Splat sp = ref::splat(cs_.f0, cs_.f1, g);

@@ -1,5 +1,6 @@
 #include <fgsr/cli/eval.hpp>
 
+#include <fgsr/cli/bench.hpp> // median
 #include <fgsr/cli/capture_spec.hpp>
 #include <fgsr/cli/eval_motion.hpp>
 
@@ -129,12 +130,7 @@ void finish_means(EvalReport& report) {
         for (double v : s.ssim) s.mean_ssim += v / n;
         if (!s.ms_samples.empty()) {
             s.mean_ms /= double(s.ms_samples.size());
-            std::vector<double> v = s.ms_samples;
-            const size_t mid = v.size() / 2;
-            std::nth_element(v.begin(), v.begin() + long(mid), v.end());
-            s.median_ms = v[mid];
-            if (v.size() % 2 == 0) // the mean of the two middle samples
-                s.median_ms = 0.5 * (s.median_ms + *std::max_element(v.begin(), v.begin() + long(mid)));
+            s.median_ms = median(s.ms_samples);
         }
         for (auto& [pass, ms] : s.pass_ms) ms /= double(std::max<size_t>(s.pass_samples[pass].size(), 1));
         for (double v : s.epe) s.mean_epe += v / double(s.epe.size());

@@ -34,6 +34,9 @@ struct InputMeasure {
     float aliasing = -1.f; // aliasing_ratio of the first frames; negative: not measured
     bool jittered = false; // some frame so far carried jitter
 };
+// What session s measured of its input (its input_aliasing and input_jittered), as the engine
+// passes it to gen_params and sr_params: for tools and tests that rebuild a session's push constants.
+InputMeasure input_measure(const Session& s);
 
 // The push constants the engine uses for one generated frame. The input measure decides
 // WarpKernel::automatic (the cubic in interpolation where the input measures antialiased).
