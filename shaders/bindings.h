@@ -113,7 +113,8 @@
 #define POLISH_MV 2   // the current frame's vectors (vec2, internal convention), written ...
 #define POLISH_MV_TEXELS 3 // ... and read as RG32F texels (a dispatch never reads what it writes)
 #define POLISH_FIELD 4     // the block field (RGBA32F texels; read by the polish_seed build)
-#define POLISH_COUNT 5
+#define POLISH_PATCHES 5   // the patches' vectors (vec4; the polish_search and polish_densify builds)
+#define POLISH_COUNT 6
 #define POLISH_TEXELS                                                                                        \
     ((1u << POLISH_CUR) | (1u << POLISH_PREV) | (1u << POLISH_MV_TEXELS) | (1u << POLISH_FIELD))
 

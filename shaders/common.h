@@ -226,6 +226,7 @@ struct DenoiseParams {
 // matching coarse to fine in both directions, then per-pixel vectors, consistency and depth proxy.
 #define MOTION_BLOCK 8u       // block side in pixels of its pyramid level
 #define MOTION_MAX_LEVELS 6u  // pyramid levels, the finest (full resolution) included
+#define SEARCH_PATCH 8        // side in pixels of search.h's patches
 #define MOTION_MIN_SIDE 16u   // a coarser level is added while its smaller side stays >= this
 #define LUMA_GAIN_LANES 64u   // lanes of the lighting gain's histogram stage (luma.h; one workgroup)
 #define LUMA_GAIN_BINS 256u   // bins of the lighting gain's histogram (luma.h)
@@ -316,6 +317,16 @@ struct PolishParams {
     uint blocks_y;
     uint block_offset; // its current -> previous blocks in the block field
     uint block_shift;  // blocks of MOTION_BLOCK << shift frame pixels, vectors x 2^shift
+    // The polish_search and polish_densify builds (search.h): the level's patch grid.
+    uint patches_x;
+    uint patches_y;
+    uint patch_stride; // pixels between the patches' origins
+    uint search_steps; // Gauss-Newton steps of each patch
+    // The patches' vectors in the patch buffer: those read (MOTION_NONE: start from the seeded
+    // field; else each patch starts from the best of its own and its four neighbours' there) and
+    // those written (search), or read (densify).
+    uint patch_in;
+    uint patch_out;
 };
 
 // Pixels per invocation of the agree pass's box stages (agree.h stages 2 and 3): a segment of a row,
@@ -434,7 +445,7 @@ static_assert(sizeof(ClassifyParams) == 84 && offsetof(ClassifyParams, tile) == 
               "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
-                  sizeof(PolishParams) == 72,
+                  sizeof(PolishParams) == 96,
               "motion push constants");
 static_assert(sizeof(AgreeParams) == 72, "agree push constants");
 } // namespace fgsr::gpu

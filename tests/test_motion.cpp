@@ -30,6 +30,22 @@ struct FlowHeader {
     void store_flow(uint, vec2, float, bool) {}
 #include "flow.h"
 };
+// shaders/polish.h and search.h on one level held in host vectors (luma_offset and mv_offset 0).
+struct SearchHeader {
+    std::vector<float> cur_luma, prev_luma;
+    std::vector<vec2> field;   // the level's seeded field
+    std::vector<vec4> patches; // the patch buffer
+    float load_cur(uint i) const { return cur_luma[i]; }
+    float load_prev(uint i) const { return prev_luma[i]; }
+    vec2 load_mv(uint i) const { return field[i]; }
+    vec2 load_field_vector(uint i) const { return field[i]; }
+    void store_mv(uint i, vec2 v) { field[i] = v; }
+    vec4 load_field(uint) const { return vec4(0.0f); }
+    vec4 load_patch(uint i) const { return patches[i]; }
+    void store_patch(uint i, vec4 v) { patches[i] = v; }
+#include "polish.h"
+#include "search.h"
+};
 } // namespace
 } // namespace fgsr::gpu
 // clang-format on
@@ -84,10 +100,11 @@ double psnr(const std::vector<float>& a, const std::vector<glm::vec4>& b) {
     return 10.0 * std::log10(1.0 / std::max(se / double(b.size() * 3), 1e-12));
 }
 
-// fast: Params::fast_motion (no refinement at any size).
-void expect_gpu_matches_cpu(uint32_t w, uint32_t h, bool fast = false) {
+// fast: Params::fast_motion (no refinement at any size); search: Params::motion_search.
+void expect_gpu_matches_cpu(uint32_t w, uint32_t h, bool fast = false, bool search = false) {
     Params params;
     params.fast_motion = fast;
+    params.motion_search = search;
     auto s = session_of(colour_only(w, h), params);
     ASSERT_TRUE(s);
     const RawFrame f0 = render(w, h, [](glm::vec2 p) { return texture(p, 1); });
@@ -98,8 +115,9 @@ void expect_gpu_matches_cpu(uint32_t w, uint32_t h, bool fast = false) {
     ASSERT_TRUE(gpu);
     ASSERT_TRUE(gpu->has_mv);
     EXPECT_FALSE(s->last_scene_cut());
-    // The refinement runs up to kPolishMaxPixels only, and not with fast motion estimation.
-    const bool polished = !fast && ref::polishes(w, h);
+    // The refinement runs up to kPolishMaxPixels only (its coarse levels at any size with the
+    // search), and not with fast motion estimation.
+    const bool polished = !fast && (ref::polishes(w, h) || search);
     ASSERT_EQ(s->last_motion_timings().size(), polished ? 4u : 3u);
     EXPECT_EQ(s->last_motion_timings()[0].pass, PassId::luma);
     EXPECT_EQ(s->last_motion_timings()[2].pass, PassId::flow);
@@ -112,7 +130,8 @@ void expect_gpu_matches_cpu(uint32_t w, uint32_t h, bool fast = false) {
     ref::InternalFrame c0 = to_internal(*r0, w, h), c1 = to_internal(*gpu, w, h);
     c1.has_mv = false;
     std::vector<glm::vec4> field;
-    const ref::MotionSummary summary = ref::estimate_motion(c0, c1, true, field, {}, fast);
+    const ref::MotionSummary summary =
+        ref::estimate_motion(c0, c1, true, field, {}, fast, -1.f, true, true, search);
     EXPECT_FALSE(summary.cut);
     ASSERT_TRUE(c1.has_mv);
     size_t differ = 0, differ_01 = 0;
@@ -186,6 +205,129 @@ TEST(Motion, GpuPassesMatchTheCpuReferenceAboveTheHalfResolutionThreshold) {
     ASSERT_EQ(ref::motion_first_level(ref::motion_levels(w, h)), 1u);
     ASSERT_FALSE(ref::polishes(w, h));
     expect_gpu_matches_cpu(w, h);
+}
+
+TEST(Motion, PatchSearchGpuPassesMatchTheCpuReference) {
+    // Params::motion_search: the coarse levels' patch search, its propagation rounds and the
+    // densification (shaders/search.h) before their sweeps, at a size the sweeps run at ...
+    expect_gpu_matches_cpu(150, 94, false, true);
+    // ... and above kPolishMaxPixels, where the coarse levels are searched without sweeps and
+    // level 0 is not refined.
+    ASSERT_FALSE(ref::polishes(1282, 722));
+    expect_gpu_matches_cpu(1282, 722, false, true);
+}
+
+// search.h's patch grid: the last patch of a side ends at the level's edge, every pixel lies in a
+// patch, and the densification's index ranges (search_cover) hold every patch that covers a pixel
+// (all patches tested).
+TEST(MotionSearch, EveryPixelLiesInAPatchAndTheCoverRangesHoldThemAll) {
+    gpu::SearchHeader hdr;
+    for (uint32_t w : {8u, 9u, 16u, 17u, 23u, 31u, 60u, 61u, 121u})
+        for (uint32_t stride : {2u, 3u, 4u, 5u, 8u}) {
+            gpu::PolishParams p{};
+            p.width = w;
+            p.height = 8;
+            p.patch_stride = stride;
+            p.patches_x = ref::search_patches(w, stride);
+            p.patches_y = 1;
+            const glm::ivec2 last = hdr.search_origin(glm::uvec2(p.patches_x - 1, 0), p);
+            EXPECT_EQ(last.x + SEARCH_PATCH, int(w)) << w << " / " << stride;
+            for (int x = 0; x < int(w); ++x) {
+                const glm::ivec2 range = hdr.search_cover(x, p.patches_x, stride);
+                int covering = 0;
+                for (uint32_t i = 0; i < p.patches_x; ++i) {
+                    const int o = hdr.search_origin(glm::uvec2(i, 0), p).x;
+                    if (x < o || x >= o + SEARCH_PATCH) continue;
+                    ++covering;
+                    EXPECT_TRUE(int(i) >= range.x && int(i) <= range.y)
+                        << "width " << w << ", stride " << stride << ", pixel " << x << ", patch " << i;
+                }
+                EXPECT_GE(covering, 1) << "width " << w << ", stride " << stride << ", pixel " << x;
+            }
+        }
+}
+
+// One level of search.h on an analytic pattern moved by a known sub-pixel vector. The seeded field
+// is 1.9 px off everywhere and 7.8 px off in a square of 12 x 12 pixels (the patches seeded there
+// lie up to two patches from one seeded near; kSearchRounds reach them): the first round's
+// Gauss-Newton steps bring the patches seeded near the truth to it (within 0.1 px), not those
+// seeded far off; the
+// propagation rounds give those their neighbours' vectors, and the densified field is the truth.
+TEST(MotionSearch, PatchesConvergeToAnAnalyticTranslationAndPropagateIt) {
+    const uint32_t w = 72, h = 56;
+    const glm::vec2 truth(1.3f, -0.7f); // current -> previous: prev(p + truth) = cur(p)
+    const auto pattern = [](glm::vec2 p) {
+        return 0.4f + 0.15f * std::sin(0.61f * p.x + 0.27f * p.y) +
+               0.1f * std::cos(0.43f * p.y - 0.39f * p.x) + 0.08f * std::sin(0.47f * p.x + 0.36f * p.y);
+    };
+    gpu::SearchHeader hdr;
+    hdr.cur_luma.resize(size_t(w) * h);
+    hdr.prev_luma.resize(size_t(w) * h);
+    hdr.field.resize(size_t(w) * h);
+    const glm::ivec2 far0(28, 20); // the square seeded far off
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const glm::vec2 c{float(x), float(y)};
+            const size_t i = size_t(y) * w + x;
+            hdr.cur_luma[i] = pattern(c);
+            hdr.prev_luma[i] = pattern(c - truth);
+            const bool far =
+                int(x) >= far0.x && int(x) < far0.x + 12 && int(y) >= far0.y && int(y) < far0.y + 12;
+            hdr.field[i] = truth + (far ? glm::vec2(6.1f, 4.9f) : glm::vec2(1.5f, -1.2f));
+        }
+    gpu::PolishParams p{};
+    p.width = w;
+    p.height = h;
+    p.patch_stride = ref::kSearchStride;
+    p.patches_x = ref::search_patches(w);
+    p.patches_y = ref::search_patches(h);
+    p.search_steps = ref::kSearchSteps;
+    const uint32_t n = p.patches_x * p.patches_y;
+    hdr.patches.assign(2 * size_t(n), glm::vec4(0.f));
+    // Patches whose reads of the previous frame stay inside it (the edge's are clamped).
+    const auto interior = [&](glm::uvec2 i) {
+        const glm::ivec2 o = hdr.search_origin(i, p);
+        return o.x >= 2 && o.y >= 2 && o.x + SEARCH_PATCH + 2 <= int(w) && o.y + SEARCH_PATCH + 2 <= int(h);
+    };
+    const auto worst = [&](uint32_t region, bool far_only) {
+        float e = 0.f;
+        for (uint32_t y = 0; y < p.patches_y; ++y)
+            for (uint32_t x = 0; x < p.patches_x; ++x) {
+                const glm::ivec2 o = hdr.search_origin(glm::uvec2(x, y), p);
+                const bool far = o.x >= far0.x && o.y >= far0.y && o.x + SEARCH_PATCH <= far0.x + 12 &&
+                                 o.y + SEARCH_PATCH <= far0.y + 12;
+                if (!interior(glm::uvec2(x, y)) || (far_only && !far)) continue;
+                const glm::vec4 v = hdr.patches[region + size_t(y) * p.patches_x + x];
+                e = std::max(e, glm::length(glm::vec2(v.x, v.y) - truth));
+            }
+        return e;
+    };
+    for (uint32_t round = 0; round <= ref::kSearchRounds; ++round) {
+        p.patch_in = round == 0 ? MOTION_NONE : ((round - 1) & 1u) * n;
+        p.patch_out = (round & 1u) * n;
+        for (uint32_t y = 0; y < p.patches_y; ++y)
+            for (uint32_t x = 0; x < p.patches_x; ++x) hdr.search_patch(glm::uvec2(x, y), p);
+        if (round == 0) {
+            bool near_seen = false;
+            for (uint32_t y = 0; y < p.patches_y; ++y)
+                for (uint32_t x = 0; x < p.patches_x; ++x)
+                    near_seen = near_seen || interior(glm::uvec2(x, y));
+            ASSERT_TRUE(near_seen);
+            // Not every patch: those wholly in the far square have not found the truth.
+            ASSERT_GT(worst(0, true), 1.f) << "the far square's patches found the truth alone";
+        }
+    }
+    std::printf("[ search   ] worst interior patch after the propagation rounds: %.4f px\n",
+                double(worst(p.patch_out, false)));
+    // Six steps from 1.9 px leave up to about 0.07 px (the steps take I0's gradient for I1's).
+    EXPECT_LT(worst(p.patch_out, false), 0.1f);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) hdr.search_densify_pixel(glm::uvec2(x, y), p);
+    float densified = 0.f;
+    for (uint32_t y = 10; y + 10 < h; ++y)
+        for (uint32_t x = 10; x + 10 < w; ++x)
+            densified = std::max(densified, glm::length(hdr.field[size_t(y) * w + x] - truth));
+    EXPECT_LT(densified, 0.1f) << "the densified field where only interior patches cover it";
 }
 
 struct Errors {

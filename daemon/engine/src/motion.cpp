@@ -146,6 +146,34 @@ gpu::PolishParams ref::polish_params(uint32_t width, uint32_t height, uint32_t p
     return p;
 }
 
+uint32_t ref::search_patches(uint32_t side, uint32_t stride) {
+    return side <= SEARCH_PATCH ? 1u : (side - SEARCH_PATCH + stride - 1) / stride + 1;
+}
+
+gpu::PolishParams ref::search_params(const std::vector<MotionLevel>& levels, uint32_t level, uint32_t round) {
+    gpu::PolishParams p = polish_coarse_params(levels, level, 0, false);
+    p.patch_stride = kSearchStride;
+    p.patches_x = search_patches(p.width);
+    p.patches_y = search_patches(p.height);
+    p.search_steps = kSearchSteps;
+    const uint32_t n = p.patches_x * p.patches_y;
+    p.patch_in = round == 0 ? MOTION_NONE : ((round - 1) & 1u) * n;
+    p.patch_out = (round & 1u) * n;
+    return p;
+}
+
+bool ref::searches_level(const std::vector<MotionLevel>& levels, uint32_t level) {
+    return level >= kSearchFinest && level <= polish_coarse_top(levels);
+}
+
+uint32_t ref::search_patch_capacity(const std::vector<MotionLevel>& levels) {
+    uint32_t most = 1;
+    for (uint32_t level = 1; level < levels.size(); ++level)
+        if (searches_level(levels, level))
+            most = std::max(most, search_patches(levels[level].width) * search_patches(levels[level].height));
+    return 2 * most; // two rounds: the propagation reads the first's
+}
+
 uint32_t ref::polish_coarse_top(const std::vector<MotionLevel>& levels) {
     return levels.size() < 2 ? 0u : std::min<uint32_t>(kPolishCoarseTop, uint32_t(levels.size() - 1));
 }
@@ -259,6 +287,11 @@ Result<void> Session::Impl::init_motion() {
     if (!c) return c.error();
     estimator.coarse = std::move(*c);
     FGSR_TRY(estimator.coarse.make_texel_view(VK_FORMAT_R32G32_SFLOAT));
+    // The patch inverse search's vectors (search.h), one level at a time.
+    auto pt =
+        vk::Buffer::create(*ctx, VkDeviceSize(ref::search_patch_capacity(estimator.levels)) * 16, false);
+    if (!pt) return pt.error();
+    estimator.patches = std::move(*pt);
     return estimator.field.make_texel_view(VK_FORMAT_R32G32B32A32_SFLOAT); // flow reads it with texelFetch
 }
 
@@ -407,7 +440,8 @@ Result<void> Session::Impl::record_polish(int cur, int prev) {
     const GpuFrame& f = frames[size_t(cur)];
     const auto b = make_slots<PassId::polish>(
         at<POLISH_CUR>(estimator.pyramid[size_t(cur)]), at<POLISH_PREV>(estimator.pyramid[size_t(prev)]),
-        at<POLISH_MV>(f.mv), at<POLISH_MV_TEXELS>(f.mv), at<POLISH_FIELD>(estimator.field));
+        at<POLISH_MV>(f.mv), at<POLISH_MV_TEXELS>(f.mv), at<POLISH_FIELD>(estimator.field),
+        at<POLISH_PATCHES>(estimator.patches));
     for (uint32_t k = 0; k < 2 * ref::kPolishIterations; ++k) {
         if (k > 0) rec.barrier();
         const gpu::PolishParams p = ref::polish_params(format.width, format.height, k & 1u);
@@ -416,16 +450,28 @@ Result<void> Session::Impl::record_polish(int cur, int prev) {
     return {};
 }
 
-Result<void> Session::Impl::record_polish_coarse(int cur, int prev) {
+Result<void> Session::Impl::record_polish_coarse(int cur, int prev, bool search, bool sweep) {
     const auto b = make_slots<PassId::polish>(
         at<POLISH_CUR>(estimator.pyramid[size_t(cur)]), at<POLISH_PREV>(estimator.pyramid[size_t(prev)]),
         at<POLISH_MV>(estimator.coarse), at<POLISH_MV_TEXELS>(estimator.coarse),
-        at<POLISH_FIELD>(estimator.field));
+        at<POLISH_FIELD>(estimator.field), at<POLISH_PATCHES>(estimator.patches));
     for (uint32_t level = ref::polish_coarse_top(estimator.levels); level >= 1; --level) {
         const ref::MotionLevel& l = estimator.levels[level];
         const gpu::PolishParams seed = ref::polish_coarse_params(estimator.levels, level, 0, true);
         FGSR_TRY(rec.dispatch_pixels(Variant::polish_seed, b, &seed, l.width, l.height));
-        for (uint32_t k = 0; k < 2 * ref::kPolishCoarseIterations; ++k) {
+        if (search && ref::searches_level(estimator.levels, level)) {
+            for (uint32_t r = 0; r <= ref::kSearchRounds; ++r) {
+                rec.barrier();
+                const gpu::PolishParams sp = ref::search_params(estimator.levels, level, r);
+                FGSR_TRY(rec.dispatch_pixels(Variant::polish_search, b, &sp, sp.patches_x, sp.patches_y));
+            }
+            rec.barrier();
+            const gpu::PolishParams dp = ref::search_params(estimator.levels, level, ref::kSearchRounds);
+            FGSR_TRY(rec.dispatch_pixels(Variant::polish_densify, b, &dp, l.width, l.height));
+        }
+        // The sweeps only where the frame's own are run (ref::polishes): above, for time.
+        const uint32_t sweeps = sweep ? ref::kPolishCoarseIterations : 0u;
+        for (uint32_t k = 0; k < 2 * sweeps; ++k) {
             rec.barrier();
             const gpu::PolishParams p = ref::polish_coarse_params(estimator.levels, level, k & 1u, false);
             FGSR_TRY(rec.dispatch_pixels(Variant::polish, b, &p, (l.width + 1) / 2, l.height));

@@ -83,6 +83,7 @@ struct PolishCpu {
     const std::vector<float>* prev_luma;
     std::vector<vec2>* mv;           // the frame's vectors or the coarse fields
     const std::vector<vec4>* blocks; // read by polish_seed_pixel from the blocks only
+    std::vector<vec4>* patches = nullptr; // search.h's patch vectors
     uint luma_offset = 0;            // the level's in the pyramids (PolishParams::luma_offset)
     float load_cur(uint i) const { return (*cur_luma)[luma_offset + i]; }
     float load_prev(uint i) const { return (*prev_luma)[luma_offset + i]; }
@@ -90,7 +91,10 @@ struct PolishCpu {
     vec2 load_field_vector(uint i) const { return (*mv)[i]; }
     void store_mv(uint i, vec2 v) { (*mv)[i] = v; }
     vec4 load_field(uint i) const { return (*blocks)[i]; }
+    vec4 load_patch(uint i) const { return (*patches)[i]; }
+    void store_patch(uint i, vec4 v) { (*patches)[i] = v; }
 #include "polish.h"
+#include "search.h"
 };
 
 } // namespace
@@ -170,14 +174,26 @@ void polish(const std::vector<float>& cur, const std::vector<float>& prev, Inter
 
 std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::vector<float>& prev,
                                      const std::vector<glm::vec4>& field,
-                                     const std::vector<MotionLevel>& levels) {
+                                     const std::vector<MotionLevel>& levels, bool search, bool sweep) {
     std::vector<glm::vec2> coarse(polish_coarse_vectors(levels));
-    gpu::PolishCpu cpu{&cur, &prev, &coarse, &field};
+    std::vector<glm::vec4> patches(search ? search_patch_capacity(levels) : 0);
+    gpu::PolishCpu cpu{&cur, &prev, &coarse, &field, &patches};
     for (uint32_t level = polish_coarse_top(levels); level >= 1; --level) {
         const PolishParams seed = polish_coarse_params(levels, level, 0, true);
         for (uint32_t y = 0; y < seed.height; ++y)
             for (uint32_t x = 0; x < seed.width; ++x) cpu.polish_seed_pixel(glm::uvec2(x, y), seed);
-        polish_sweeps(cpu, polish_coarse_params(levels, level, 0, false), kPolishCoarseIterations);
+        if (search && searches_level(levels, level)) {
+            for (uint32_t r = 0; r <= kSearchRounds; ++r) {
+                const PolishParams sp = search_params(levels, level, r);
+                cpu.luma_offset = sp.luma_offset;
+                for (uint32_t y = 0; y < sp.patches_y; ++y)
+                    for (uint32_t x = 0; x < sp.patches_x; ++x) cpu.search_patch(glm::uvec2(x, y), sp);
+            }
+            const PolishParams dp = search_params(levels, level, kSearchRounds);
+            for (uint32_t y = 0; y < dp.height; ++y)
+                for (uint32_t x = 0; x < dp.width; ++x) cpu.search_densify_pixel(glm::uvec2(x, y), dp);
+        }
+        if (sweep) polish_sweeps(cpu, polish_coarse_params(levels, level, 0, false), kPolishCoarseIterations);
     }
     return coarse;
 }
@@ -203,7 +219,7 @@ void match_pyramids(const std::vector<float>& cur, const std::vector<float>& pre
 
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
                               std::vector<glm::vec4>& field, VectorCorrection correct, bool fast,
-                              float typical_share, bool consensus, bool light) {
+                              float typical_share, bool consensus, bool light, bool search) {
     const std::vector<MotionLevel> levels = motion_levels(f1.width, f1.height);
     const std::vector<float> p1 = luma_pyramid(f1, levels);
     std::vector<float> p0 = luma_pyramid(f0, levels);
@@ -226,9 +242,11 @@ MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool w
     fill_level(field, fill_params(levels, false));
     fill_level(field, fill_params(levels, true));
     const bool polishing = !correct.on && !fast && polishes(f1.width, f1.height);
+    const bool refines_coarse = polishing || (!correct.on && !fast && search);
     const std::vector<glm::vec2> coarse =
-        polishing ? polish_coarse(p1, p0, field, levels) : std::vector<glm::vec2>();
-    flow(p1, p0, field, flow_params(levels, s.global, write_depth, correct, polishing), f1, &f0, &coarse);
+        refines_coarse ? polish_coarse(p1, p0, field, levels, search, polishing) : std::vector<glm::vec2>();
+    flow(p1, p0, field, flow_params(levels, s.global, write_depth, correct, refines_coarse), f1, &f0,
+         &coarse);
     if (polishing) polish(p1, p0, f1);
     f1.has_mv = true;
     return s;

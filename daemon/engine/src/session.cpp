@@ -361,8 +361,12 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     // levels; docs/MOTION.md, "Variational refinement", "Coarse to fine"), as the correction of given
     // vectors is refused there. Nor above ref::kPolishMaxPixels, for time, nor when the session
     // asked for fast motion estimation (Params::fast_motion).
-    const bool polishing = !correcting && !s.params.fast_motion && frame.jitter_x == 0.f &&
-                           frame.jitter_y == 0.f && ref::polishes(s.format.width, s.format.height);
+    // With the patch inverse search (Params::motion_search) the coarse levels are refined at any
+    // size; level 0 only up to ref::kPolishMaxPixels.
+    const bool refines =
+        !correcting && !s.params.fast_motion && frame.jitter_x == 0.f && frame.jitter_y == 0.f;
+    const bool polishing = refines && ref::polishes(s.format.width, s.format.height);
+    const bool coarse = refines && (polishing || s.params.motion_search);
     s.estimator.timings.clear();
     s.estimator.last_cut = vector_cut;
     if (s.estimates_motion()) {
@@ -421,11 +425,11 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
         }
         if (!flow_skipped) {
             // The coarse levels' refinement, which flow reads, is timed with the other sweeps.
-            if (polishing) {
-                FGSR_TRY(s.record_polish_coarse(slot, s.newest));
+            if (coarse) {
+                FGSR_TRY(s.record_polish_coarse(slot, s.newest, s.params.motion_search, polishing));
                 s.rec.timestamp(q++);
             }
-            FGSR_TRY(s.record_flow(slot, s.newest, s.estimator.global, polishing));
+            FGSR_TRY(s.record_flow(slot, s.newest, s.estimator.global, coarse));
             s.rec.barrier();
             s.rec.timestamp(q++);
             if (polishing) {
@@ -469,14 +473,16 @@ Result<void> Session::Impl::submit(const FrameView& frame, const HostMemory* mem
     size_t ti = 0;
     if (s.estimates_motion()) {
         s.ingest_timing = checks_cut ? cut_ingest : timing_of(PassId::ingest, first_times[0]);
-        const bool coarse = !flow_skipped && polishing;
-        const PassTiming coarse_time = coarse ? timing_of(PassId::polish, (*t)[ti++]) : PassTiming{};
+        const bool coarse_ran = !flow_skipped && coarse;
+        const PassTiming coarse_time = coarse_ran ? timing_of(PassId::polish, (*t)[ti++]) : PassTiming{};
         if (!flow_skipped) s.estimator.timings.push_back(timing_of(PassId::flow, (*t)[ti++]));
-        if (coarse) {
+        if (coarse_ran && polishing) {
             // One entry for both parts: its ms is their sum, its begin and end the level-0 sweeps'.
             PassTiming sweeps = timing_of(PassId::polish, (*t)[ti++]);
             sweeps.ms += coarse_time.ms;
             s.estimator.timings.push_back(sweeps);
+        } else if (coarse_ran) {
+            s.estimator.timings.push_back(coarse_time);
         }
     } else if (checks_cut) {
         s.ingest_timing = cut_ingest;

@@ -195,6 +195,7 @@ struct Session::Impl {
         std::array<vk::Buffer, 2> pyramid; // luma pyramid of frames[i]
         vk::Buffer field;                  // host-visible block vectors, both directions
         vk::Buffer coarse;                 // the coarse levels' refined fields (polish_coarse)
+        vk::Buffer patches;                // the patch inverse search's vectors (search.h)
         vk::Buffer gain;                   // host-visible: the pair's lighting gain, its dispatch (luma.h)
         std::vector<PassTiming> timings;   // of the last submit: luma, match, flow, polish (those run)
         bool last_cut = false;             // block matching found a cut (sessions that correct: no restart)
@@ -251,7 +252,9 @@ struct Session::Impl {
     // The variational refinement's sweeps over the estimated vectors (after record_flow and a barrier).
     Result<void> record_polish(int cur, int prev);
     // The coarse-to-fine refinement before flow (polish.h, polish_coarse): seed and sweeps per level.
-    Result<void> record_polish_coarse(int cur, int prev);
+    // search: each level's patch inverse search and densification first (Params::motion_search);
+    // sweep: the variational sweeps (up to ref::kPolishMaxPixels).
+    Result<void> record_polish_coarse(int cur, int prev, bool search, bool sweep);
 
     // generate.cpp
     // The bindings (GEN_*) of frame 1, frame 0 and the splat keys and motion that splat, refine,

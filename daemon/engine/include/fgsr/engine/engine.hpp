@@ -228,6 +228,14 @@ struct Params {
     // correct_vectors (it would pull moving shadows onto the still ground's vector). Not carried
     // by the wire protocol.
     bool motion_consensus = true;
+    // Sessions without vectors: DIS's patch inverse search, propagation and densification on the
+    // coarse levels of the coarse-to-fine field, between each level's seed and its sweeps
+    // (shaders/search.h); with it the coarse levels are refined at any size (their sweeps and
+    // level 0 still up to kPolishMaxPixels). Train, fgsr-colour: mobfgsr-bunker HR +0.89 / +0.77
+    // dB (interp / extrap), LR +0.48 / +0.34, pan-s2-fg -0.40 / -0.34, builtin -0.17 / -0.14; about
+    // 1.6x a 1080p frame's GPU time on lavapipe (docs/ACCURACY.md, "Patch inverse search on the
+    // colour-only path"). Not carried by the wire protocol.
+    bool motion_search = false;
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).
     bool mvs_contain_jitter = false;

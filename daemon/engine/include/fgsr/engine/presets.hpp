@@ -21,7 +21,9 @@
 //                frame generation from both fields by agreement (switch colour_agree): it gains where
 //                shading moves on its own (street-fg interp +3.64 dB, sundial-fg +3.30, shadow-fg
 //                +1.58) and loses 0.04 on fan-fg, at about five times a frame's cost on CPU devices
-//                (changes 33-37).
+//                (changes 33-37). Nor DIS's patch inverse search on the colour-only path (switch
+//                motion_search): mobfgsr-bunker HR +0.89 dB, pan-s2-fg -0.40, at about 1.6x a
+//                1080p frame's time (docs/MOTION.md, "Patch inverse search").
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
 // pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing),
 // and so is the scene-cut test of sessions with vectors (vector_cuts). The frame-0 depth test's
@@ -129,7 +131,7 @@ struct SwitchInfo {
 };
 
 // clang-format off
-inline constexpr std::array<SwitchInfo, 20> kSwitches{{
+inline constexpr std::array<SwitchInfo, 21> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -150,6 +152,7 @@ inline constexpr std::array<SwitchInfo, 20> kSwitches{{
     {"vector_cuts", {"on", "off", ""}, "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
     {"motion_consensus", {"on", "off", ""}, "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
     {"colour_agree", {"on", "off", ""}, "per pixel the frame from vectors estimated from colour where they explain the colour and the given vectors do not"},
+    {"motion_search", {"on", "off", ""}, "without vectors: patch inverse search and densification on the coarse levels (DIS)"},
 }};
 // clang-format on
 
@@ -179,6 +182,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
     if (key == "vector_cuts") return onoff(p.vector_cuts);
     if (key == "motion_consensus") return onoff(p.motion_consensus);
     if (key == "colour_agree") return onoff(p.colour_agree);
+    if (key == "motion_search") return onoff(p.motion_search);
     return "";
 }
 
@@ -196,7 +200,8 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
                 "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, "
-                "blend_depth, warp, cover_edges, vector_cuts, motion_consensus, colour_agree)");
+                "blend_depth, warp, cover_edges, vector_cuts, motion_consensus, colour_agree, "
+                "motion_search)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
     if (!known) {
@@ -230,6 +235,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
     if (key == "vector_cuts") p.vector_cuts = on;
     if (key == "motion_consensus") p.motion_consensus = on;
     if (key == "colour_agree") p.colour_agree = on;
+    if (key == "motion_search") p.motion_search = on;
     return {};
 }
 

@@ -260,6 +260,23 @@ PolishParams polish_params(uint32_t width, uint32_t height, uint32_t parity);
 // hdr-fg 0.15.
 inline constexpr uint32_t kPolishCoarseTop = 3;
 inline constexpr uint32_t kPolishCoarseIterations = 10;
+// Patch inverse search and densification (shaders/search.h, Params::motion_search): on each coarse
+// level from the top down to kSearchFinest (if searched), between its seed and its sweeps, patches
+// of SEARCH_PATCH pixels kSearchStride apart, kSearchSteps Gauss-Newton steps each.
+// After the first round (from the seeded field), kSearchRounds rounds of propagation: each patch
+// starts from the best of its own and its four neighbours' vectors of the round before.
+inline constexpr uint32_t kSearchStride = 4;
+inline constexpr uint32_t kSearchSteps = 6;
+inline constexpr uint32_t kSearchRounds = 2;
+inline constexpr uint32_t kSearchFinest = 1;
+// Patches along a side of `side` pixels, `stride` apart (the last one ends at the edge).
+uint32_t search_patches(uint32_t side, uint32_t stride = kSearchStride);
+// Round `round` (0 .. kSearchRounds) of the search on coarse level `level`; the densification's
+// are the last round's (it reads what that one wrote).
+PolishParams search_params(const std::vector<MotionLevel>& levels, uint32_t level, uint32_t round);
+// Whether level `level` of the coarse field is searched, and the patches of the largest one.
+bool searches_level(const std::vector<MotionLevel>& levels, uint32_t level);
+uint32_t search_patch_capacity(const std::vector<MotionLevel>& levels);
 // The top coarse level of a pyramid (0: none, the pyramid has one level).
 uint32_t polish_coarse_top(const std::vector<MotionLevel>& levels);
 // The coarse fields' buffer: levels 1..top in the pyramid's layout less level 0 (vec2 each).
@@ -380,9 +397,12 @@ void match_pyramids(const std::vector<float>& cur, const std::vector<float>& pre
 // estimate_motion applies polishes()).
 void polish(const std::vector<float>& cur, const std::vector<float>& prev, InternalFrame& f);
 // The coarse levels' fields (polish_coarse_vectors of them), refined from the field's blocks.
+// search: each level's patch inverse search and densification before its sweeps (search_params);
+// sweep false: no sweeps (the engine's above kPolishMaxPixels).
 std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::vector<float>& prev,
                                      const std::vector<glm::vec4>& field,
-                                     const std::vector<MotionLevel>& levels);
+                                     const std::vector<MotionLevel>& levels, bool search = false,
+                                     bool sweep = true);
 // The whole estimation of f1's vectors against f0 (the engine's chain); returns the summary. On a
 // cut f1 keeps its input (has_mv false). `field`: the field buffer carried from the previous call
 // (the engine's temporal candidates), or empty for a first frame; it is resized and updated. With
@@ -391,10 +411,12 @@ std::vector<glm::vec2> polish_coarse(const std::vector<float>& cur, const std::v
 // typical_share: the session's (summarise_motion; negative: none yet). consensus: the consensus of
 // unambiguous blocks on the levels above the finest (Params::motion_consensus, consensus_level);
 // never while correcting (as the engine). light: block costs with the light cap (kMotionLightCap;
-// the engine's on unjittered frames), else plain (kMotionNoLightCap).
+// the engine's on unjittered frames), else plain (kMotionNoLightCap). search: the coarse levels'
+// patch inverse search (Params::motion_search; with it the coarse levels are refined at any size).
 MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth,
                               std::vector<glm::vec4>& field, VectorCorrection correct = {}, bool fast = false,
-                              float typical_share = -1.f, bool consensus = true, bool light = true);
+                              float typical_share = -1.f, bool consensus = true, bool light = true,
+                              bool search = false);
 inline MotionSummary estimate_motion(const InternalFrame& f0, InternalFrame& f1, bool write_depth) {
     std::vector<glm::vec4> field;
     return estimate_motion(f0, f1, write_depth, field);
