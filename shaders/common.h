@@ -327,6 +327,7 @@ struct PolishParams {
     // those written (search), or read (densify).
     uint patch_in;
     uint patch_out;
+    float prop_reach; // pixels: a neighbour's vector is taken only this close to the patch's seed
 };
 
 // Pixels per invocation of the agree pass's box stages (agree.h stages 2 and 3): a segment of a row,
@@ -445,7 +446,7 @@ static_assert(sizeof(ClassifyParams) == 84 && offsetof(ClassifyParams, tile) == 
               "classify push constants");
 static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
-                  sizeof(PolishParams) == 96,
+                  sizeof(PolishParams) == 100,
               "motion push constants");
 static_assert(sizeof(AgreeParams) == 72, "agree push constants");
 } // namespace fgsr::gpu

@@ -22,8 +22,10 @@
 //      template's, built once). The vector of the lowest cost seen is kept; a step that leaves
 //      SEARCH_PATCH pixels of u0 ends the search (the patch has lost its content).
 //      Propagation (p.patch_in set; ref::kSearchRounds rounds after the first): u0 is the cheapest
-//      of the patch's own and its four neighbours' vectors of the round before (DIS's spatial
-//      propagation, in rounds instead of a raster scan, so that every patch runs in parallel).
+//      of the patch's own and its four neighbours' vectors of the round before, among those within
+//      p.prop_reach pixels of its seed (DIS's spatial propagation, in rounds instead of a raster
+//      scan, so that every patch runs in parallel; the reach keeps periodic texture from handing
+//      a patch a period-off vector that costs less).
 //   2. densify (one invocation per pixel): the patches covering the pixel, each weighted by
 //      1 / max(SEARCH_WEIGHT_FLOOR, |I1(x + u_p) - I0(x)|).
 //
@@ -66,6 +68,7 @@ FGSR_INLINE void search_patch(uvec2 i, PolishParams p) {
         field_bilinear(vec2(o) + vec2(0.5f * float(SEARCH_PATCH) - 0.5f), p.mv_offset, p.width, p.height);
     if (p.patch_in != MOTION_NONE) {
         // Propagation: the best of the patch's own and its neighbours' vectors of the last round.
+        vec2 seed = u0;
         uint own = p.patch_in + i.y * p.patches_x + i.x;
         vec4 pv = load_patch(own);
         u0 = vec2(pv.x, pv.y);
@@ -77,7 +80,7 @@ FGSR_INLINE void search_patch(uvec2 i, PolishParams p) {
             vec4 nv = load_patch(p.patch_in + uint(n.y) * p.patches_x + uint(n.x));
             vec2 v = vec2(nv.x, nv.y);
             float c = search_cost(o, v, p);
-            if (c < c0) {
+            if (c < c0 && length(v - seed) <= p.prop_reach) {
                 c0 = c;
                 u0 = v;
             }

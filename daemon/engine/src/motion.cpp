@@ -159,11 +159,13 @@ gpu::PolishParams ref::search_params(const std::vector<MotionLevel>& levels, uin
     const uint32_t n = p.patches_x * p.patches_y;
     p.patch_in = round == 0 ? MOTION_NONE : ((round - 1) & 1u) * n;
     p.patch_out = (round & 1u) * n;
+    p.prop_reach = kSearchReach;
     return p;
 }
 
 bool ref::searches_level(const std::vector<MotionLevel>& levels, uint32_t level) {
-    return level >= kSearchFinest && level <= polish_coarse_top(levels);
+    return level >= kSearchFinest && level <= polish_coarse_top(levels) &&
+           std::min(levels[level].width, levels[level].height) >= kSearchMinSide;
 }
 
 uint32_t ref::search_patch_capacity(const std::vector<MotionLevel>& levels) {

@@ -231,10 +231,11 @@ struct Params {
     // Sessions without vectors: DIS's patch inverse search, propagation and densification on the
     // coarse levels of the coarse-to-fine field, between each level's seed and its sweeps
     // (shaders/search.h); with it the coarse levels are refined at any size (their sweeps and
-    // level 0 still up to kPolishMaxPixels). Train, fgsr-colour: mobfgsr-bunker HR +0.89 / +0.77
-    // dB (interp / extrap), LR +0.48 / +0.34, pan-s2-fg -0.40 / -0.34, builtin -0.17 / -0.14; about
-    // 1.6x a 1080p frame's GPU time on lavapipe (docs/ACCURACY.md, "Patch inverse search on the
-    // colour-only path"). Not carried by the wire protocol.
+    // level 0 still up to kPolishMaxPixels). Train, fgsr-colour: up on 18 of 20 rows, mobfgsr-bunker
+    // HR +0.84 / +0.77 dB (interp / extrap), LR +0.47 / +0.34, hdr-fg +0.49 / +0.43, at most -0.06
+    // (pan-s2-fg extrap); about 1.6x a 1080p frame's GPU time on lavapipe (docs/ACCURACY.md, "Patch
+    // inverse search on the colour-only path"). Validation not yet measured. Not carried by the
+    // wire protocol.
     bool motion_search = false;
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).

@@ -22,8 +22,8 @@
 //                shading moves on its own (street-fg interp +3.64 dB, sundial-fg +3.30, shadow-fg
 //                +1.58) and loses 0.04 on fan-fg, at about five times a frame's cost on CPU devices
 //                (changes 33-37). Nor DIS's patch inverse search on the colour-only path (switch
-//                motion_search): mobfgsr-bunker HR +0.89 dB, pan-s2-fg -0.40, at about 1.6x a
-//                1080p frame's time (docs/MOTION.md, "Patch inverse search").
+//                motion_search): mobfgsr-bunker HR +0.84 dB, at most -0.06 on train, at about
+//                1.6x a 1080p frame's time (docs/MOTION.md, "Patch inverse search").
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
 // pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing),
 // and so is the scene-cut test of sessions with vectors (vector_cuts). The frame-0 depth test's

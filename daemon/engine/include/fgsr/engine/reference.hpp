@@ -268,7 +268,14 @@ inline constexpr uint32_t kPolishCoarseIterations = 10;
 inline constexpr uint32_t kSearchStride = 4;
 inline constexpr uint32_t kSearchSteps = 6;
 inline constexpr uint32_t kSearchRounds = 2;
+// A propagation round takes a neighbour's vector only within this many pixels of the level from
+// the patch's seed: further, on periodic texture (checker walls), it takes a period-off vector
+// that happens to cost less, and a wrong region that far off is the coarser levels' to mend.
+inline constexpr float kSearchReach = 4.f;
 inline constexpr uint32_t kSearchFinest = 1;
+// Levels whose smaller side is below this many pixels are not searched: there a patch spans too
+// much of the frame (at 480x270, level 3's 60x34 pixels).
+inline constexpr uint32_t kSearchMinSide = 64;
 // Patches along a side of `side` pixels, `stride` apart (the last one ends at the edge).
 uint32_t search_patches(uint32_t side, uint32_t stride = kSearchStride);
 // Round `round` (0 .. kSearchRounds) of the search on coarse level `level`; the densification's
