@@ -209,11 +209,18 @@ TEST(Motion, GpuPassesMatchTheCpuReferenceAboveTheHalfResolutionThreshold) {
 
 TEST(Motion, PatchSearchGpuPassesMatchTheCpuReference) {
     // Params::motion_search: the coarse levels' patch search, its propagation rounds and the
-    // densification (shaders/search.h) before their sweeps, at a size the sweeps run at ...
-    expect_gpu_matches_cpu(150, 94, false, true);
-    // ... and above kPolishMaxPixels, where the coarse levels are searched without sweeps and
-    // level 0 is not refined.
+    // densification (shaders/search.h) before their sweeps, at a size the sweeps run at (level 1,
+    // 160x135, is searched; level 2, 80x68, too; level 3, 40x34, is below kSearchMinSide) ...
+    const std::vector<ref::MotionLevel> small = ref::motion_levels(320, 270);
+    ASSERT_TRUE(ref::polishes(320, 270));
+    ASSERT_TRUE(ref::searches_level(small, 1) && ref::searches_level(small, 2));
+    ASSERT_FALSE(ref::searches_level(small, 3));
+    expect_gpu_matches_cpu(320, 270, false, true);
+    // ... and above kPolishMaxPixels, where the coarse levels (3, 2, 1) are searched without
+    // sweeps and level 0 is not refined.
+    const std::vector<ref::MotionLevel> large = ref::motion_levels(1282, 722);
     ASSERT_FALSE(ref::polishes(1282, 722));
+    ASSERT_TRUE(ref::searches_level(large, 3));
     expect_gpu_matches_cpu(1282, 722, false, true);
 }
 
