@@ -692,9 +692,14 @@ TEST_F(LayerE2E, ConfigChangesArePickedUpWhileRunning) {
     ASSERT_EQ(r.status, 0) << r.log;
     EXPECT_EQ(count(r.log, "configuration reloaded"), 1u) << r.log;
     EXPECT_EQ(json_number(r.stats, "multiplier"), 3);
+    // Every application frame after the first asks for multiplier - 1 generated frames, shown or
+    // dropped: one each for the ~25 frames before the edit, two each after it. Shown frames alone
+    // depend on the CPU time fgsrd gets (an ASan CI run beside other guests showed 45 and dropped 52).
     const double generated = json_number(r.stats, "generated");
-    EXPECT_GT(generated, 60) << "more than one per frame: two per frame after the edit";
-    EXPECT_LT(generated, 110) << "one per frame before it";
+    const double requested = generated + json_number(r.stats, "dropped");
+    EXPECT_GT(requested, 75) << "two per frame after the edit: " << r.stats;
+    EXPECT_LT(requested, 115) << "one per frame before it: " << r.stats;
+    EXPECT_GT(generated, 15) << "and frames were generated: " << r.stats;
     EXPECT_EQ(count(r.log, "Validation Error"), 0u) << r.log;
 }
 
