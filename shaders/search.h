@@ -44,53 +44,60 @@ FGSR_INLINE ivec2 search_origin(uvec2 i, PolishParams p) {
     return min(ivec2(i) * int(p.patch_stride), last);
 }
 
-FGSR_INLINE vec2 search_gradient(ivec2 q, PolishParams p) {
-    return 0.5f * vec2(polish_cur(q + ivec2(1, 0), p) - polish_cur(q - ivec2(1, 0), p),
-                       polish_cur(q + ivec2(0, 1), p) - polish_cur(q - ivec2(0, 1), p));
-}
+// The template: the current level's luma on the patch and a one-pixel ring around it (for the
+// gradient), SEARCH_RING pixels a side, edges clamped. Read once per patch.
+#define SEARCH_RING (SEARCH_PATCH + 2)
+#define SEARCH_RING_PIXELS (SEARCH_RING * SEARCH_RING)
+// The previous level's texels that a patch moved by a sub-pixel vector reads bilinearly.
+#define SEARCH_SPAN (SEARCH_PATCH + 1)
+#define SEARCH_SPAN_PIXELS (SEARCH_SPAN * SEARCH_SPAN)
 
-// The patch's mean-normalised cost of vector u per pixel (as search_patch stores it).
-FGSR_INLINE float search_cost(ivec2 o, vec2 u, PolishParams p) {
-    float sr = 0.0f, sr2 = 0.0f;
-    for (int k = 0; k < SEARCH_PIXELS; ++k) {
-        ivec2 q = o + ivec2(k & 7, k >> 3);
-        float r = luma_prev_bilinear(vec2(q) + u, p.width, p.height) - polish_cur(q, p);
-        sr += r;
-        sr2 += r * r;
+// What one evaluation of a vector gives: the sums of the residual r = I1(x + u) - I0(x) and of its
+// square over the patch, and of I0's gradient times r (the Gauss-Newton step's right-hand side).
+struct SearchSums {
+    float sr;
+    float sr2;
+    vec2 b;
+};
+
+// The sums of vector u for the patch at o. Every pixel of the patch shares u's fraction, so the
+// bilinear reads of I1 come from one SEARCH_SPAN x SEARCH_SPAN window of texels (81 reads, not 4 a
+// pixel); I0 and its gradient come from the template (central differences, as the matrix's).
+FGSR_INLINE SearchSums search_sums(float tpl[SEARCH_RING_PIXELS], ivec2 o, vec2 u, PolishParams p) {
+    vec2 f0 = floor(u);
+    vec2 t = u - f0;
+    ivec2 c = o + ivec2(f0);
+    float w[SEARCH_SPAN_PIXELS];
+    FGSR_UNROLL for (int k = 0; k < SEARCH_SPAN_PIXELS; ++k) w[k] =
+        luma_at(c + ivec2(k % SEARCH_SPAN, k / SEARCH_SPAN), true, p.width, p.height);
+    SearchSums m;
+    m.sr = 0.0f;
+    m.sr2 = 0.0f;
+    m.b = vec2(0.0f);
+    FGSR_UNROLL for (int k = 0; k < SEARCH_PIXELS; ++k) {
+        int j = (k >> 3) * SEARCH_SPAN + (k & 7);
+        int i = ((k >> 3) + 1) * SEARCH_RING + (k & 7) + 1;
+        float r =
+            mix(mix(w[j], w[j + 1], t.x), mix(w[j + SEARCH_SPAN], w[j + SEARCH_SPAN + 1], t.x), t.y) - tpl[i];
+        m.sr += r;
+        m.sr2 += r * r;
+        m.b += 0.5f * vec2(tpl[i + 1] - tpl[i - 1], tpl[i + SEARCH_RING] - tpl[i - SEARCH_RING]) * r;
     }
-    return (sr2 - sr * sr / float(SEARCH_PIXELS)) / float(SEARCH_PIXELS);
+    return m;
 }
 
 FGSR_INLINE void search_patch(uvec2 i, PolishParams p) {
     if (i.x >= p.patches_x || i.y >= p.patches_y) return;
     ivec2 o = search_origin(i, p);
-    vec2 u0 =
-        field_bilinear(vec2(o) + vec2(0.5f * float(SEARCH_PATCH) - 0.5f), p.mv_offset, p.width, p.height);
-    if (p.patch_in != MOTION_NONE) {
-        // Propagation: the best of the patch's own and its neighbours' vectors of the last round.
-        vec2 seed = u0;
-        uint own = p.patch_in + i.y * p.patches_x + i.x;
-        vec4 pv = load_patch(own);
-        u0 = vec2(pv.x, pv.y);
-        float c0 = pv.z;
-        for (int k = 0; k < 4; ++k) {
-            ivec2 n = ivec2(i) + (k == 0 ? ivec2(-1, 0)
-                                         : (k == 1 ? ivec2(1, 0) : (k == 2 ? ivec2(0, -1) : ivec2(0, 1))));
-            if (n.x < 0 || n.y < 0 || n.x >= int(p.patches_x) || n.y >= int(p.patches_y)) continue;
-            vec4 nv = load_patch(p.patch_in + uint(n.y) * p.patches_x + uint(n.x));
-            vec2 v = vec2(nv.x, nv.y);
-            float c = search_cost(o, v, p);
-            if (c < c0 && length(v - seed) <= p.prop_reach) {
-                c0 = c;
-                u0 = v;
-            }
-        }
-    }
+    float tpl[SEARCH_RING_PIXELS];
+    FGSR_UNROLL for (int k = 0; k < SEARCH_RING_PIXELS; ++k) tpl[k] =
+        polish_cur(o + ivec2(k % SEARCH_RING - 1, k / SEARCH_RING - 1), p);
     // The template's matrix, its mean removed (the residual's mean is removed before each step).
     float h11 = 0.0f, h12 = 0.0f, h22 = 0.0f;
     vec2 gsum = vec2(0.0f);
-    for (int k = 0; k < SEARCH_PIXELS; ++k) {
-        vec2 g = search_gradient(o + ivec2(k & 7, k >> 3), p);
+    FGSR_UNROLL for (int k = 0; k < SEARCH_PIXELS; ++k) {
+        int j = ((k >> 3) + 1) * SEARCH_RING + (k & 7) + 1;
+        vec2 g = 0.5f * vec2(tpl[j + 1] - tpl[j - 1], tpl[j + SEARCH_RING] - tpl[j - SEARCH_RING]);
         h11 += g.x * g.x;
         h12 += g.x * g.y;
         h22 += g.y * g.y;
@@ -101,26 +108,51 @@ FGSR_INLINE void search_patch(uvec2 i, PolishParams p) {
     h12 -= gsum.x * gsum.y * inv_n;
     h22 -= gsum.y * gsum.y * inv_n;
     float det = h11 * h22 - h12 * h12;
+    vec2 seed =
+        field_bilinear(vec2(o) + vec2(0.5f * float(SEARCH_PATCH) - 0.5f), p.mv_offset, p.width, p.height);
+    // Propagation: the first n_cand evaluations are the four neighbours' vectors of the last round,
+    // each against the patch's own (its stored cost); the steps start from the cheapest.
+    vec2 u0 = seed;
+    float c0 = 0.0f;
+    int n_cand = 0;
+    if (p.patch_in != MOTION_NONE) {
+        vec4 pv = load_patch(p.patch_in + i.y * p.patches_x + i.x);
+        u0 = vec2(pv.x, pv.y);
+        c0 = pv.z;
+        n_cand = 4;
+    }
     vec2 u = u0, best = u0;
     float best_cost = 3.0e38f;
-    for (uint s = 0u; s <= p.search_steps; ++s) {
-        float sr = 0.0f, sr2 = 0.0f;
-        vec2 b = vec2(0.0f);
-        for (int k = 0; k < SEARCH_PIXELS; ++k) {
-            ivec2 q = o + ivec2(k & 7, k >> 3);
-            float r = luma_prev_bilinear(vec2(q) + u, p.width, p.height) - polish_cur(q, p);
-            sr += r;
-            sr2 += r * r;
-            b += search_gradient(q, p) * r;
+    // One loop, so that search_sums (81 reads and 64 pixels' sums) is compiled once: llvmpipe
+    // compiles a pipeline at its first dispatch.
+    FGSR_DONT_UNROLL for (int k = 0; k <= n_cand + int(p.search_steps); ++k) {
+        vec2 v = u;
+        if (k < n_cand) {
+            ivec2 n = ivec2(i) + (k == 0 ? ivec2(-1, 0)
+                                         : (k == 1 ? ivec2(1, 0) : (k == 2 ? ivec2(0, -1) : ivec2(0, 1))));
+            if (n.x < 0 || n.y < 0 || n.x >= int(p.patches_x) || n.y >= int(p.patches_y)) continue;
+            vec4 nv = load_patch(p.patch_in + uint(n.y) * p.patches_x + uint(n.x));
+            v = vec2(nv.x, nv.y);
+            if (length(v - seed) > p.prop_reach) continue;
+        } else if (k == n_cand) {
+            v = u = best = u0;
         }
-        float cost = sr2 - sr * sr * inv_n;
+        SearchSums m = search_sums(tpl, o, v, p);
+        float cost = m.sr2 - m.sr * m.sr * inv_n;
+        if (k < n_cand) {
+            if (cost * inv_n < c0) {
+                c0 = cost * inv_n;
+                u0 = v;
+            }
+            continue;
+        }
         if (cost < best_cost) {
             best_cost = cost;
             best = u;
         }
         // A flat patch (or one of a single edge's direction) has no step: the seed stays.
-        if (s == p.search_steps || !(det > 1.0e-12f)) break;
-        b -= gsum * (sr * inv_n);
+        if (k == n_cand + int(p.search_steps) || !(det > 1.0e-12f)) break;
+        vec2 b = m.b - gsum * (m.sr * inv_n);
         u -= vec2(h22 * b.x - h12 * b.y, h11 * b.y - h12 * b.x) / det;
         vec2 moved = abs(u - u0);
         if (max(moved.x, moved.y) > float(SEARCH_PATCH)) break;
