@@ -204,7 +204,7 @@ TEST(Presets, SwitchesApplyAndToggle) {
         "passes=separate", "correct_vectors=on",   "fast_motion=on",       "dilate_edges=on",
         "accel_search=on", "accel_median=on",      "accel_depth=on",       "blend_depth=off",
         "cover_edges=off", "vector_cuts=off",      "motion_consensus=off", "colour_agree=on",
-        "warp=bilinear",   "warp=cubic",           "motion_search=on"};
+        "warp=bilinear",   "warp=cubic",           "motion_search=off"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;
@@ -277,12 +277,12 @@ TEST(Bench, QuickRunWritesExpectedCsv) {
     }
     const auto rows = read_csv(out / "bench.csv");
     // builtin: interp (3 presets + 7 switches that act on it), extrap (no blend switch), and each
-    // on colour alone (balanced+colour, balanced+colour+fast_motion=on and +motion_search=on).
+    // on colour alone (balanced+colour, balanced+colour+fast_motion=on and +motion_search=off).
     std::set<std::string> got, expected;
     for (const char* c : {"performance", "balanced", "quality", "balanced+motion=linear",
                           "balanced+fill_gaps=off", "balanced+fill_holes=off", "balanced+passes=separate",
                           "balanced+correct_vectors=on", "balanced+colour_agree=on", "balanced+colour",
-                          "balanced+colour+fast_motion=on", "balanced+colour+motion_search=on"}) {
+                          "balanced+colour+fast_motion=on", "balanced+colour+motion_search=off"}) {
         expected.insert(std::string("interp ") + c);
         expected.insert(std::string("extrap ") + c);
     }

@@ -98,13 +98,13 @@ struct Config {
 };
 
 // The colour-only configurations' names, and their `switch` column: motion estimated as by
-// default, with fast_motion=on, and with motion_search=on.
+// default, with fast_motion=on, and with motion_search=off.
 constexpr const char* kColourConfig = "balanced+colour";
 constexpr const char* kColourToggle = "input=colour";
 constexpr const char* kColourFastConfig = "balanced+colour+fast_motion=on";
 constexpr const char* kColourFastToggle = "input=colour fast_motion=on";
-constexpr const char* kColourSearchConfig = "balanced+colour+motion_search=on";
-constexpr const char* kColourSearchToggle = "input=colour motion_search=on";
+constexpr const char* kColourSearchConfig = "balanced+colour+motion_search=off";
+constexpr const char* kColourSearchToggle = "input=colour motion_search=off";
 
 Result<std::vector<Config>> configs_for(const BenchOptions& o, const std::string& mode) {
     std::vector<Config> out;
@@ -126,9 +126,9 @@ Result<std::vector<Config>> configs_for(const BenchOptions& o, const std::string
         Params fast = base;
         fast.fast_motion = true;
         out.push_back({kColourFastConfig, "balanced", kColourFastToggle, fast, true});
-        Params search = base;
-        search.motion_search = true;
-        out.push_back({kColourSearchConfig, "balanced", kColourSearchToggle, search, true});
+        Params no_search = base;
+        no_search.motion_search = false;
+        out.push_back({kColourSearchConfig, "balanced", kColourSearchToggle, no_search, true});
     }
     return out;
 }

@@ -231,12 +231,13 @@ struct Params {
     // Sessions without vectors: DIS's patch inverse search, propagation and densification on the
     // coarse levels of the coarse-to-fine field, between each level's seed and its sweeps
     // (shaders/search.h); with it the coarse levels are refined at any size (their sweeps and
-    // level 0 still up to kPolishMaxPixels). Train, fgsr-colour: up on 18 of 20 rows, mobfgsr-bunker
-    // HR +0.84 / +0.77 dB (interp / extrap), LR +0.47 / +0.34, hdr-fg +0.49 / +0.43, at most -0.06
-    // (pan-s2-fg extrap); about 1.6x a 1080p frame's GPU time on lavapipe (docs/ACCURACY.md, "Patch
-    // inverse search on the colour-only path"). Validation not yet measured. Not carried by the
-    // wire protocol.
-    bool motion_search = false;
+    // level 0 still up to kPolishMaxPixels). fgsr-colour: train up on 18 of 20 rows
+    // (mobfgsr-bunker HR +0.84 / +0.77 dB interp / extrap, at most -0.06), validation up on all 12
+    // (+4.13 dB summed), the fresh seed-4 renders on 6 of 10 (+1.91 summed, pan -0.11 the worst).
+    // On lavapipe about 1.1x a 480x270 colour-only frame's GPU time and 1.5x a 1080p one's
+    // (docs/ACCURACY.md, change 40). A default since change 40; fast_motion (no refinement) is the
+    // way to leave it out through fgsrd. Not carried by the wire protocol.
+    bool motion_search = true;
     // The client's vectors are differences of jittered positions (QRISP Eq. 1); ingest removes
     // the jitter: mv += jitter(previous) - jitter(current).
     bool mvs_contain_jitter = false;

@@ -21,9 +21,10 @@
 //                frame generation from both fields by agreement (switch colour_agree): it gains where
 //                shading moves on its own (street-fg interp +3.64 dB, sundial-fg +3.30, shadow-fg
 //                +1.58) and loses 0.04 on fan-fg, at about five times a frame's cost on CPU devices
-//                (changes 33-37). Nor DIS's patch inverse search on the colour-only path (switch
-//                motion_search): mobfgsr-bunker HR +0.84 dB, at most -0.06 on train, at about
-//                1.6x a 1080p frame's time (docs/MOTION.md, "Patch inverse search").
+//                (changes 33-37).
+// balanced and quality estimate colour-only motion with DIS's patch inverse search on the coarse
+// levels (switch motion_search; docs/ACCURACY.md, change 40: mobfgsr-bunker HR +0.84 dB, validation
+// up on every row, about 1.1x a 480x270 colour-only frame's time on lavapipe and 1.5x a 1080p one's).
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
 // pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing),
 // and so is the scene-cut test of sessions with vectors (vector_cuts). The frame-0 depth test's
@@ -70,6 +71,7 @@ inline Params preset_params(Preset preset) {
         p.accel_depth_motion = false;
         p.cover_edges = false;
         p.warp_kernel = WarpKernel::bilinear; // the cubic's 16 reads a warped sample
+        p.motion_search = false;              // fast_motion refines nothing anyway
         break;
     case Preset::balanced:
         p.motion = MotionModel::quadratic;
@@ -83,6 +85,7 @@ inline Params preset_params(Preset preset) {
         p.accel_median = false;
         p.accel_depth_motion = false;
         p.cover_edges = true;
+        p.motion_search = true;
         break;
     case Preset::quality:
         p.motion = MotionModel::quadratic;
@@ -96,6 +99,7 @@ inline Params preset_params(Preset preset) {
         p.accel_median = true;
         p.accel_depth_motion = true; // docs/ACCURACY.md, changes 21, 23
         p.cover_edges = true;
+        p.motion_search = true;
         break;
     }
     return p;
