@@ -74,6 +74,9 @@ TEST(Stress, TableCoversTheIssue) {
                                  "colour-only/pan-diagonal-quarter",
                                  "colour-only/fast/flat-changing",
                                  "colour-only/fast/noise",
+                                 "colour-only/searched/flat-changing",
+                                 "colour-only/searched/noise",
+                                 "colour-only/searched/pan-specials",
                                  "corrected/flat-changing",
                                  "corrected/noise",
                                  "corrected/pan-216px"})
@@ -92,6 +95,13 @@ TEST(Stress, ColourOnlyCasesWithholdVectorsAndDepth) {
         EXPECT_GT(c.max_seconds, 0.0) << c.name << ": bounded in time";
         // The fast/ cases, and only they, estimate motion without refinement.
         EXPECT_EQ(c.params.fast_motion, c.name.rfind("colour-only/fast/", 0) == 0) << c.name;
+        // The searched/ cases reach the patch inverse search on a level.
+        if (c.name.rfind("colour-only/searched/", 0) == 0) {
+            EXPECT_TRUE(c.params.motion_search) << c.name;
+            EXPECT_TRUE(
+                fgsr::ref::searches_level(fgsr::ref::motion_levels(c.format.width, c.format.height), 1))
+                << c.name;
+        }
         std::vector<std::vector<std::byte>> colours;
         for (size_t i = 0; i < c.step_count; ++i) {
             const stress::Step st = c.step(i);
@@ -125,7 +135,7 @@ TEST(Stress, ColourOnlyCasesWithholdVectorsAndDepth) {
                 << c.name;
         }
     }
-    EXPECT_EQ(colour_cases, 11u);
+    EXPECT_EQ(colour_cases, 14u);
 }
 
 // The corrected-vectors cases give zero vectors and depth with every frame and turn the correction

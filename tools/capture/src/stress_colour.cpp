@@ -11,6 +11,8 @@
 // request is refused as after a reset (Step::across_cut). Three of them also run with zero vectors
 // and depth given and corrected by colour (Params::correct_vectors): content where the correction
 // has nothing to go by (flat, noise) or where every pixel disagrees with its given vector (the pan).
+// Three run at 256x144, where the patch inverse search runs on level 1 (Params::motion_search):
+// flat colour that brightens, noise, and a slow pan with non-finite and extreme channels.
 // Two run with fast motion estimation too (Params::fast_motion: the vectors without refinement):
 // flat colour that brightens and noise, where nothing but the refinement smooths the estimate.
 // The same three with zero vectors given run in sessions that also generate from colour-only motion
@@ -20,6 +22,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace fgsr::stress::detail {
@@ -65,6 +68,22 @@ Frame panned(const FrameFormat& f, glm::vec2 offset, uint32_t seed) {
     for (uint32_t y = 0; y < f.height; ++y)
         for (uint32_t x = 0; x < f.width; ++x)
             color[size_t(y) * f.width + x] = world(float(x) + offset.x, float(y) + offset.y, seed);
+    return colour_frame(f, color);
+}
+
+// The panned world with a special value in one channel of about 15 % of its pixels: NaN, +Inf, -Inf,
+// half's largest finite value and a half denormal, by turns.
+Frame panned_specials(const FrameFormat& f, glm::vec2 offset, uint32_t seed) {
+    const float specials[5] = {std::numeric_limits<float>::quiet_NaN(),
+                               std::numeric_limits<float>::infinity(),
+                               -std::numeric_limits<float>::infinity(), 65504.f, 1e-7f};
+    std::vector<glm::vec4> color(size_t(f.width) * f.height);
+    for (uint32_t y = 0; y < f.height; ++y)
+        for (uint32_t x = 0; x < f.width; ++x) {
+            glm::vec4& c = color[size_t(y) * f.width + x];
+            c = world(float(x) + offset.x, float(y) + offset.y, seed);
+            if (lattice(int32_t(x), int32_t(y), seed + 5) < 0.15f) c[(x + y) % 3] = specials[(x + 2 * y) % 5];
+        }
     return colour_frame(f, color);
 }
 
@@ -148,6 +167,26 @@ void add_colour_only_cases(std::vector<Case>& out) {
                       "colour only: 480x270, full-frame pan of (-130, 72) px per frame (over a quarter "
                       "of the frame on both axes)",
                       f, 1.f, [f](int k) { return panned(f, glm::vec2(-130.f, 72.f) * float(k), 11); }));
+
+    // The same content at a size whose level 1 (128x72) the patch inverse search runs on
+    // (Params::motion_search, ref::kSearchMinSide): a flat patch has no Gauss-Newton step (a zero
+    // matrix), noise a matrix of random gradients and no right vector.
+    const FrameFormat searched = colour_format(256, 144);
+    out.push_back(sequence_case("colour-only/searched/flat-changing",
+                                "colour only, 256x144 (the patch search runs): flat colour that brightens "
+                                "every frame",
+                                searched, 1.f,
+                                [searched](int k) { return flat(searched, 0.2f + 0.3f * float(k)); }));
+    out.push_back(sequence_case("colour-only/searched/noise",
+                                "colour only, 256x144 (the patch search runs): independent uniform noise "
+                                "every frame",
+                                searched, 1.f, [searched](int k) { return noise(searched, uint32_t(k)); }));
+    out.push_back(sequence_case(
+        "colour-only/searched/pan-specials",
+        "colour only, 256x144 (the patch search runs): a 3 px a frame pan with NaN, +-Inf, 65504 and "
+        "denormal channels in about 15 % of the pixels",
+        searched, 1.f,
+        [searched](int k) { return panned_specials(searched, glm::vec2(3.f * float(k), 0.f), 13); }));
 
     // Fast motion estimation on the content with nothing to match.
     const FrameFormat small = colour_format(64, 36);

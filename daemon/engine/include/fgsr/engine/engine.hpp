@@ -231,10 +231,10 @@ struct Params {
     // Sessions without vectors: DIS's patch inverse search, propagation and densification on the
     // coarse levels of the coarse-to-fine field, between each level's seed and its sweeps
     // (shaders/search.h); with it the coarse levels are refined at any size (their sweeps and
-    // level 0 still up to kPolishMaxPixels). fgsr-colour: train up on 18 of 20 rows
-    // (mobfgsr-bunker HR +0.84 / +0.77 dB interp / extrap, at most -0.06), validation up on all 12
-    // (+4.13 dB summed), the fresh seed-4 renders on 6 of 10 (+1.91 summed, pan -0.11 the worst).
-    // On lavapipe about 1.1x a 480x270 colour-only frame's GPU time and 1.5x a 1080p one's
+    // level 0 still up to kPolishMaxPixels). fgsr-colour: train up on 22 of 24 rows
+    // (+5.95 dB summed; mobfgsr-bunker HR +0.84 / +0.77 interp / extrap, at most -0.06), validation
+    // up on all 12 (+4.14), the fresh seed-4 renders on 6 of 10 (+1.92, pan -0.11 the worst).
+    // On lavapipe about 1.2x a 480x270 colour-only frame's GPU time and 1.4x a 1080p one's
     // (docs/ACCURACY.md, change 40). A default since change 40; fast_motion (no refinement) is the
     // way to leave it out through fgsrd. Not carried by the wire protocol.
     bool motion_search = true;

@@ -24,7 +24,7 @@
 //                (changes 33-37).
 // balanced and quality estimate colour-only motion with DIS's patch inverse search on the coarse
 // levels (switch motion_search; docs/ACCURACY.md, change 40: mobfgsr-bunker HR +0.84 dB, validation
-// up on every row, about 1.1x a 480x270 colour-only frame's time on lavapipe and 1.5x a 1080p one's).
+// up on every row, about 1.2x a 480x270 colour-only frame's time on lavapipe and 1.4x a 1080p one's).
 // Thresholds (t_depth, t_bright, sr_a, sr_b) are the calibrated defaults in every preset; the SR
 // pre-filter of noisy input (denoise) is on in every preset (on clean input it filters nothing),
 // and so is the scene-cut test of sessions with vectors (vector_cuts). The frame-0 depth test's
