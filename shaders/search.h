@@ -154,8 +154,9 @@ FGSR_INLINE void search_patch(uvec2 i, PolishParams p) {
         if (k == n_cand + int(p.search_steps) || !(det > 1.0e-12f)) break;
         vec2 b = m.b - gsum * (m.sr * inv_n);
         u -= vec2(h22 * b.x - h12 * b.y, h11 * b.y - h12 * b.x) / det;
+        // Written so that a vector that is not a number ends the search too.
         vec2 moved = abs(u - u0);
-        if (max(moved.x, moved.y) > float(SEARCH_PATCH)) break;
+        if (!(max(moved.x, moved.y) <= float(SEARCH_PATCH))) break;
     }
     store_patch(p.patch_out + i.y * p.patches_x + i.x, vec4(best, best_cost * inv_n, 0.0f));
 }
