@@ -299,6 +299,15 @@ TEST(MotionSearch, PatchesConvergeToAnAnalyticTranslationAndPropagateIt) {
             }
         return e;
     };
+    // worst() takes the largest error over its patches: there are interior patches both wholly in
+    // the far square and outside it, or its bounds below would hold vacuously.
+    size_t in_square = 0, outside = 0;
+    for (uint32_t y = 0; y < p.patches_y; ++y)
+        for (uint32_t x = 0; x < p.patches_x; ++x)
+            if (interior(glm::uvec2(x, y)))
+                ++(in_far(hdr.search_origin(glm::uvec2(x, y), p), SEARCH_PATCH) ? in_square : outside);
+    ASSERT_GT(in_square, 0u);
+    ASSERT_GT(outside, 0u);
     for (const float reach : {1e9f, ref::kSearchReach}) {
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x) {
@@ -312,8 +321,7 @@ TEST(MotionSearch, PatchesConvergeToAnAnalyticTranslationAndPropagateIt) {
         hdr.patches.assign(2 * size_t(n), glm::vec4(0.f));
         p.prop_reach = reach;
         for (uint32_t round = 0; round <= ref::kSearchRounds; ++round) {
-            p.patch_in = round == 0 ? MOTION_NONE : ((round - 1) & 1u) * n;
-            p.patch_out = (round & 1u) * n;
+            ref::search_round_regions(p, round);
             for (uint32_t y = 0; y < p.patches_y; ++y)
                 for (uint32_t x = 0; x < p.patches_x; ++x) hdr.search_patch(glm::uvec2(x, y), p);
             // Not every patch: those wholly in the far square have not found the truth alone.

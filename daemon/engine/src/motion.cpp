@@ -156,11 +156,15 @@ gpu::PolishParams ref::search_params(const std::vector<MotionLevel>& levels, uin
     p.patches_x = search_patches(p.width);
     p.patches_y = search_patches(p.height);
     p.search_steps = kSearchSteps;
+    search_round_regions(p, round);
+    p.prop_reach = kSearchReach;
+    return p;
+}
+
+void ref::search_round_regions(gpu::PolishParams& p, uint32_t round) {
     const uint32_t n = p.patches_x * p.patches_y;
     p.patch_in = round == 0 ? MOTION_NONE : ((round - 1) & 1u) * n;
     p.patch_out = (round & 1u) * n;
-    p.prop_reach = kSearchReach;
-    return p;
 }
 
 bool ref::searches_level(const std::vector<MotionLevel>& levels, uint32_t level) {

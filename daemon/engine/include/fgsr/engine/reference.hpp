@@ -278,6 +278,9 @@ inline constexpr uint32_t kSearchFinest = 1;
 inline constexpr uint32_t kSearchMinSide = 64;
 // Patches along a side of `side` pixels, `stride` apart (the last one ends at the edge).
 uint32_t search_patches(uint32_t side, uint32_t stride = kSearchStride);
+// The patch regions round `round` reads and writes (p.patch_in, p.patch_out), for p.patches_x x
+// p.patches_y patches: the rounds ping-pong between two regions; round 0 reads none.
+void search_round_regions(PolishParams& p, uint32_t round);
 // Round `round` (0 .. kSearchRounds) of the search on coarse level `level`; the densification's
 // are the last round's (it reads what that one wrote).
 PolishParams search_params(const std::vector<MotionLevel>& levels, uint32_t level, uint32_t round);
