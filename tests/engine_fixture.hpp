@@ -27,6 +27,16 @@ inline Engine& engine() {
     return *e;
 }
 
+// The default Params without colour_agree (on by default since change 41): the given field's path
+// alone, which fgsrd's sessions run unless a client asks for agreement. Tests of a pass of that path
+// (tile skipping, the fused passes, the CPU references of one field) use it, so that a session with
+// vectors does not also run the colour-only twin and the agree pass over its frames.
+inline Params given_field() {
+    Params p;
+    p.colour_agree = false;
+    return p;
+}
+
 // Fails the current test when the validation layer reported errors since the last call.
 inline void expect_no_validation_errors() {
     static uint64_t seen = 0;

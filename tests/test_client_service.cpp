@@ -382,14 +382,15 @@ struct OptionRuns {
     nlohmann::json in_process, daemon, plain;
     std::string daemon_out, plain_out;
 };
+// `off` is the plain run's option (the option's switch turned off: colour_agree is on by default).
 std::optional<OptionRuns> eval_three_ways(const char* prefix, const std::string& option,
-                                          const std::string& socket) {
+                                          const std::string& socket, const std::string& off) {
     const fs::path dir = saved_capture(prefix, 4, 4);
     const std::string common = std::string(FGSR_BIN_DIR) +
                                "/fgsr eval --quiet --json --methods fgsr --capture " + (dir / "cap").string();
     auto ev = fgsr::test::run_process(common + " " + option);
     auto rp = fgsr::test::run_process(common + " " + option + " --socket " + socket);
-    auto plain = fgsr::test::run_process(common + " --socket " + socket);
+    auto plain = fgsr::test::run_process(common + " " + off + " --socket " + socket);
     std::error_code ec;
     fs::remove_all(dir, ec);
     EXPECT_EQ(ev.status, 0) << ev.out;
@@ -406,9 +407,11 @@ std::optional<OptionRuns> eval_three_ways(const char* prefix, const std::string&
 
 // `--correct-vectors` through fgsrd (the session flag FGSR_SESSION_CORRECT_MVS, as `fgsr replay
 // --correct-vectors` sends it): the motion passes run in the daemon and the scores equal the
-// in-process ones with the same option; without it no motion pass runs.
+// in-process ones with the same option; without it no motion pass runs (colour_agree off in all
+// three runs, whose twin would run them).
 TEST_F(ClientService, CorrectedVectorsGoThroughTheDaemon) {
-    const auto r = eval_three_ways("fgsr-correct", "--correct-vectors", daemon_->socket_path());
+    const auto r = eval_three_ways("fgsr-correct", "--colour-agree=false --correct-vectors",
+                                   daemon_->socket_path(), "--colour-agree=false");
     ASSERT_TRUE(r);
     const auto &a = r->in_process["methods"]["fgsr"], &b = r->daemon["methods"]["fgsr"],
                &c = r->plain["methods"]["fgsr"];
@@ -421,11 +424,12 @@ TEST_F(ClientService, CorrectedVectorsGoThroughTheDaemon) {
     EXPECT_FALSE(b["pass_ms"].contains("polish")) << r->daemon_out;
 }
 
-// `--colour-agree` through fgsrd (the session flag FGSR_SESSION_COLOUR_AGREE, as `fgsr replay
-// --colour-agree` sends it): the scores equal the in-process ones with the same option, and the
-// agree pass and the colour twin's motion passes ran in the daemon; without it neither ran.
+// colour_agree (on by default) through fgsrd: `fgsr eval --socket` and `fgsr replay` send the
+// session flag FGSR_SESSION_COLOUR_AGREE without being asked; the scores equal the in-process ones,
+// and the agree pass and the colour twin's motion passes ran in the daemon; with
+// `--colour-agree=false` neither ran.
 TEST_F(ClientService, AgreeingInterpolationGoesThroughTheDaemon) {
-    const auto r = eval_three_ways("fgsr-agree", "--colour-agree", daemon_->socket_path());
+    const auto r = eval_three_ways("fgsr-agree", "", daemon_->socket_path(), "--colour-agree=false");
     ASSERT_TRUE(r);
     const auto &a = r->in_process["methods"]["fgsr"], &b = r->daemon["methods"]["fgsr"],
                &c = r->plain["methods"]["fgsr"];

@@ -64,7 +64,7 @@ struct Pan {
 };
 
 std::unique_ptr<Session> session(bool vector_cuts = true, bool correct_vectors = false) {
-    Params p;
+    Params p = given_field();
     p.vector_cuts = vector_cuts;
     p.correct_vectors = correct_vectors;
     auto s = engine().create_session(internal_format(kW, kH), p);

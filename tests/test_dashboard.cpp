@@ -111,8 +111,9 @@ class FrameSource {
         fgsr::client::Connection conn;
         if (conn.connect(socket_.c_str(), "dashboard-test") != FGSR_STATUS_OK) return fail("connect");
         fgsr::client::Session s;
-        fgsr_session_desc d = fgsr::capture::session_desc(cap->format, fgsr::Params{}, FGSR_MODE_INTERPOLATE);
-        if (colour_only_) d.flags |= FGSR_SESSION_NO_MVS | FGSR_SESSION_NO_DEPTH; // fgsrd estimates motion
+        fgsr::FrameFormat format = cap->format;
+        if (colour_only_) format.has_vectors = format.has_depth = false; // fgsrd estimates motion
+        fgsr_session_desc d = fgsr::capture::session_desc(format, fgsr::Params{}, FGSR_MODE_INTERPOLATE);
         if (s.create(conn, d) != FGSR_STATUS_OK) return fail("create");
         fgsr_pool_layout l{};
         (void)s.layout(l);

@@ -72,7 +72,7 @@ struct Lamp {
 // uniform velocity, the lamp's motion) and scores against the rendering at t = 1.5.
 double interpolated_psnr(const Lamp& lamp, float dilate_bright, float dilate_edges, ImageRGBA* out = nullptr,
                          bool correct_vectors = false) {
-    Params p;
+    Params p = given_field();
     p.dilate_bright = dilate_bright;
     p.dilate_edges = dilate_edges;
     p.correct_vectors = correct_vectors;
@@ -118,7 +118,7 @@ TEST(Dilate, GpuStageMatchesTheCpuReferenceAndChangesOnlyTheRing) {
     // The lamp across a corner of the 16x16 flag tiles (32, 16), so that ring pixels lie in tiles
     // that hold no over-white pixel themselves.
     const Lamp lamp{20.f, glm::vec2(28.f, 13.f), glm::vec2(4.f, 3.f)};
-    Params params;
+    Params params = given_field();
     const FrameFormat fmt = internal_format(kW, kH);
     auto s = engine().create_session(fmt, params);
     ASSERT_TRUE(s) << s.error().message;
@@ -163,7 +163,7 @@ TEST(Dilate, ContentThatIsNotOverWhiteIsLeftAlone) {
 }
 
 TEST(Dilate, ParamsRejectANegativeOrNonFiniteThreshold) {
-    Params p;
+    Params p = given_field();
     p.dilate_bright = -1.f;
     EXPECT_FALSE(validate(p));
     p.dilate_bright = std::nanf("");
@@ -185,7 +185,7 @@ TEST(Dilate, EdgeRuleMatchesTheCpuReference) {
     for (int samples : {8, 1}) {
         SCOPED_TRACE(samples);
         const Lamp disc{0.9f, glm::vec2(28.f, 13.f), glm::vec2(4.f, 3.f), samples};
-        Params params;
+        Params params = given_field();
         const FrameFormat fmt = internal_format(kW, kH);
         auto s = engine().create_session(fmt, params);
         ASSERT_TRUE(s) << s.error().message;

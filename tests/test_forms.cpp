@@ -46,7 +46,7 @@ enum class Mode { interp, extrap, sr, isr, esr };
 // super-resolved frame first.
 std::vector<ImageRGBA> outputs(Engine& e, Mode mode, bool skip_tiles, const std::vector<RawFrame>& inputs,
                                uint32_t w, uint32_t h) {
-    Params p;
+    Params p = given_field();
     p.skip_tiles = skip_tiles;
     if (mode == Mode::sr || mode == Mode::isr || mode == Mode::esr) p.scale = 2.f;
     auto s = e.create_session(internal_format(w, h), p);

@@ -75,7 +75,7 @@ FrameFormat colour_only(uint32_t w, uint32_t h) {
     return f;
 }
 
-std::unique_ptr<Session> session_of(const FrameFormat& f, Params p = {}) {
+std::unique_ptr<Session> session_of(const FrameFormat& f, Params p = given_field()) {
     auto s = engine().create_session(f, p);
     if (!s) ADD_FAILURE() << s.error().message;
     return s ? std::move(*s) : nullptr;
@@ -894,7 +894,7 @@ TEST(Motion, PolishRunsOnUnjitteredFramesOnly) {
     const uint32_t w = 64, h = 48;
     for (float scale : {1.f, 2.f})
         for (float jitter : {0.f, 0.25f}) {
-            Params p;
+            Params p = given_field();
             p.scale = scale;
             auto s = session_of(colour_only(w, h), p);
             ASSERT_TRUE(s);
@@ -1244,7 +1244,7 @@ std::optional<GeneratedFrame> halfway_frame(uint32_t w, uint32_t h, const Params
 }
 
 Params correcting() {
-    Params p;
+    Params p = given_field();
     p.correct_vectors = true;
     return p;
 }
@@ -1299,7 +1299,7 @@ TEST(Motion, CorrectedVectorsFollowAMovingShadow) {
     const std::vector<glm::vec4> truth = colours_of(render(w, h, [&](glm::vec2 p) { return shadow_scene(p, 1.5f, step); }));
     double score[2] = {0, 0};
     for (int correct = 0; correct < 2; ++correct) {
-        auto s = session_of(internal_format(w, h), correct ? correcting() : Params{});
+        auto s = session_of(internal_format(w, h), correct ? correcting() : given_field());
         ASSERT_TRUE(s);
         for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(s->submit(frame(t).view()));
         if (correct) {
@@ -1337,7 +1337,7 @@ TEST(Motion, CorrectionKeepsExactVectorsAtDisocclusions) {
         colours_of(render(w, h, [&](glm::vec2 p) { return square_scene(p, 1.5f, start, step, side); }));
     double score[2] = {0, 0};
     for (int correct = 0; correct < 2; ++correct) {
-        auto out = halfway_frame(w, h, correct ? correcting() : Params{}, frame);
+        auto out = halfway_frame(w, h, correct ? correcting() : given_field(), frame);
         ASSERT_TRUE(out);
         score[correct] = psnr(out->color.rgba, truth);
     }
@@ -1360,7 +1360,7 @@ std::array<double, 2> agree_scores(uint32_t w, uint32_t h, const std::function<R
                                    bool extrapolate, const std::vector<glm::vec4>& truth) {
     std::array<double, 2> score{0, 0};
     for (int agree = 0; agree < 2; ++agree) {
-        Params p;
+        Params p = given_field();
         p.colour_agree = agree != 0;
         auto out = halfway_frame(w, h, p, frame, extrapolate);
         if (!out) return score;
@@ -1485,7 +1485,7 @@ TEST(Blend, ApproachedGroundIsMixedLikeGroundAtOneDepth) {
         for (const bool separate : {false, true}) {
             SCOPED_TRACE(std::string(rule ? "rule on" : "rule off") +
                          (separate ? ", separate passes" : ", fused"));
-            Params p;
+            Params p = given_field();
             p.blend_depth_motion = rule;
             p.separate_passes = separate;
             auto s = session_of(internal_format(scene.w, scene.h), p);
@@ -1588,7 +1588,7 @@ TEST(Blend, DepthRangeHoldsWhatFrameOneShowsWithinAPixelAndItsDepthChange) {
         field.v.assign(w, glm::vec4(0.f));
         field.state.assign(w, ref::kFieldSplatted);
         for (const bool rule : {false, true}) {
-            Params p;
+            Params p = given_field();
             p.blend_depth_motion = rule;
             FrameFormat fmt = internal_format(w, 1);
             const auto g = params::gen_params(fmt, p, alpha, false, true, true);
@@ -1614,7 +1614,7 @@ TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
         SCOPED_TRACE(extrapolate ? "extrapolation" : "interpolation");
         std::vector<float> out[2];
         for (int agree = 0; agree < 2; ++agree) {
-            Params p;
+            Params p = given_field();
             p.colour_agree = agree != 0;
             auto r = halfway_frame(w, h, p, frame, extrapolate);
             ASSERT_TRUE(r);
@@ -1669,8 +1669,8 @@ TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
     given_f.v.assign(n, glm::vec4(0.f));
     given_f.state.assign(n, ref::kFieldSplatted);
     const std::vector<uint32_t> colour_state(n, ref::kFieldSplatted);
-    ref::AgreeParams p =
-        params::agree_params(params::gen_params(internal_format(w, h), Params{}, 0.5f, false, true, true));
+    ref::AgreeParams p = params::agree_params(
+        params::gen_params(internal_format(w, h), given_field(), 0.5f, false, true, true));
     for (const uint32_t radius : {defaults::agree_radius, 60u, 0u}) {
         SCOPED_TRACE("radius " + std::to_string(radius));
         p.radius = radius;
@@ -1717,7 +1717,7 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
             const uint32_t w = size.x, h = size.y;
             SCOPED_TRACE(std::string(zoom ? "zoom" : "still ground") + ", " + std::to_string(w) + "x" +
                          std::to_string(h));
-            Params p;
+            Params p = given_field();
             p.colour_agree = true;
             auto s = session_of(internal_format(w, h), p);
             ASSERT_TRUE(s);
@@ -1841,7 +1841,7 @@ TEST(Motion, AgreeExtrapolationGpuMatchesTheCpuReference) {
 // frames of the last one): each frame equals the one a call of that alpha alone gives.
 TEST(Motion, AgreeGivesEachAlphaOfACallAsAloneWould) {
     const uint32_t w = 128, h = 64;
-    Params p;
+    Params p = given_field();
     p.colour_agree = true;
     std::vector<GeneratedFrame> frames[2];
     const std::vector<float> calls[2] = {{0.25f, 0.5f}, {0.5f}};
@@ -1861,24 +1861,29 @@ TEST(Motion, AgreeGivesEachAlphaOfACallAsAloneWould) {
                                 [](const PassTiming& t) { return t.pass == PassId::agree; }));
 }
 
-// Params::colour_agree needs scale 1, is off in sessions without vectors (they estimate their own
-// motion; one Params serves both kinds, as in fgsr eval), and stays what it was at creation.
-TEST(Motion, AgreeNeedsScaleOneAndIsOffWithoutVectors) {
+// Params::colour_agree is on by default (change 41) and off where it does not apply: in sessions
+// without vectors (they estimate their own motion; one Params serves both kinds, as in fgsr eval)
+// and with super resolution, where the default Params are taken as they are. It stays what it was
+// at creation.
+TEST(Motion, AgreeIsOnByDefaultAndOffWithoutVectorsOrWithScale) {
+    EXPECT_TRUE(Params{}.colour_agree);
     Params p;
-    p.colour_agree = true;
     auto colour = session_of(colour_only(64, 32), p);
     ASSERT_TRUE(colour);
     EXPECT_FALSE(colour->params().colour_agree);
     p.scale = 2.f;
     auto sr = engine().create_session(internal_format(64, 32), p);
-    ASSERT_FALSE(sr);
-    EXPECT_NE(sr.error().message.find("colour_agree"), std::string::npos) << sr.error().message;
+    ASSERT_TRUE(sr) << sr.error().message;
+    EXPECT_FALSE((*sr)->params().colour_agree);
     p.scale = 1.f;
     auto agreeing = session_of(internal_format(64, 32), p);
-    auto plain = session_of(internal_format(64, 32));
+    Params off;
+    off.colour_agree = false;
+    auto plain = session_of(internal_format(64, 32), off);
     ASSERT_TRUE(agreeing && plain);
     EXPECT_TRUE(agreeing->params().colour_agree);
-    agreeing->set_params(Params{});
+    // Fixed at creation.
+    agreeing->set_params(off);
     plain->set_params(p);
     EXPECT_TRUE(agreeing->params().colour_agree);
     EXPECT_FALSE(plain->params().colour_agree);
@@ -1945,7 +1950,7 @@ TEST(Motion, CorrectionKeepsExactVectorsAtDisocclusionsOfANearbySurface) {
     Params any = correcting();
     any.correct_front = std::numeric_limits<float>::infinity();
     // Given: the vectors as ingest leaves them (its dilate stage), which the correction starts from.
-    const CheckerFloor::Run given = floor.run(Params{}), with = floor.run(correcting()),
+    const CheckerFloor::Run given = floor.run(given_field()), with = floor.run(correcting()),
                             without = floor.run(any);
     ASSERT_EQ(given.mv.size(), size_t(2) * CheckerFloor::w * CheckerFloor::h);
     ASSERT_EQ(with.mv.size(), given.mv.size());

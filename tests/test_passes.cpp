@@ -80,7 +80,7 @@ TEST_P(PassesMatchReference, EveryPass) {
     FrameFormat fmt = internal_format(c.width, c.height);
     fmt.color_format = c.color_format;
     fmt.mv_format = c.mv_format;
-    Params params;
+    Params params = given_field();
     params.motion = c.motion;
     params.accel_depth_motion = c.depth_motion;
     params.fill_holes = false;

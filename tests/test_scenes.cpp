@@ -28,7 +28,7 @@ struct Generated {
 Generated generate(const SyntheticScene& scene, MotionModel motion, bool extrapolate, float alpha,
                    int count, int cut_at = -1, bool vector_cuts = true) {
     const SceneOptions& o = scene.options();
-    Params p;
+    Params p = given_field();
     p.motion = motion;
     p.vector_cuts = vector_cuts;
     auto s = engine().create_session(internal_format(o.width, o.height), p);
@@ -155,7 +155,7 @@ TEST(Scenes, AccelerationBoundChoosesParabolaOrUniformVelocity) {
             ref::InternalFrame f0 = flat_frame(w, h), f1 = flat_frame(w, h);
             f1.mv.assign(size_t(w) * h, -c.m1); // internal vectors point to the previous frame
             f0.mv.assign(size_t(w) * h, -c.m0);
-            Params p;
+            Params p = given_field();
             const float a = 0.5f;
             const ref::GenParams g = params::gen_params(internal_format(w, h), p, a, extrap, true, true);
             const ref::Splat sp = ref::splat(f0, f1, g);
@@ -214,7 +214,7 @@ TEST(Scenes, ExtrapolationTakesTheSmallestAccelerationOfTheSameSurface) {
                 const size_t b = size_t(beside.y) * w + size_t(beside.x);
                 f0.mv[b] = -m1;                     // the object's frame-0 motion
                 if (!same_depth) f0.depth[b] = 2.f; // another surface: not a candidate
-                Params p;
+                Params p = given_field();
                 p.accel_search = search;
                 const float a = 0.5f;
                 const glm::vec2 pt = generated_position(f0, f1, p, a, extrap, px);
@@ -255,7 +255,7 @@ TEST(Scenes, FrameZeroDepthTestExpectsTheDepthChangeTheMotionImplies) {
     for (const Case& c : cases)
         for (bool rule : {true, false})
             for (bool extrap : {false, true}) {
-                Params p;
+                Params p = given_field();
                 p.accel_depth_motion = rule;
                 p.accel_median = false;
                 p.accel_search = false;
@@ -313,7 +313,7 @@ TEST(Scenes, InterpolationTakesTheMedianAccelerationOfTheSameSurface) {
                         for (uint32_t x = 0; x < w; ++x)
                             if (int(y) != px.y)
                                 f0.depth[size_t(y) * w + x] = f1.depth[size_t(y) * w + x] = 4.f;
-                Params p;
+                Params p = given_field();
                 p.accel_median = median;
                 p.accel_search = false; // extrapolation's own remedy, tested above
                 const float a = 0.5f;
@@ -375,7 +375,7 @@ TEST(Scenes, EdgeCoverBringsMovingEdgesCloserToTheirCoverage) {
                 const ref::InternalFrame truth = bar_frame(w, h, c, time);
                 std::vector<glm::vec4> out[2], fused[2];
                 for (bool cover : {false, true}) {
-                    Params p;
+                    Params p = given_field();
                     p.cover_edges = cover;
                     const ref::GenParams g = params::gen_params(internal_format(w, h), p, a, extrap, true, true);
                     out[cover] = ref::generate(f0, f1, g);
@@ -445,7 +445,7 @@ ref::InternalFrame leaving_frame(uint32_t w, uint32_t h, const LeavingCase& c, b
 void generate_with_and_without_frame0_vectors(const ref::InternalFrame& f0, const ref::InternalFrame& f1,
                                               float a, std::vector<glm::vec4> out[2]) {
     for (bool frame0_mv : {false, true}) {
-        Params p;
+        Params p = given_field();
         p.motion = MotionModel::linear;
         const ref::GenParams g =
             params::gen_params(internal_format(f0.width, f0.height), p, a, false, frame0_mv, true);
@@ -761,7 +761,7 @@ struct WarpRun {
 
 // colour_only: a session without vectors and depth (motion estimated from colour).
 WarpRun run_warp(const MovingPattern& scene, WarpKernel kernel, bool colour_only = false) {
-    Params p;
+    Params p = given_field();
     p.warp_kernel = kernel;
     WarpRun r;
     FrameFormat format = internal_format(scene.w, scene.h);
@@ -859,7 +859,7 @@ TEST(Warp, CubicCastsNoRingingAroundAHighlight) {
     // Keys' cubic convolution kernel with a = -0.5 (Catmull-Rom) at 1 < |x| < 2.
     const float a = -0.5f, x = 1.5f, outer = a * x * x * x - 5.f * a * x * x + 8.f * a * x - 4.f * a;
     ASSERT_LT(background + peak * outer, 0.f) << "the unclamped cubic rings below zero";
-    Params p;
+    Params p = given_field();
     p.warp_kernel = WarpKernel::cubic;
     auto s = engine().create_session(internal_format(w, h), p);
     ASSERT_TRUE(s);

@@ -182,7 +182,7 @@ size_t expect_classify_matches(uint32_t w, uint32_t h, uint32_t seed) {
     size_t statics = 0;
     for (uint32_t tile : {8u, 16u, 32u})
         for (MotionModel motion : {MotionModel::quadratic, MotionModel::linear}) {
-            Params p;
+            Params p = given_field();
             p.tile_size = tile;
             p.motion = motion;
             auto s = engine().create_session(fmt, p);
@@ -225,7 +225,7 @@ size_t expect_classify_matches(uint32_t w, uint32_t h, uint32_t seed) {
                     }
             }
         }
-    (void)expect_same_on_off(fmt, {r0.view(), r1.view()}, {}, Params{}, Mode::interp);
+    (void)expect_same_on_off(fmt, {r0.view(), r1.view()}, {}, given_field(), Mode::interp);
     expect_no_validation_errors();
     return statics;
 }
@@ -247,7 +247,7 @@ TEST(Tiles, StillPairIsStaticInBothForms) {
         const uint32_t h = 19;
         const RawFrame f = scene_frame(w, h, 0, 0.f, false);
         const FrameFormat fmt = internal_format(w, h);
-        auto s = engine().create_session(fmt, Params{});
+        auto s = engine().create_session(fmt, given_field());
         ASSERT_TRUE(s);
         ASSERT_TRUE((*s)->submit(f.view()));
         ASSERT_TRUE((*s)->submit(f.view()));
@@ -260,7 +260,7 @@ TEST(Tiles, StillPairIsStaticInBothForms) {
         const ref::InternalFrame f0 = to_internal(*(*s)->read_frame(0), w, h);
         const ref::InternalFrame f1 = to_internal(*(*s)->read_frame(1), w, h);
         const ref::GenParams gp =
-            params::gen_params(fmt, Params{}, alpha, false, true, true, params::input_measure(**s));
+            params::gen_params(fmt, given_field(), alpha, false, true, true, params::input_measure(**s));
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x) {
                 const glm::vec4 e = ref::copy_through(f0, f1, glm::ivec2(int(x), int(y)), gp);
@@ -289,7 +289,7 @@ TEST(Tiles, ClassifySrMatchesCpuReference) {
     d1[size_t(20) * w + 10] *= 2.f; // a disocclusion without motion: tile (1, 2) needs rectification
     const FrameFormat fmt = internal_format(w, h);
     for (bool dilate : {false, true}) {
-        Params p;
+        Params p = given_field();
         p.scale = 2.f;
         p.tile_size = 8;
         p.dilate_mvs = dilate;
@@ -327,7 +327,7 @@ TEST(Tiles, StillSceneIsCopiedThroughAndSkipsEverything) {
     const std::vector<FrameView> in = {f.view(), f.view(), f.view()};
     const FrameFormat fmt = internal_format(w, h);
     for (Mode mode : {Mode::interp, Mode::extrap}) {
-        const Outputs on = expect_same_on_off(fmt, in, {}, Params{}, mode);
+        const Outputs on = expect_same_on_off(fmt, in, {}, given_field(), mode);
         EXPECT_EQ(skipped_share(on, "splat"), 1.0);
         EXPECT_EQ(skipped_share(on, "generate"), 1.0);
         // Identical frames: the generated frame is the input (colours are exact halves).
@@ -344,13 +344,13 @@ TEST(Tiles, PartiallyMovingSceneSkipsTheStaticTiles) {
     for (int k = 0; k < 4; ++k) frames.push_back(scene_frame(w, h, k, 3.f, true));
     const FrameFormat fmt = internal_format(w, h);
     for (Mode mode : {Mode::interp, Mode::extrap}) {
-        const Outputs on = expect_same_on_off(fmt, views(frames), {}, Params{}, mode);
+        const Outputs on = expect_same_on_off(fmt, views(frames), {}, given_field(), mode);
         const double share = skipped_share(on, "generate");
         EXPECT_GT(share, 0.5) << "a 12x12 square moves on a 96x64 background";
         EXPECT_LT(share, 1.0);
         EXPECT_LE(share, skipped_share(on, "splat")) << "splat dirties static tiles, never cleans them";
     }
-    Params linear;
+    Params linear = given_field();
     linear.motion = MotionModel::linear;
     linear.blend = BlendMode::select;
     (void)expect_same_on_off(fmt, views(frames), {}, linear, Mode::interp);
@@ -366,7 +366,7 @@ TEST(Tiles, SuperResolutionOnOff) {
     const FrameFormat fmt = internal_format(w, h);
     for (float scale : {2.f, 1.5f})
         for (Resample resample : {Resample::lut, Resample::catmull_rom}) {
-            Params p;
+            Params p = given_field();
             p.scale = scale;
             p.resample = resample;
             p.tile_size = 8;
@@ -376,7 +376,7 @@ TEST(Tiles, SuperResolutionOnOff) {
             (void)expect_same_on_off(fmt, views(moving), kJitter, p, Mode::sr);
         }
     // ISR and ESR: classify and splat at input resolution, generate_sr over the listed tiles.
-    Params p;
+    Params p = given_field();
     p.scale = 2.f;
     p.tile_size = 8;
     const Outputs isr = expect_same_on_off(fmt, views(moving), kJitter, p, Mode::sr, true);
@@ -395,7 +395,7 @@ TEST(Tiles, SyntheticCaptureOnOff) {
     std::vector<FrameView> in;
     for (const capture::Frame& f : c->inputs) in.push_back(f.view());
     for (Mode mode : {Mode::interp, Mode::extrap})
-        (void)expect_same_on_off(c->format, in, {}, Params{}, mode);
+        (void)expect_same_on_off(c->format, in, {}, given_field(), mode);
 }
 
 // The shared captures (CI has them), a few frames each.
@@ -413,10 +413,10 @@ void shared_capture_on_off(const char* name, bool lr, bool sr) {
     }
     if (!sr) {
         for (Mode mode : {Mode::interp, Mode::extrap})
-            (void)expect_same_on_off(c->format, in, {}, Params{}, mode);
+            (void)expect_same_on_off(c->format, in, {}, given_field(), mode);
         return;
     }
-    Params p;
+    Params p = given_field();
     p.scale = 2.f;
     (void)expect_same_on_off(c->format, in, {}, p, Mode::sr, true);
 }
@@ -449,7 +449,7 @@ TEST(Tiles, ClassifiesMovingContentLessAndLessOften) {
     const uint32_t w = 64, h = 48;
     // Random frames stand for moving content: not a stream, and ingest's cut stage would take the
     // switch between still and random frames for a scene cut and refuse the pair (Cut.* test it).
-    Params p;
+    Params p = given_field();
     p.vector_cuts = false;
     auto s = engine().create_session(internal_format(w, h), p);
     ASSERT_TRUE(s) << s.error().message;
@@ -521,7 +521,7 @@ TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
         return f;
     };
     for (uint32_t moving : {w * 9 / 16, w * 3 / 8}) {
-        auto s = engine().create_session(internal_format(w, h), Params{});
+        auto s = engine().create_session(internal_format(w, h), given_field());
         ASSERT_TRUE(s) << s.error().message;
         std::vector<bool> calls;
         double share = -1;
@@ -557,7 +557,7 @@ TEST(Tiles, CpuDevicesClassifyOnlyWhereMostTilesCanBeSkipped) {
 // the rule (the first call, then the probes after 7 and 15 plain calls).
 TEST(Tiles, ProbesInIsrCallsOfTwoFramesChangeNoFrame) {
     const uint32_t w = 64, h = 48;
-    Params p;
+    Params p = given_field();
     p.scale = 2.f;
     auto s = engine().create_session(internal_format(w, h), p);
     ASSERT_TRUE(s) << s.error().message;
@@ -591,7 +591,7 @@ TEST(Tiles, ProbesInIsrCallsOfTwoFramesChangeNoFrame) {
 // classify), the second classifies and misses on moving content, then 7, 15, 31 submits without.
 TEST(Tiles, SuperResolutionClassifiesMovingContentLessAndLessOften) {
     const uint32_t w = 48, h = 40;
-    Params p;
+    Params p = given_field();
     p.scale = 2.f;
     auto s = engine().create_session(internal_format(w, h), p);
     ASSERT_TRUE(s) << s.error().message;
@@ -608,7 +608,7 @@ TEST(Tiles, SuperResolutionClassifiesMovingContentLessAndLessOften) {
 }
 
 TEST(Tiles, RejectsBadTileSize) {
-    Params p;
+    Params p = given_field();
     p.tile_size = 12;
     auto s = engine().create_session(internal_format(16, 16), p);
     ASSERT_FALSE(s);

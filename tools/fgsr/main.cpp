@@ -115,7 +115,8 @@ int main(int argc, char** argv) {
     eval->add_flag(
         "--colour-agree", eo.params.colour_agree,
         "interp, extrap: method fgsr also generates from motion estimated from colour and takes "
-        "that frame where it explains the colour and the capture's vectors do not (moving shadows)");
+        "that frame where it explains the colour and the capture's vectors do not (moving shadows); "
+        "on by default and in --preset quality, --colour-agree=false turns it off");
     eval->add_option("--correct-ratio", eo.params.correct_ratio,
                      "--correct-vectors: the estimate's colour cost must be below this times the given one's")
         ->check(CLI::Range(0.0, 1.0))
@@ -243,7 +244,8 @@ int main(int argc, char** argv) {
     replay->add_flag(
         "--colour-agree", ro.params.colour_agree,
         "Session flag FGSR_SESSION_COLOUR_AGREE: fgsrd also generates each frame from motion estimated "
-        "from colour and takes it where shading moves on its own");
+        "from colour and takes it where shading moves on its own (interp and extrap with vectors; on "
+        "by default, as fgsr eval, --colour-agree=false turns it off)");
     replay->add_flag("--bench", replay_bench,
                      "Benchmark the service overhead with spinning off and on (starts two fgsrd unless "
                      "--socket; prints figures)");
@@ -329,7 +331,7 @@ int main(int argc, char** argv) {
             if (eval->count("--dilate-bright")) p.dilate_bright = eo.params.dilate_bright;
             if (eval->count("--dilate-edges")) p.dilate_edges = eo.params.dilate_edges;
             if (eval->count("--correct-vectors")) p.correct_vectors = true;
-            if (eval->count("--colour-agree")) p.colour_agree = true;
+            if (eval->count("--colour-agree")) p.colour_agree = eo.params.colour_agree;
             if (eval->count("--correct-ratio")) p.correct_ratio = eo.params.correct_ratio;
             if (eval->count("--correct-margin")) p.correct_margin = eo.params.correct_margin;
             if (eval->count("--correct-depth")) p.correct_depth = eo.params.correct_depth;

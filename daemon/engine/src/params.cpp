@@ -46,10 +46,6 @@ Result<void> validate(const Params& p) {
         return make_error(Errc::invalid_argument,
                           "correct_vectors is for sessions without super resolution (scale 1), not scale " +
                               std::to_string(p.scale));
-    if (p.colour_agree && p.scale != 1.f)
-        return make_error(Errc::invalid_argument,
-                          "colour_agree is for sessions without super resolution (scale 1), not scale " +
-                              std::to_string(p.scale));
     if (uint32_t(p.motion) > uint32_t(MotionModel::linear) || uint32_t(p.blend) > uint32_t(BlendMode::mix) ||
         uint32_t(p.resample) > uint32_t(Resample::lut) ||
         uint32_t(p.warp_resample) > uint32_t(Resample::lut) ||

@@ -166,6 +166,9 @@ FrameFormat format_of(uint32_t w, uint32_t h, ColorFormat cf, MvFormat mf, Conve
 Params params_of(float scale) {
     Params p;
     p.scale = scale;
+    // The agreeing/* cases run the agree pass (Params::colour_agree, on by default); the others keep
+    // the given field's path, which fgsrd's sessions take unless a client asks for agreement.
+    p.colour_agree = false;
     return p;
 }
 

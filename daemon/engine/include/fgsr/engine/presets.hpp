@@ -11,17 +11,18 @@
 //                passes; no edge rule of ingest's dilate stage (on CPU devices a third to all of
 //                ingest's time again).
 //   quality      everything on: uniform acceleration, gap and hole filling, mix blend, the learned
-//                LUT for SR history, depth-informed vector dilation, the dilate stage's edge rule
-//                (as the default Params), fused passes (the separate
-//                passes give the same frames, only slower). Not the correction of given vectors by
-//                colour (switch correct_vectors): it gains where shading moves on its own
-//                (street-fg interp +1.77 dB, shadow-fg +0.27 / +0.41) and loses up to 0.08 dB
-//                elsewhere (pan, spin, cut; docs/ACCURACY.md, changes 4 and 27), at several times
-//                the cost of a frame on CPU devices, and is refused with super resolution. Nor
-//                frame generation from both fields by agreement (switch colour_agree): it gains where
-//                shading moves on its own (street-fg interp +3.64 dB, sundial-fg +3.30, shadow-fg
-//                +1.58) and loses 0.04 on fan-fg, at about five times a frame's cost on CPU devices
-//                (changes 33-37).
+//                LUT for SR history, depth-informed vector dilation, the dilate stage's edge rule,
+//                frame generation from both fields by agreement with vectors (switch colour_agree:
+//                per pixel the frame from motion estimated from colour where it explains the colour
+//                and the given vectors do not; train interp +8.67 dB summed, sundial-fg +3.53,
+//                street-fg +2.67, mobfgsr-bunker HR +0.91; validation fan-fg -0.18, the rest up;
+//                several times a frame's cost on CPU devices: docs/ACCURACY.md, changes 33-37, 41)
+//                (as the default Params), fused passes (the separate passes give the same frames,
+//                only slower). Not the correction of given vectors by colour (switch
+//                correct_vectors): it gains where shading moves on its own (street-fg interp +1.77
+//                dB, shadow-fg +0.27 / +0.41) and loses up to 0.08 dB elsewhere (pan, spin, cut;
+//                docs/ACCURACY.md, changes 4 and 27), at several times the cost of a frame on CPU
+//                devices, and is refused with super resolution.
 // balanced and quality estimate colour-only motion with DIS's patch inverse search on the coarse
 // levels (switch motion_search; docs/ACCURACY.md, change 40: mobfgsr-bunker HR +0.84 dB, validation
 // up on every row, about 1.2x a 480x270 colour-only frame's time on lavapipe and 1.4x a 1080p one's).
@@ -72,6 +73,7 @@ inline Params preset_params(Preset preset) {
         p.cover_edges = false;
         p.warp_kernel = WarpKernel::bilinear; // the cubic's 16 reads a warped sample
         p.motion_search = false;              // fast_motion refines nothing anyway
+        p.colour_agree = false;
         break;
     case Preset::balanced:
         p.motion = MotionModel::quadratic;
@@ -86,6 +88,7 @@ inline Params preset_params(Preset preset) {
         p.accel_depth_motion = false;
         p.cover_edges = true;
         p.motion_search = true;
+        p.colour_agree = false; // several times a frame's cost on CPU devices
         break;
     case Preset::quality:
         p.motion = MotionModel::quadratic;
@@ -100,6 +103,7 @@ inline Params preset_params(Preset preset) {
         p.accel_depth_motion = true; // docs/ACCURACY.md, changes 21, 23
         p.cover_edges = true;
         p.motion_search = true;
+        p.colour_agree = true; // docs/ACCURACY.md, change 41
         break;
     }
     return p;

@@ -1,10 +1,10 @@
 // The fgsrd session description (fgsr/protocol.h) that asks the service for what an in-process
 // engine session of `format` and `params` does: formats, conventions, colour-only input (no
 // vectors / no depth), scale, motion model, vector dilation and jitter handling, the correction of
-// vectors and interpolation by agreement (both only with vectors, as the engine), thresholds; fifo queue,
-// rgba32f linear outputs (bit-comparable with the engine's ImageRGBA), default slot counts. Header-only:
-// includers need fgsr/protocol.h on their include path (fgsr_protocol or fgsr_client). Callers adjust the
-// rest (slots, policy).
+// vectors and interpolation by agreement (both only with vectors, agreement only at scale 1, as
+// the engine), thresholds; fifo queue, rgba32f linear outputs (bit-comparable with the engine's
+// ImageRGBA), default slot counts. Header-only: includers need fgsr/protocol.h on their include
+// path (fgsr_protocol or fgsr_client). Callers adjust the rest (slots, policy).
 #pragma once
 
 #include <fgsr/engine/engine.hpp>
@@ -34,7 +34,7 @@ inline fgsr_session_desc session_desc(const FrameFormat& f, const Params& p, uin
               (p.denoise ? 0u : FGSR_SESSION_NO_DENOISE) | (f.has_vectors ? 0u : FGSR_SESSION_NO_MVS) |
               (f.has_depth ? 0u : FGSR_SESSION_NO_DEPTH) |
               (p.correct_vectors && f.has_vectors ? FGSR_SESSION_CORRECT_MVS : 0u) |
-              (p.colour_agree && f.has_vectors ? FGSR_SESSION_COLOUR_AGREE : 0u) |
+              (p.colour_agree && f.has_vectors && p.scale == 1.f ? FGSR_SESSION_COLOUR_AGREE : 0u) |
               (p.fast_motion && !f.has_vectors ? FGSR_SESSION_FAST_MOTION : 0u);
     d.queue_policy = FGSR_QUEUE_FIFO;
     d.output_format = FGSR_COLOR_RGBA32F_LINEAR;
