@@ -15,7 +15,8 @@
 //                frame generation from both fields by agreement with vectors (switch colour_agree:
 //                per pixel the frame from motion estimated from colour where it explains the colour
 //                and the given vectors do not; train interp +8.67 dB summed, sundial-fg +3.53,
-//                street-fg +2.67, mobfgsr-bunker HR +0.91; validation fan-fg -0.18, the rest up;
+//                street-fg +2.67, mobfgsr-bunker HR +0.91; validation interp fan-fg -0.18, the rest up or
+//                within 0.003;
 //                several times a frame's cost on CPU devices: docs/ACCURACY.md, changes 33-37, 41)
 //                (as the default Params), fused passes (the separate passes give the same frames,
 //                only slower). Not the correction of given vectors by colour (switch
