@@ -15,15 +15,14 @@
 //                frame generation from both fields by agreement with vectors (switch colour_agree:
 //                per pixel the frame from motion estimated from colour where it explains the colour
 //                and the given vectors do not; train interp +8.67 dB summed, sundial-fg +3.53,
-//                street-fg +2.67, mobfgsr-bunker HR +0.91; validation interp fan-fg -0.18, the rest up or
-//                within 0.003;
-//                several times a frame's cost on CPU devices: docs/ACCURACY.md, changes 33-37, 41)
-//                (as the default Params), fused passes (the separate passes give the same frames,
-//                only slower). Not the correction of given vectors by colour (switch
-//                correct_vectors): it gains where shading moves on its own (street-fg interp +1.77
-//                dB, shadow-fg +0.27 / +0.41) and loses up to 0.08 dB elsewhere (pan, spin, cut;
-//                docs/ACCURACY.md, changes 4 and 27), at several times the cost of a frame on CPU
-//                devices, and is refused with super resolution.
+//                street-fg +2.67, mobfgsr-bunker HR +0.91; validation interp fan-fg -0.18, the
+//                rest up or within 0.003; several times a frame's cost on CPU devices:
+//                docs/ACCURACY.md, changes 33-37, 41) (as the default Params), fused passes (the
+//                separate passes give the same frames, only slower). Not the correction of given
+//                vectors by colour (switch correct_vectors): it gains where shading moves on its
+//                own (street-fg interp +1.77 dB, shadow-fg +0.27 / +0.41) and loses up to 0.08 dB
+//                elsewhere (pan, spin, cut; docs/ACCURACY.md, changes 4 and 27), at several times
+//                the cost of a frame on CPU devices, and is refused with super resolution.
 // balanced and quality estimate colour-only motion with DIS's patch inverse search on the coarse
 // levels (switch motion_search; docs/ACCURACY.md, change 40: mobfgsr-bunker HR +0.84 dB, validation
 // up on every row, about 1.2x a 480x270 colour-only frame's time on lavapipe and 1.4x a 1080p one's).
