@@ -17,7 +17,7 @@
 //                and the given vectors do not; train interp +8.67 dB summed, sundial-fg +3.53,
 //                street-fg +2.67, mobfgsr-bunker HR +0.91; validation interp fan-fg -0.18, the
 //                rest up or within 0.003; several times a frame's cost on CPU devices:
-//                docs/ACCURACY.md, changes 33-37, 41) (as the default Params), fused passes (the
+//                docs/ACCURACY.md, changes 33-37, 41; as the default Params), fused passes (the
 //                separate passes give the same frames, only slower). Not the correction of given
 //                vectors by colour (switch correct_vectors): it gains where shading moves on its
 //                own (street-fg interp +1.77 dB, shadow-fg +0.27 / +0.41) and loses up to 0.08 dB
