@@ -97,7 +97,7 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     // correct_vectors is), so that one Params serves every kind of session (fgsr eval's methods);
     // and with super resolution, where colour matching on jittered, aliased input follows the
     // aliasing (the default Params serve sr, isr and esr as they are).
-    impl->params.colour_agree = params.colour_agree && format.has_vectors && params.scale == 1.f;
+    impl->params.colour_agree = colour_agree_applies(format, params);
     if (impl->params.colour_agree) {
         // The twin: the same frames without vectors or depth (interpolating with separate passes:
         // the agree pass reads its warped frames).

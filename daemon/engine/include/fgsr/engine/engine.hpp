@@ -280,6 +280,13 @@ struct Params {
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);
 
+// Whether a session of `format` and `params` generates from both fields (Params::colour_agree): with
+// vectors at scale 1 only. Engine::create_session decides by it, and a client describing the same
+// session to fgsrd sends FGSR_SESSION_COLOUR_AGREE by it (capture::session_desc).
+inline bool colour_agree_applies(const FrameFormat& format, const Params& params) {
+    return params.colour_agree && format.has_vectors && params.scale == 1.f;
+}
+
 struct PassTiming {
     // "splat", then "generate" (fused) or "refine", "disocc", "warp", "blend" (separate passes);
     // ingest is timed at submit (Session::last_ingest_ms).
