@@ -3,8 +3,10 @@
 // call equal single calls, and device selection by index or name.
 #include "engine_fixture.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <thread>
 
 namespace fgsr::test {
 namespace {
@@ -44,6 +46,69 @@ TEST(EngineApi, WarmUpGeneratesEveryFrameOfItsSessions) {
     ASSERT_EQ(out->size(), 1u);
     for (size_t i = 0; i < (*out)[0].color.rgba.size(); i += 4) // two grey frames: grey between
         ASSERT_NEAR((*out)[0].color.rgba[i], 0.5f, 1e-3f) << i / 4;
+}
+
+// Pipelines are created at their first use (fgsrd listens at once; a process makes only those its
+// sessions need), and warm_up creates every one.
+TEST(EngineApi, PipelinesAreCreatedAtFirstUseAndAllByWarmUp) {
+    auto e = Engine::create();
+    ASSERT_TRUE(e) << e.error().message;
+    EXPECT_EQ((*e)->pipelines_created(), 0u);
+    auto s = (*e)->create_session(internal_format(W, H), given_field());
+    ASSERT_TRUE(s) << s.error().message;
+    EXPECT_EQ((*e)->pipelines_created(), 0u) << "a session alone dispatches nothing";
+    const RawFrame f0 = random_frame(W, H, 1, 3.0f), f1 = random_frame(W, H, 2, 3.0f);
+    ASSERT_TRUE((*s)->submit(f0.view()));
+    ASSERT_TRUE((*s)->submit(f1.view()));
+    const float half = 0.5f;
+    ASSERT_TRUE((*s)->interpolate(std::span(&half, 1)));
+    const uint32_t used = (*e)->pipelines_created();
+    EXPECT_GT(used, 0u);
+    EXPECT_LT(used, Engine::pipeline_variants() / 2) << "one interpolation needs a few of the variants";
+    auto warmed = (*e)->warm_up();
+    ASSERT_TRUE(warmed) << warmed.error().message;
+    EXPECT_EQ((*e)->pipelines_created(), Engine::pipeline_variants());
+}
+
+// Sessions of one engine on several threads at once, all asking for the same pipelines first:
+// each thread's frames equal those of the same session run alone.
+TEST(EngineApi, SessionsOnSeveralThreadsShareTheLazyPipelines) {
+    const RawFrame f0 = random_frame(W, H, 3, 4.0f), f1 = random_frame(W, H, 4, 4.0f);
+    const std::array<float, 2> alphas{0.25f, 0.5f};
+    auto run = [&](Engine& e, std::vector<float>& out) -> std::string {
+        auto s = e.create_session(internal_format(W, H));
+        if (!s) return s.error().message;
+        if (auto r = (*s)->submit(f0.view()); !r) return r.error().message;
+        if (auto r = (*s)->submit(f1.view()); !r) return r.error().message;
+        auto in = (*s)->interpolate(alphas);
+        if (!in) return in.error().message;
+        auto ex = (*s)->extrapolate(alphas);
+        if (!ex) return ex.error().message;
+        for (const auto* frames : {&*in, &*ex})
+            for (const auto& g : *frames) out.insert(out.end(), g.color.rgba.begin(), g.color.rgba.end());
+        return {};
+    };
+    auto alone = Engine::create();
+    ASSERT_TRUE(alone) << alone.error().message;
+    std::vector<float> expected;
+    ASSERT_EQ(run(**alone, expected), "");
+    ASSERT_FALSE(expected.empty());
+
+    auto shared = Engine::create();
+    ASSERT_TRUE(shared) << shared.error().message;
+    constexpr int kThreads = 4;
+    std::array<std::vector<float>, kThreads> got;
+    std::array<std::string, kThreads> errors;
+    {
+        std::vector<std::jthread> threads;
+        for (int t = 0; t < kThreads; ++t)
+            threads.emplace_back([&, t] { errors[t] = run(**shared, got[t]); });
+    }
+    for (int t = 0; t < kThreads; ++t) {
+        EXPECT_EQ(errors[t], "") << "thread " << t;
+        EXPECT_TRUE(got[t] == expected) << "thread " << t << "'s frames differ from the session run alone";
+    }
+    EXPECT_EQ((*shared)->pipelines_created(), (*alone)->pipelines_created());
 }
 
 TEST(EngineApi, CreateSessionRejectsBadFormats) {

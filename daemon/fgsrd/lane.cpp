@@ -48,7 +48,8 @@ fgsr::Result<std::unique_ptr<Lane>> Lane::start(const Config& config,
                 auto warmed = owned->warm_up();
                 const double ms = double(fgsr::monotonic_ns() - t0) / 1e6;
                 if (warmed)
-                    log::info("lane {}: warmed up in {:.0f} ms ({} frames)", self->config_.name, ms, *warmed);
+                    log::info("lane {}: warmed up in {:.0f} ms ({} frames, {} pipelines)", self->config_.name,
+                              ms, *warmed, owned->pipelines_created());
                 else
                     log::warn("lane {}: warm-up failed after {:.0f} ms: {}", self->config_.name, ms,
                               warmed.error().message);

@@ -541,7 +541,9 @@ TEST_F(LayerE2E, DaemonStartedLaterIsConnectedTo) {
     });
     // The layer retries every 2 s. An fgsrd started at 1.5 s on a loaded machine can miss the retry
     // at 4 s (a CI run with evals beside it got "generated": 0 from 60 frames), so the app runs
-    // long enough for at least two retries after the start.
+    // long enough for at least two retries after the start. fgsrd listens within a fraction of a
+    // second of its start because it creates pipelines at their first use: when it created all 81
+    // first (4.6-6 s on 2 cores), it answered only the retry at 8 s and 6-8 frames were generated.
 #if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
     const std::string frames = "150"; // an instrumented fgsrd takes seconds more to start
 #else

@@ -1,8 +1,13 @@
 // The engine's device and context (context.hpp): Engine (device selection, the workgroup size, a
-// pipeline per variant of shaders/variants.def, device queries) and imported host memory.
+// pipeline per variant of shaders/variants.def created at its first use, device queries) and
+// imported host memory.
 #include "context.hpp"
 
+#include <algorithm>
+#include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace fgsr {
 
@@ -13,6 +18,49 @@ const std::byte* HostMemory::data() const {
 }
 size_t HostMemory::size() const {
     return impl_->size;
+}
+
+Result<const vk::Pipeline*> Pipelines::get(Variant v) {
+    const uint32_t i = uint32_t(v);
+    if (ready_[i].load(std::memory_order_acquire)) return &pipes_[i];
+    std::lock_guard lock(creating_[i]);
+    if (!ready_[i].load(std::memory_order_relaxed)) {
+        const VariantInfo& info = kVariants[i];
+        const std::string shader = std::string(info.shader) + "_g" + std::to_string(group_);
+        auto pipe =
+            vk::Pipeline::create(*ctx_, shader, variant_bindings(v), pass_push(info.pass), variant_texels(v));
+        if (!pipe) return pipe.error();
+        pipes_[i] = std::move(*pipe);
+        ready_[i].store(true, std::memory_order_release);
+    }
+    return &pipes_[i];
+}
+
+Result<void> Pipelines::create_all(uint32_t threads) {
+    std::atomic<uint32_t> next{0};
+    std::mutex error_mutex;
+    std::optional<Error> first_error;
+    auto work = [&] {
+        for (uint32_t v; (v = next.fetch_add(1)) < kVariantCount;) {
+            auto r = get(Variant(v));
+            if (!r) {
+                std::lock_guard lock(error_mutex);
+                if (!first_error) first_error = r.error();
+            }
+        }
+    };
+    std::vector<std::jthread> pool;
+    for (uint32_t t = 1; t < std::max(threads, 1u); ++t) pool.emplace_back(work);
+    work();
+    pool.clear(); // joins
+    if (first_error) return *first_error;
+    return {};
+}
+
+uint32_t Pipelines::created() const {
+    uint32_t n = 0;
+    for (const auto& r : ready_) n += r.load(std::memory_order_acquire) ? 1 : 0;
+    return n;
 }
 
 Engine::Engine(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -42,15 +90,7 @@ Result<std::unique_ptr<Engine>> Engine::create(const DeviceOptions& options) {
                                                      ": beyond the device's limits");
         impl->group = options.workgroup;
     }
-    for (uint32_t v = 0; v < kVariantCount; ++v) {
-        const VariantInfo& info = kVariants[v];
-        const std::string shader = std::string(info.shader) + "_g" + std::to_string(impl->group);
-        auto pipe =
-            vk::Pipeline::create(*impl->ctx, shader, variant_bindings(Variant(v)), pass_push(info.pass),
-                                 variant_texels(Variant(v)));
-        if (!pipe) return pipe.error();
-        impl->pipelines[v] = std::move(*pipe);
-    }
+    impl->pipelines.init(*impl->ctx, impl->group); // each variant's pipeline at its first use
     return std::unique_ptr<Engine>(new Engine(std::move(impl)));
 }
 
@@ -80,6 +120,12 @@ Result<std::unique_ptr<HostMemory>> Engine::import_host_memory(void* data, size_
     impl->data = static_cast<const std::byte*>(data);
     impl->size = size;
     return std::unique_ptr<HostMemory>(new HostMemory(std::move(impl)));
+}
+uint32_t Engine::pipelines_created() const {
+    return impl_->pipelines.created();
+}
+uint32_t Engine::pipeline_variants() {
+    return kVariantCount;
 }
 Result<std::vector<std::string>> Engine::list_devices() {
     return vk::enumerate_devices();

@@ -18,7 +18,7 @@ Recorder::~Recorder() {
     if (cmd_pool_) vkDestroyCommandPool(ctx_->device, cmd_pool_, nullptr);
 }
 
-Result<void> Recorder::init(vk::Context& ctx, const Pipelines& pipelines, uint32_t group, uint32_t max_sets,
+Result<void> Recorder::init(vk::Context& ctx, Pipelines& pipelines, uint32_t group, uint32_t max_sets,
                             uint32_t query_count) {
     ctx_ = &ctx;
     pipelines_ = &pipelines;
@@ -66,7 +66,10 @@ Result<void> Recorder::finish(bool timed) {
     si.pCommandBuffers = &cmd_;
     FGSR_VK(vkResetFences(ctx_->device, 1, &fence_), "vkResetFences");
     const uint64_t submit_ns = monotonic_ns();
-    FGSR_VK(vkQueueSubmit(ctx_->queue, 1, &si, fence_), "vkQueueSubmit");
+    {
+        std::lock_guard lock(ctx_->queue_mutex);
+        FGSR_VK(vkQueueSubmit(ctx_->queue, 1, &si, fence_), "vkQueueSubmit");
+    }
     FGSR_VK(vkWaitForFences(ctx_->device, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
     if (!timed) return {};
     if (ctx_->get_calibrated_timestamps) {
@@ -134,7 +137,9 @@ Result<void> Recorder::bind_slots(Variant v, PassId pass, Layout layout, std::sp
             return make_error(Errc::invalid_argument, "internal: " + std::string(info.shader) + " binding " +
                                                           std::to_string(i) + ": a texel binding is a whole buffer");
     }
-    const vk::Pipeline& p = (*pipelines_)[uint32_t(v)];
+    auto pipe = pipelines_->get(v);
+    if (!pipe) return pipe.error();
+    const vk::Pipeline& p = **pipe;
     VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     ai.descriptorPool = desc_pool_;
     ai.descriptorSetCount = 1;

@@ -9,13 +9,40 @@
 #include "vk.hpp"
 
 #include <array>
+#include <atomic>
 #include <cstring>
+#include <mutex>
 #include <span>
 #include <vector>
 
 namespace fgsr {
 
-using Pipelines = std::array<vk::Pipeline, kVariantCount>;
+// The engine's pipelines, one per variant, each created at its first use. lavapipe translates the
+// SPIR-V when a pipeline is created, 50-280 ms a variant: creating all 81 with the engine took 3-5 s
+// on 2 cores, before fgsrd listened and in every process that made an engine, though a session
+// uses a fraction of them. Safe to call from several threads: a variant is created once, a caller
+// asking for it meanwhile waits for that creation.
+class Pipelines {
+  public:
+    // ctx outlives this; group: the workgroup side the variants are built for.
+    void init(vk::Context& ctx, uint32_t group) {
+        ctx_ = &ctx;
+        group_ = group;
+    }
+    Result<const vk::Pipeline*> get(Variant v);
+    // Creates every variant not created yet, on up to `threads` threads at once. Returns the first
+    // error.
+    Result<void> create_all(uint32_t threads);
+    // How many variants have been created so far.
+    uint32_t created() const;
+
+  private:
+    vk::Context* ctx_ = nullptr;
+    uint32_t group_ = 8;
+    std::array<vk::Pipeline, kVariantCount> pipes_;
+    std::array<std::atomic<bool>, kVariantCount> ready_{};
+    std::array<std::mutex, kVariantCount> creating_;
+};
 
 constexpr uint32_t groups(uint32_t n, uint32_t size) {
     return (n + size - 1) / size;
@@ -29,7 +56,7 @@ class Recorder {
     ~Recorder();
 
     // pipelines: the engine's, one per variant, built for workgroups of group x group.
-    Result<void> init(vk::Context& ctx, const Pipelines& pipelines, uint32_t group, uint32_t max_sets,
+    Result<void> init(vk::Context& ctx, Pipelines& pipelines, uint32_t group, uint32_t max_sets,
                       uint32_t query_count);
 
     VkCommandBuffer cmd() const { return cmd_; }
@@ -98,7 +125,7 @@ class Recorder {
     uint64_t tick_ns(uint64_t tick) const;
 
     vk::Context* ctx_ = nullptr;
-    const Pipelines* pipelines_ = nullptr;
+    Pipelines* pipelines_ = nullptr;
     uint32_t group_ = 8;
     uint32_t query_count_ = 0;
     VkCommandPool cmd_pool_ = VK_NULL_HANDLE;

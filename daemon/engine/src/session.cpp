@@ -14,7 +14,10 @@
 namespace fgsr {
 
 Session::Impl::~Impl() {
-    if (ctx) vkDeviceWaitIdle(ctx->device);
+    if (ctx) {
+        std::lock_guard lock(ctx->queue_mutex);
+        vkDeviceWaitIdle(ctx->device);
+    }
 }
 
 Result<void> Session::Impl::init() {

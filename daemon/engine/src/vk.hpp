@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,6 +31,9 @@ struct Context {
     VkPhysicalDevice physical = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
     VkQueue queue = VK_NULL_HANDLE;
+    // Held around every use of `queue` (vkQueueSubmit, vkDeviceWaitIdle), which Vulkan requires the
+    // application to synchronise: sessions of one engine may run on several threads.
+    std::mutex queue_mutex;
     uint32_t queue_family = 0;
     VkPhysicalDeviceProperties props{};
     VkPhysicalDeviceMemoryProperties memory{};

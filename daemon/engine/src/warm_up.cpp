@@ -1,10 +1,14 @@
 // Engine::warm_up (engine.hpp): the usual sessions' passes run once on small synthetic frames.
 #include <fgsr/engine/engine.hpp>
 
+#include "context.hpp"
+
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <glm/glm.hpp>
 #include <glm/gtc/packing.hpp>
+#include <thread>
 
 namespace fgsr {
 namespace {
@@ -90,6 +94,8 @@ Frame render(const FrameFormat& f, uint32_t k, bool pan) {
 } // namespace
 
 Result<uint32_t> Engine::warm_up() {
+    // Every pipeline first, on every core (sessions create theirs at first use, one at a time).
+    FGSR_TRY(impl_->pipelines.create_all(std::max(1u, std::thread::hardware_concurrency())));
     struct Kind {
         ColorFormat color;
         bool vectors; // and depth

@@ -365,18 +365,24 @@ class Engine {
     // (no VK_EXT_external_memory_host), invalid_argument (alignment), vulkan.
     Result<std::unique_ptr<HostMemory>> import_host_memory(void* data, size_t size);
 
+    // Pipelines (one per shader variant) are created at their first use or by warm_up: how many
+    // exist so far, of pipeline_variants().
+    uint32_t pipelines_created() const;
+    static uint32_t pipeline_variants();
+
     // Lists the Vulkan devices "index: name (type)" for --list-devices.
     static Result<std::vector<std::string>> list_devices();
 
     Result<std::unique_ptr<Session>> create_session(const FrameFormat& format, const Params& params = {});
 
-    // Runs small sessions through the passes the usual sessions take (colour-only in 8-bit sRGB
-    // and half float, half float with vectors and depth; 1, 2 and 3 frames a pair interpolated and
-    // extrapolated; super resolution x2 with ISR and ESR; a mover over a still and over a panning
-    // background, so that tiles both skip and do not), so that
-    // a driver that compiles a pipeline at its first dispatch (llvmpipe) does it here, not during
-    // a client's first frames. Returns the frames generated. Takes about as long as the first
-    // frames would have; with the driver's shader cache warm, a fraction of a second.
+    // Creates every pipeline on all cores (otherwise each is created at its first use, 50-280 ms
+    // apiece on lavapipe), then runs small sessions through the passes the usual sessions take
+    // (colour-only in 8-bit sRGB and half float, half float with vectors and depth; 1, 2 and 3
+    // frames a pair interpolated and extrapolated; super resolution x2 with ISR and ESR; a mover
+    // over a still and over a panning background, so that tiles both skip and do not), so that a
+    // driver that compiles a pipeline at its first dispatch (llvmpipe) does it here, not during a
+    // client's first frames. Returns the frames generated. Takes about as long as the first frames
+    // would have; with the driver's shader cache warm, a fraction of a second.
     Result<uint32_t> warm_up();
 
     struct Impl;
