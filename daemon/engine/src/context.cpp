@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -50,7 +51,13 @@ Result<void> Pipelines::create_all(uint32_t threads) {
         }
     };
     std::vector<std::jthread> pool;
-    for (uint32_t t = 1; t < std::max(threads, 1u); ++t) pool.emplace_back(work);
+    for (uint32_t t = 1; t < std::max(threads, 1u); ++t) {
+        try {
+            pool.emplace_back(work);
+        } catch (const std::system_error&) { // no more threads: the ones there do the rest
+            break;
+        }
+    }
     work();
     pool.clear(); // joins
     if (first_error) return *first_error;
