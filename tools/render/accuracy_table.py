@@ -23,9 +23,9 @@ NEW_TRAIN = ['street', 'foliage', 'hdr']
 NEW_VALIDATION = ['static', 'fan', 'cut']
 # Train renders of kind fg only, made later to study one difficulty without tuning on its validation
 # scene (tools/render/README.md, "The split"): rotor (fan), sundial (shadow), pan seed 2 (pan), twirl (spin);
-# orbit (the scene of shared/captures/blender/orbit-sr, kind fg: a camera orbiting a cluster); vane
-# and brickvane (fan's second and third counterparts, 2026-12-07).
-NEW_TRAIN_FG = ['rotor', 'sundial', 'pan-s2', 'twirl', 'orbit', 'vane', 'brickvane']
+# orbit (the scene of shared/captures/blender/orbit-sr, kind fg: a camera orbiting a cluster); vane,
+# brickvane and slats (fan's second to fourth counterparts, 2026-12-07).
+NEW_TRAIN_FG = ['rotor', 'sundial', 'pan-s2', 'twirl', 'orbit', 'vane', 'brickvane', 'slats']
 # Train renders of kind sr made later still: rotor (fan-sr's counterpart, docs/ACCURACY.md change 19).
 NEW_TRAIN_SR = ['rotor']
 
