@@ -382,7 +382,8 @@ class Engine {
     // over a still and over a panning background, so that tiles both skip and do not), so that a
     // driver that compiles a pipeline at its first dispatch (llvmpipe) does it here, not during a
     // client's first frames. Returns the frames generated. Takes about as long as the first frames
-    // would have; with the driver's shader cache warm, a fraction of a second.
+    // would have; with the driver's shader cache warm, mostly the pipelines' creation (lavapipe on
+    // 2 cores: about 4 s).
     Result<uint32_t> warm_up();
 
     struct Impl;
