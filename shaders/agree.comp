@@ -55,6 +55,12 @@ layout(std430, binding = AGREE_GIVEN) buffer Given { vec4 given[]; };
 layout(std430, binding = AGREE_COLOUR) readonly buffer Colour { vec4 colour[]; };
 layout(std430, binding = AGREE_E) buffer E { vec2 e_buf[]; };
 layout(std430, binding = AGREE_ROWS) buffer Rows { vec2 rows_buf[]; };
+layout(std430, binding = AGREE_LIGHT) buffer Light { vec4 light_buf[]; };
+layout(std430, binding = AGREE_LIGHT_ROWS) buffer LightRows { vec4 light_rows_buf[]; };
+vec4 load_light(uint i) { return light_buf[i]; }
+vec4 load_light_rows(uint i) { return light_rows_buf[i]; }
+void store_light(uint i, vec4 v) { light_buf[i] = v; }
+void store_light_rows(uint i, vec4 v) { light_rows_buf[i] = v; }
 
 vec2 load_e(uint i) { return e_buf[i]; }
 vec2 load_rows(uint i) { return rows_buf[i]; }
@@ -67,11 +73,15 @@ void store_agreed(uint i, vec4 c) { given[i] = c; }
 #include "blend.h"
 #include "agree.h"
 
-// Stages 1 and 4: one invocation per pixel; stage 2: per segment of a row (x: the segment, y: the
-// row); stage 3: per segment of a column (x: the column, y: the segment).
+// Stages 1, 4 and 5: one invocation per pixel; stages 2 and 6: per segment of a row (x: the
+// segment, y: the row); stages 3 and 7: per segment of a column (x: the column, y: the segment).
 void main() {
 #if AGREE_STAGE == 2
     agree_rows_segment(gl_GlobalInvocationID.xy, pc.p);
+#elif AGREE_STAGE == 6
+    agree_light_rows_segment(gl_GlobalInvocationID.xy, pc.p);
+#elif AGREE_STAGE == 7
+    agree_light_column_segment(gl_GlobalInvocationID.xy, pc.p);
 #elif AGREE_STAGE == 3
     agree_column_segment(gl_GlobalInvocationID.xy, pc.p);
 #else
@@ -80,6 +90,8 @@ void main() {
     uint i = uint(t.y) * pc.p.g.width + uint(t.x);
 #if AGREE_STAGE == 4
     e_buf[i] = agree_residual(t, pc.p);
+#elif AGREE_STAGE == 5
+    light_buf[i] = agree_light(t, pc.p);
 #else
     e_buf[i] = agree_error(t, pc.p);
 #endif

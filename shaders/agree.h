@@ -23,6 +23,15 @@
 //      by less, so frame 0's depth may lie anywhere between d1 and d1 x s before the band counts
 //      (change 37; as the motion's frame-0 test does, change 21). Where the field neither expands
 //      nor shrinks (s = 1) this is the plain test.
+//      With gain > 1 (interpolation; change 42), a field's brightness gain between its two warped
+//      frames is forgiven up to that factor: e = |b0 - g b1|, g = clamp(S0 / S1, 1 / gain, gain),
+//      S0 and S1 the sums of b0 and b1 over the box of side 2 gain_radius + 1 around the pixel of
+//      the pixels on screen in both frames (stages 5-7). A surface that turns towards or away from
+//      the light (a pitched blade, a slat) changes its shading uniformly, by a few percent a frame:
+//      its vectors still place it, and without the gain its warped frames would disagree as if its
+//      shading moved on its own. A shadow changes the brightness by far more than the gain allows
+//      (and pixels it does not cover, in the same box, by less): its sweep still counts, less at
+//      most the gain.
 //   2. Means of e over the box of side 2 radius + 1 around the pixel (clamped to the frame), as
 //      two separable stages: rows, then columns, each a running sum along a segment of
 //      AGREE_SEGMENT pixels per invocation.
@@ -50,6 +59,9 @@
 //   vec4  load_given(uint i), load_colour(uint i)
 //   void  store_agreed(uint i, vec4 colour)              stage 3
 //   vec4  load_given_field(uint i)                       the given field's (v0, v1) (stage 1)
+//   vec4  load_light(uint i), load_light_rows(uint i)    stages 5-7: (given b0, b1, colour b0, b1)
+//   void  store_light(uint i, vec4), store_light_rows(uint i, vec4)  per pixel, its row sums; stage 7
+//                                                        stores the box sums in the light buffer
 // and for stage 4:
 //   vec4  load_frame_colour(uint frame, uint i)          the inputs, frame 0 or 1 (newest)
 //   float load_frame_depth(uint frame, uint i)
@@ -95,7 +107,12 @@ FGSR_INLINE float field_disagreement(uint field, ivec2 t, AgreeParams p) {
     if (relative_depth_difference(d0, d1) > band &&
         (field != 0u || surface_distance0(d0, d1, vec3(given_depth_range(t, d1, p), 0.0f)) > band))
         return 0.0f;
-    return abs(brightness(load_warped(field, 0u, i)) - brightness(load_warped(field, 1u, i)));
+    float b0 = brightness(load_warped(field, 0u, i)), b1 = brightness(load_warped(field, 1u, i));
+    if (!(p.gain > 1.0f)) return abs(b0 - b1);
+    vec4 sums = load_light(i); // stage 7's box sums
+    vec2 s = field == 0u ? vec2(sums.x, sums.y) : vec2(sums.z, sums.w);
+    float g = s.y > 1.0e-4f ? clamp(s.x / s.y, 1.0f / p.gain, p.gain) : 1.0f;
+    return abs(b0 - g * b1);
 }
 FGSR_INLINE vec2 agree_error(ivec2 t, AgreeParams p) {
     return vec2(field_disagreement(0u, t, p), field_disagreement(1u, t, p));
@@ -157,6 +174,56 @@ FGSR_INLINE void agree_column_segment(uvec2 s, AgreeParams p) {
             sum += load_rows(uint(y + r + 1) * p.g.width + s.x);
             hi = y + r + 1;
         }
+    }
+}
+
+// Stage 5: each field's brightness in its two warped frames where both are on screen, else 0:
+// (given b0, given b1, colour b0, colour b1).
+FGSR_INLINE vec4 agree_light(ivec2 t, AgreeParams p) {
+    uint i = uint(t.y) * p.g.width + uint(t.x);
+    vec4 l = vec4(0.0f);
+    if (load_warped_depth(0u, 0u, i) >= 0.0f && load_warped_depth(0u, 1u, i) >= 0.0f) {
+        l.x = brightness(load_warped(0u, 0u, i));
+        l.y = brightness(load_warped(0u, 1u, i));
+    }
+    if (load_warped_depth(1u, 0u, i) >= 0.0f && load_warped_depth(1u, 1u, i) >= 0.0f) {
+        l.z = brightness(load_warped(1u, 0u, i));
+        l.w = brightness(load_warped(1u, 1u, i));
+    }
+    return l;
+}
+
+// Stage 6: the sums of stage 5 along row s.y within gain_radius of each pixel (clamped to the
+// frame), for the pixels of segment s.x (a running sum, as stage 2).
+FGSR_INLINE void agree_light_rows_segment(uvec2 s, AgreeParams p) {
+    int w = int(p.g.width), r = int(p.gain_radius);
+    int x0 = int(s.x * AGREE_SEGMENT);
+    if (x0 >= w || s.y >= p.g.height) return;
+    int x1 = min(x0 + int(AGREE_SEGMENT), w);
+    uint row = s.y * p.g.width;
+    vec4 sum = vec4(0.0f);
+    for (int x = max(x0 - r, 0); x <= min(x0 + r, w - 1); ++x) sum += load_light(row + uint(x));
+    for (int x = x0; x < x1; ++x) {
+        store_light_rows(row + uint(x), sum);
+        if (x - r >= 0) sum -= load_light(row + uint(x - r));
+        if (x + r + 1 < w) sum += load_light(row + uint(x + r + 1));
+    }
+}
+
+// Stage 7: the sums of stage 6 along column s.x, for the pixels of segment s.y: the box sums, which
+// stage 1 reads (written over stage 5's values, which stage 6 has read).
+FGSR_INLINE void agree_light_column_segment(uvec2 s, AgreeParams p) {
+    int h = int(p.g.height), r = int(p.gain_radius);
+    int y0 = int(s.y * AGREE_SEGMENT);
+    if (s.x >= p.g.width || y0 >= h) return;
+    int y1 = min(y0 + int(AGREE_SEGMENT), h);
+    vec4 sum = vec4(0.0f);
+    for (int y = max(y0 - r, 0); y <= min(y0 + r, h - 1); ++y)
+        sum += load_light_rows(uint(y) * p.g.width + s.x);
+    for (int y = y0; y < y1; ++y) {
+        store_light(uint(y) * p.g.width + s.x, sum);
+        if (y - r >= 0) sum -= load_light_rows(uint(y - r) * p.g.width + s.x);
+        if (y + r + 1 < h) sum += load_light_rows(uint(y + r + 1) * p.g.width + s.x);
     }
 }
 

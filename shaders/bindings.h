@@ -136,7 +136,9 @@
 #define AGREE_ROWS 13   // stage 2 writes, stage 3 reads: their means along rows
 // The given field's vectors (vec4 v0, v1 per pixel, field.h): the depth change stage 1 expects.
 #define AGREE_GIVEN_FIELD 14
-#define AGREE_COUNT 15
+#define AGREE_LIGHT 15      // stage 5 writes, stage 6 reads; stage 7 writes its box sums, stage 1 reads them
+#define AGREE_LIGHT_ROWS 16 // stage 6 writes, stage 7 reads: the row sums
+#define AGREE_COUNT 17
 // Extrapolation's stage 1 (agree_residual) reads the inputs and each field's frame-1 vectors in
 // the first slots instead (agree.comp, AGREE_STAGE 4); the other slots are unused there.
 #define AGREE_FRAME_COLOR0 AGREE_GIVEN_W0 // pack_color

@@ -343,6 +343,9 @@ struct AgreeParams {
     float depth_band; // one surface within depth_band x g.t_depth (the two warped frames; stage 4: frame 0 at
                       // t + mv and frame 1 at t)
     float colour_limit; // the colour frame's weight falls to 0 as its field's mean reaches this (0: off)
+    float gain;         // stage 1 forgives a field's brightness gain between its two warped frames up to
+                        // this factor, fitted over the box of side 2 gain_radius + 1 (<= 1: off)
+    uint gain_radius;
 };
 
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
@@ -448,7 +451,7 @@ static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
                   sizeof(PolishParams) == 100,
               "motion push constants");
-static_assert(sizeof(AgreeParams) == 72, "agree push constants");
+static_assert(sizeof(AgreeParams) == 80, "agree push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

@@ -1633,11 +1633,12 @@ TEST(Motion, AgreeKeepsTheGivenFrameWhereTheVectorsExplainTheColour) {
     expect_no_validation_errors();
 }
 
-// The agree pass's box stages (stages 2 and 3) run a sum along segments of AGREE_SEGMENT pixels of a
-// row, then of a column. Against the box written out here (every pixel of the clamped box summed,
-// then the weight and the mix as agree.h's head states them), on random disagreements, on a frame
-// whose sides are not multiples of the segment, with a box smaller than a segment, one wider than
-// the frame, and a box of one pixel.
+// The agree pass's box stages (stages 2 and 3, and the gain's 6 and 7) run a sum along segments of
+// AGREE_SEGMENT pixels of a row, then of a column. Against the boxes written out here (every pixel
+// of the clamped box summed: the brightness sums the gain is fitted from, then the disagreement's
+// means, the weight and the mix as agree.h's head states them), on random disagreements, on a
+// frame whose sides are not multiples of the segment, with a box smaller than a segment, one wider
+// than the frame, and a box of one pixel; with the gain off and on.
 TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
     const uint32_t w = 77, h = 45;
     const size_t n = size_t(w) * h;
@@ -1671,9 +1672,43 @@ TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
     const std::vector<uint32_t> colour_state(n, ref::kFieldSplatted);
     ref::AgreeParams p = params::agree_params(
         params::gen_params(internal_format(w, h), given_field(), 0.5f, false, true, true));
-    for (const uint32_t radius : {defaults::agree_radius, 60u, 0u}) {
-        SCOPED_TRACE("radius " + std::to_string(radius));
+    ASSERT_GT(p.gain, 1.f) << "the gain is on by default in interpolation";
+    // Each field's brightness in its two frames (a field is the pair: given (a, b), colour (c, d)).
+    std::vector<glm::vec4> light(n);
+    for (size_t i = 0; i < n; ++i)
+        light[i] = glm::vec4(bright(given_w.color[i].x), bright(given_w.color[n + i].x),
+                             bright(colour_w.color[i].x), bright(colour_w.color[n + i].x));
+    const std::vector<glm::vec2> plain_e = e;
+    for (const auto& [radius, gain, gain_radius] :
+         {std::tuple{defaults::agree_radius, 0.f, 0u}, std::tuple{60u, 0.f, 0u}, std::tuple{0u, 0.f, 0u},
+          std::tuple{defaults::agree_radius, 1.1f, 8u}, std::tuple{0u, 1.3f, 40u},
+          std::tuple{5u, 1.1f, 0u}}) {
+        SCOPED_TRACE("radius " + std::to_string(radius) + ", gain " + std::to_string(gain) + " over radius " +
+                     std::to_string(gain_radius));
         p.radius = radius;
+        p.gain = gain;
+        p.gain_radius = gain_radius;
+        e = plain_e;
+        size_t forgiven = 0;
+        if (gain > 1.f)
+            for (uint32_t y = 0; y < h; ++y)
+                for (uint32_t x = 0; x < w; ++x) {
+                    glm::dvec4 s(0.0);
+                    for (int yy = std::max(int(y) - int(gain_radius), 0);
+                         yy <= std::min(int(y) + int(gain_radius), int(h) - 1); ++yy)
+                        for (int xx = std::max(int(x) - int(gain_radius), 0);
+                             xx <= std::min(int(x) + int(gain_radius), int(w) - 1); ++xx)
+                            s += glm::dvec4(light[size_t(yy) * w + size_t(xx)]);
+                    const size_t i = size_t(y) * w + x;
+                    const double g0 = std::clamp(s.x / s.y, 1.0 / gain, double(gain));
+                    const double g1 = std::clamp(s.z / s.w, 1.0 / gain, double(gain));
+                    e[i] = glm::vec2(float(std::abs(light[i].x - g0 * light[i].y)),
+                                     float(std::abs(light[i].z - g1 * light[i].w)));
+                    forgiven += std::abs(e[i].x - plain_e[i].x) > 1e-3f ? 1u : 0u;
+                }
+        if (gain > 1.f && gain_radius > 0) {
+            EXPECT_GT(forgiven, n / 20) << "the gain changed the disagreement";
+        }
         const auto got = ref::agree(given_w, given_f, given, colour_w, colour_state, colour, p);
         ASSERT_EQ(got.size(), n);
         float largest = 0.f;
@@ -1700,6 +1735,64 @@ TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
             EXPECT_GT(mixed, n / 20) << "the weights are not all 0 or 1";
         }
     }
+}
+
+// AgreeParams::gain (agree.h stage 1) on warped frames written out here, both fields on one surface
+// everywhere (the given field's vectors zero). Textured ground whose shading changes uniformly
+// between the two frames (x 1.1 in linear light: its brightness, the square root, x 1.049), where
+// the colour-only field's two frames agree exactly but show other content: without the gain the
+// given field disagrees by about 0.05 of the brightness and the pass mixes in the colour-only
+// frame; with it (the default) the change is forgiven and the given frame kept, pixel for pixel. A shadow
+// band over the same ground (x 0.25: brightness x 0.5) is not forgiven: the colour-only frame is still taken
+// across the band.
+TEST(Motion, AgreeForgivesAUniformChangeOfShadingButNotAShadow) {
+    const uint32_t w = 96, h = 64;
+    const size_t n = size_t(w) * h;
+    auto texture = [](uint32_t x, uint32_t y) {
+        return 0.3f + 0.2f * float((x / 4 + y / 4) % 2) + 0.1f * std::sin(0.7f * float(x) + 0.3f * float(y));
+    };
+    ref::AgreeParams p = params::agree_params(
+        params::gen_params(internal_format(w, h), given_field(), 0.5f, false, true, true));
+    ASSERT_GT(p.gain, 1.05f);
+    ref::Field given_f;
+    given_f.v.assign(n, glm::vec4(0.f));
+    given_f.state.assign(n, ref::kFieldSplatted);
+    const std::vector<uint32_t> colour_state(n, ref::kFieldSplatted);
+    std::vector<glm::vec4> given(n, glm::vec4(0.2f, 0.4f, 0.6f, 1.f)),
+        colour(n, glm::vec4(0.9f, 0.1f, 0.1f, 1.f));
+    // The shaded frame 1 of the given field: k(x) the change at column x; the colour-only field's
+    // frames agree (another texture).
+    auto run = [&](const std::function<float(uint32_t)>& k, float gain) {
+        ref::Warped given_w{std::vector<glm::vec4>(2 * n), std::vector<float>(2 * n, 10.f)};
+        ref::Warped colour_w = given_w;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                const size_t i = size_t(y) * w + x;
+                const float v = texture(x, y), c = texture(x + 7, y + 3);
+                given_w.color[i] = glm::vec4(v, v, v, 1.f);
+                given_w.color[n + i] = glm::vec4(glm::vec3(v * k(x)), 1.f);
+                colour_w.color[i] = colour_w.color[n + i] = glm::vec4(c, c, c, 1.f);
+            }
+        ref::AgreeParams q = p;
+        q.gain = gain;
+        return ref::agree(given_w, given_f, given, colour_w, colour_state, colour, q);
+    };
+    auto share_of = [&](const std::vector<glm::vec4>& out, const std::vector<glm::vec4>& frame, uint32_t x0,
+                        uint32_t x1) {
+        size_t same = 0, all = 0;
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = x0; x < x1; ++x, ++all) {
+                const size_t i = size_t(y) * w + x;
+                same += glm::length(out[i] - frame[i]) < 1e-5f ? 1u : 0u;
+            }
+        return double(same) / double(all);
+    };
+    const auto uniform = [](uint32_t) { return 1.1f; };
+    EXPECT_LT(share_of(run(uniform, 0.f), given, 0, w), 0.1) << "without the gain: the given frame, unmixed";
+    EXPECT_EQ(share_of(run(uniform, p.gain), given, 0, w), 1.0) << "with it: the given frame everywhere";
+    // The shadow: columns [40, 56) darkened in frame 1.
+    const auto shadow = [](uint32_t x) { return x >= 40 && x < 56 ? 0.25f : 1.f; };
+    EXPECT_EQ(share_of(run(shadow, p.gain), colour, 40, 56), 1.0) << "the band takes the colour-only frame";
 }
 
 // The agree pass on the GPU against the CPU reference (ref::agree) on the same inputs: the given

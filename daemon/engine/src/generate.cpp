@@ -374,7 +374,8 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
             at<AGREE_COLOUR_W1>(unused(colour_mv)), at<AGREE_COLOUR_D1>(unused(colour_mv)),
             at<AGREE_COLOUR_STATE>(unused(colour_mv)), at<AGREE_GIVEN>(outputs[k]),
             at<AGREE_COLOUR>(colour.outputs[k]), at<AGREE_E>(agree_e), at<AGREE_ROWS>(agree_rows),
-            at<AGREE_GIVEN_FIELD>(unused(colour_mv)));
+            at<AGREE_GIVEN_FIELD>(unused(colour_mv)), at<AGREE_LIGHT>(unused(colour_mv)),
+            at<AGREE_LIGHT_ROWS>(unused(colour_mv)));
     };
     FGSR_TRY(rec.dispatch_pixels(Variant::agree_residual, slots(0), &p, format.width, format.height));
     rec.barrier();
@@ -420,6 +421,11 @@ Result<void> Session::Impl::ensure_agree_buffers() {
     auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
     if (!r) return r.error();
     agree_rows = std::move(*r);
+    for (vk::Buffer* b : {&agree_light, &agree_light_rows}) {
+        auto l = vk::Buffer::create(*ctx, VkDeviceSize(n) * 16, false);
+        if (!l) return l.error();
+        *b = std::move(*l);
+    }
     return {};
 }
 
@@ -435,9 +441,20 @@ Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& co
         at<AGREE_COLOUR_D0>(colour.warped_depth0), at<AGREE_COLOUR_W1>(colour.warped_color1),
         at<AGREE_COLOUR_D1>(colour.warped_depth1), at<AGREE_COLOUR_STATE>(colour.field_state),
         at<AGREE_GIVEN>(outputs[0]), at<AGREE_COLOUR>(colour.outputs[0]), at<AGREE_E>(agree_e),
-        at<AGREE_ROWS>(agree_rows), at<AGREE_GIVEN_FIELD>(field));
+        at<AGREE_ROWS>(agree_rows), at<AGREE_GIVEN_FIELD>(field), at<AGREE_LIGHT>(agree_light),
+        at<AGREE_LIGHT_ROWS>(agree_light_rows));
     FGSR_TRY(rec.begin());
     rec.timestamp(0);
+    if (p.gain > 1.f) { // each field's brightness gain over its box (agree.h stages 5-7)
+        FGSR_TRY(rec.dispatch_pixels(Variant::agree_light, b, &p, format.width, format.height));
+        rec.barrier();
+        FGSR_TRY(rec.dispatch_pixels(Variant::agree_light_rows, b, &p, agree_segments(format.width),
+                                     format.height));
+        rec.barrier();
+        FGSR_TRY(rec.dispatch_pixels(Variant::agree_light_sums, b, &p, format.width,
+                                     agree_segments(format.height)));
+        rec.barrier();
+    }
     FGSR_TRY(rec.dispatch_pixels(Variant::agree_error, b, &p, format.width, format.height));
     rec.barrier();
     FGSR_TRY(rec.dispatch_pixels(Variant::agree_rows, b, &p, agree_segments(format.width), format.height));

@@ -162,6 +162,9 @@ gpu::AgreeParams agree_params(const GenParams& g) {
     p.margin = defaults::agree_margin;
     p.depth_band = g.extrapolate != 0u ? defaults::agree_extrap_depth_band : defaults::agree_depth_band;
     p.colour_limit = defaults::agree_colour_limit;
+    // Interpolation only: extrapolation's stage 4 compares frame 1 with frame 0 at t + mv.
+    p.gain = g.extrapolate != 0u ? 0.f : defaults::agree_gain;
+    p.gain_radius = defaults::agree_gain_radius;
     return p;
 }
 

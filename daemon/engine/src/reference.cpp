@@ -143,6 +143,11 @@ struct AgreeCpu {
     uint load_field_state(uint field, uint i) const { return (*field_states[field])[i]; }
     vec2 load_e(uint i) const { return e_buf[i]; }
     vec2 load_rows(uint i) const { return rows_buf[i]; }
+    std::vector<vec4> light_buf, light_rows_buf; // stages 5-7 (AgreeParams::gain)
+    vec4 load_light(uint i) const { return light_buf[i]; }
+    vec4 load_light_rows(uint i) const { return light_rows_buf[i]; }
+    void store_light(uint i, vec4 v) { light_buf[i] = v; }
+    void store_light_rows(uint i, vec4 v) { light_rows_buf[i] = v; }
     void store_rows(uint i, vec2 v) { rows_buf[i] = v; }
     std::vector<vec4>* agreed = nullptr; // stage 3's output
     void store_agreed(uint i, vec4 c) { (*agreed)[i] = c; }
@@ -443,8 +448,9 @@ std::vector<glm::vec4> blend(const InternalFrame& f0, const InternalFrame& f1, c
     return out;
 }
 
-// The agree pass's stages over every pixel: the first (`first`: stage 1 or 4, e per pixel), the box's
-// rows, then its columns and the mix (stages 2 and 3 per segment, as the GPU runs them).
+// The agree pass's stages over every pixel: with AgreeParams::gain in interpolation, the brightness
+// box sums (stages 5-7); the first (`first`: stage 1 or 4, e per pixel), the box's rows, then its
+// columns and the mix (stages 2 and 3 per segment, as the GPU runs them).
 namespace {
 template <class First>
 std::vector<glm::vec4> agree_stages(gpu::AgreeCpu& cpu, const AgreeParams& p, First first) {
@@ -455,9 +461,18 @@ std::vector<glm::vec4> agree_stages(gpu::AgreeCpu& cpu, const AgreeParams& p, Fi
         for (uint32_t y = 0; y < p.g.height; ++y)
             for (uint32_t x = 0; x < p.g.width; ++x) f(glm::ivec2(int(x), int(y)), size_t(y) * p.g.width + x);
     };
-    each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = first(t); });
     const uint32_t segments_x = (p.g.width + AGREE_SEGMENT - 1) / AGREE_SEGMENT;
     const uint32_t segments_y = (p.g.height + AGREE_SEGMENT - 1) / AGREE_SEGMENT;
+    if (p.gain > 1.f && p.g.extrapolate == 0u) {
+        cpu.light_buf.resize(n);
+        cpu.light_rows_buf.resize(n);
+        each([&](glm::ivec2 t, size_t i) { cpu.light_buf[i] = cpu.agree_light(t, p); });
+        for (uint32_t y = 0; y < p.g.height; ++y)
+            for (uint32_t sx = 0; sx < segments_x; ++sx) cpu.agree_light_rows_segment(glm::uvec2(sx, y), p);
+        for (uint32_t sy = 0; sy < segments_y; ++sy)
+            for (uint32_t x = 0; x < p.g.width; ++x) cpu.agree_light_column_segment(glm::uvec2(x, sy), p);
+    }
+    each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = first(t); });
     for (uint32_t y = 0; y < p.g.height; ++y)
         for (uint32_t sx = 0; sx < segments_x; ++sx) cpu.agree_rows_segment(glm::uvec2(sx, y), p);
     std::vector<glm::vec4> out(n);

@@ -168,9 +168,10 @@ struct Session::Impl {
 
     // Params::colour_agree (generate.cpp, shaders/agree.h): a colour-only session fed the same
     // frames without vectors or depth, which generates with separate passes; the agree pass's
-    // disagreement and its row means (vec2 per pixel, created on first use).
+    // disagreement and its row means (vec2 per pixel), the warped frames' brightness and its row
+    // sums (vec4 per pixel, AgreeParams::gain), created on first use.
     std::unique_ptr<Session> colour_twin;
-    vk::Buffer agree_e, agree_rows;
+    vk::Buffer agree_e, agree_rows, agree_light, agree_light_rows;
     bool last_agreed = false; // the last generated frame is the agree pass's (read_intermediates)
     bool agrees() const { return colour_twin != nullptr; }
     // The twin's parameters: this session's, estimating motion without correcting anything (its

@@ -166,7 +166,7 @@ constexpr uint32_t variant_texels(Variant v) {
 }
 
 // Every variant names a pass, fits the descriptor writes of Recorder::bind, and has a push block.
-constexpr uint32_t kMaxBindings = 16;
+constexpr uint32_t kMaxBindings = 17; // the agree pass (bindings.h AGREE_COUNT)
 constexpr bool variants_valid() {
     for (const VariantInfo& v : kVariants)
         if (uint32_t(v.pass) >= kPassCount || layout_bindings(v.pass, v.layout) > kMaxBindings ||

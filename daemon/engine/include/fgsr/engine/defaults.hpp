@@ -120,6 +120,18 @@ inline constexpr float agree_extrap_depth_band = 5.0f;
 // twirl-fg +0.96 -> +1.10, street-fg -0.004), extrap +5.02 at 0.15, +5.01 at 0.2, +4.40 none
 // (docs/ACCURACY.md, change 35).
 inline constexpr float agree_colour_limit = 0.2f;
+// ... and in interpolation, stage 1 forgives each field a brightness gain between its two warped
+// frames of up to this factor (brightness units, the square root of luminance: 1.06 is 12 % of
+// light), fitted as the ratio of the frames' brightness sums over the box of side
+// 2 agree_gain_radius + 1: a surface that turns towards or away from the light (pitched blades,
+// slats) changes its shading uniformly by a few percent a frame, which its vectors cannot explain
+// and the colour-only field, fitted to the colour, appears to. Chosen on the 14 train interp
+// captures (docs/ACCURACY.md, change 42) from gains 1.06 / 1.1 / 1.2 and radii 5 / 8 / 12: 1.1 and
+// 8 summed +0.52 dB but lost 0.028 on pan-s2-fg; 1.06 and 8 sums +0.47 (slats-fg +0.21 of the 0.36
+// agreement cost it, sundial-fg +0.06, brickvane-fg +0.06), its largest losses pan-s2-fg -0.010 and
+// mobfgsr-bunker HR -0.008 (every gain tried lost 0.008-0.018 there).
+inline constexpr float agree_gain = 1.06f;
+inline constexpr uint32_t agree_gain_radius = 8;
 // Since change 17 of docs/ACCURACY.md the noise is measured relative to the local brightness to
 // the power gamma (shaders/denoise.h): sunlit and shaded parts of one frame carry noise in
 // proportion to their light, which one absolute level did not fit. Strength and gamma chosen on
