@@ -202,7 +202,9 @@ struct Params {
     // shaders/agree.h): shading that moves on its own (shadows sweeping over still ground, contact
     // shadows, sunlight travelling with the camera), which no vector of the surface carries.
     // Interpolation compares each field's two warped frames (the given field's generation then
-    // runs as separate passes), extrapolation each field's residual at the newest input. Costs the
+    // runs as separate passes), forgiving each a small brightness gain fitted over a box (a
+    // surface turning towards the light: change 42), extrapolation each field's residual at the
+    // newest input. Costs the
     // motion estimation's passes at every submit and a second generated frame. Off in sessions
     // without vectors, which estimate their own motion, and with super resolution (scale other
     // than 1: on jittered, aliased input colour matching follows the aliasing); Session::params()
