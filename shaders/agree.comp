@@ -79,9 +79,9 @@ void main() {
 #if AGREE_STAGE == 2
     agree_rows_segment(gl_GlobalInvocationID.xy, pc.p);
 #elif AGREE_STAGE == 6
-    agree_light_rows_segment(gl_GlobalInvocationID.xy, pc.p);
+    agree_light_segment(gl_GlobalInvocationID.xy, false, pc.p);
 #elif AGREE_STAGE == 7
-    agree_light_column_segment(gl_GlobalInvocationID.xy, pc.p);
+    agree_light_segment(gl_GlobalInvocationID.xy, true, pc.p);
 #elif AGREE_STAGE == 3
     agree_column_segment(gl_GlobalInvocationID.xy, pc.p);
 #else

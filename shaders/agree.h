@@ -193,37 +193,32 @@ FGSR_INLINE vec4 agree_light(ivec2 t, AgreeParams p) {
     return l;
 }
 
-// Stage 6: the sums of stage 5 along row s.y within gain_radius of each pixel (clamped to the
-// frame), for the pixels of segment s.x (a running sum, as stage 2).
-FGSR_INLINE void agree_light_rows_segment(uvec2 s, AgreeParams p) {
-    int w = int(p.g.width), r = int(p.gain_radius);
-    int x0 = int(s.x * AGREE_SEGMENT);
-    if (x0 >= w || s.y >= p.g.height) return;
-    int x1 = min(x0 + int(AGREE_SEGMENT), w);
-    uint row = s.y * p.g.width;
-    vec4 sum = vec4(0.0f);
-    for (int x = max(x0 - r, 0); x <= min(x0 + r, w - 1); ++x) sum += load_light(row + uint(x));
-    for (int x = x0; x < x1; ++x) {
-        store_light_rows(row + uint(x), sum);
-        if (x - r >= 0) sum -= load_light(row + uint(x - r));
-        if (x + r + 1 < w) sum += load_light(row + uint(x + r + 1));
-    }
+// Stages 6 and 7: the box sums of stage 5 within gain_radius of each pixel (clamped to the frame),
+// separable, with a running sum as stages 2 and 3: along row s.y for the pixels of segment s.x
+// (stage 6, the light buffer into the row sums), then along column s.x for the pixels of segment
+// s.y (stage 7, the row sums into the light buffer, over stage 5's values, which stage 6 has read:
+// the box sums stage 1 reads).
+FGSR_INLINE vec4 agree_light_in(bool columns, uint i) {
+    return columns ? load_light_rows(i) : load_light(i);
 }
-
-// Stage 7: the sums of stage 6 along column s.x, for the pixels of segment s.y: the box sums, which
-// stage 1 reads (written over stage 5's values, which stage 6 has read).
-FGSR_INLINE void agree_light_column_segment(uvec2 s, AgreeParams p) {
-    int h = int(p.g.height), r = int(p.gain_radius);
-    int y0 = int(s.y * AGREE_SEGMENT);
-    if (s.x >= p.g.width || y0 >= h) return;
-    int y1 = min(y0 + int(AGREE_SEGMENT), h);
+FGSR_INLINE void agree_light_segment(uvec2 s, bool columns, AgreeParams p) {
+    int len = int(columns ? p.g.height : p.g.width), r = int(p.gain_radius);
+    uint line = columns ? s.x : s.y;
+    int a0 = int((columns ? s.y : s.x) * AGREE_SEGMENT);
+    if (a0 >= len || line >= (columns ? p.g.width : p.g.height)) return;
+    int a1 = min(a0 + int(AGREE_SEGMENT), len);
+    uint base = columns ? line : line * p.g.width, stride = columns ? p.g.width : 1u;
     vec4 sum = vec4(0.0f);
-    for (int y = max(y0 - r, 0); y <= min(y0 + r, h - 1); ++y)
-        sum += load_light_rows(uint(y) * p.g.width + s.x);
-    for (int y = y0; y < y1; ++y) {
-        store_light(uint(y) * p.g.width + s.x, sum);
-        if (y - r >= 0) sum -= load_light_rows(uint(y - r) * p.g.width + s.x);
-        if (y + r + 1 < h) sum += load_light_rows(uint(y + r + 1) * p.g.width + s.x);
+    for (int a = max(a0 - r, 0); a <= min(a0 + r, len - 1); ++a)
+        sum += agree_light_in(columns, base + uint(a) * stride);
+    for (int a = a0; a < a1; ++a) {
+        uint i = base + uint(a) * stride;
+        if (columns)
+            store_light(i, sum);
+        else
+            store_light_rows(i, sum);
+        if (a - r >= 0) sum -= agree_light_in(columns, base + uint(a - r) * stride);
+        if (a + r + 1 < len) sum += agree_light_in(columns, base + uint(a + r + 1) * stride);
     }
 }
 

@@ -358,7 +358,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
     if (!from_colour) return from_colour.error();
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
-    FGSR_TRY(ensure_agree_buffers());
+    FGSR_TRY(ensure_agree_buffers(false));
     const gpu::AgreeParams p = params::agree_params(
         params::gen_params(format, params, alphas.front(), true, f0.has_mv, f1.has_mv, input_measure()));
     const BufRef colour_mv = colour.frames[size_t(colour.newest)].mv;
@@ -413,26 +413,25 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
     return given;
 }
 
-Result<void> Session::Impl::ensure_agree_buffers() {
-    if (agree_e.handle()) return {};
-    auto e = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
-    if (!e) return e.error();
-    agree_e = std::move(*e);
-    auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * 8, false);
-    if (!r) return r.error();
-    agree_rows = std::move(*r);
-    for (vk::Buffer* b : {&agree_light, &agree_light_rows}) {
-        auto l = vk::Buffer::create(*ctx, VkDeviceSize(n) * 16, false);
-        if (!l) return l.error();
-        *b = std::move(*l);
-    }
-    return {};
+Result<void> Session::Impl::ensure_agree_buffers(bool light) {
+    auto make = [&](vk::Buffer& b, VkDeviceSize bytes_per_pixel) -> Result<void> {
+        if (b.handle()) return {};
+        auto r = vk::Buffer::create(*ctx, VkDeviceSize(n) * bytes_per_pixel, false);
+        if (!r) return r.error();
+        b = std::move(*r);
+        return {};
+    };
+    FGSR_TRY(make(agree_e, 8));
+    FGSR_TRY(make(agree_rows, 8));
+    if (!light) return {}; // extrapolation has no gain stages
+    FGSR_TRY(make(agree_light, 16));
+    return make(agree_light_rows, 16);
 }
 
 // The agree pass's three stages over the given field's warped frames and output (this session's,
 // from a call with separate passes) and the twin's.
 Result<PassTiming> Session::Impl::record_agree(const gpu::GenParams& g, Impl& colour) {
-    FGSR_TRY(ensure_agree_buffers());
+    FGSR_TRY(ensure_agree_buffers(true));
     const gpu::AgreeParams p = params::agree_params(g);
     const auto b = make_slots<PassId::agree>(
         at<AGREE_GIVEN_W0>(warped_color0), at<AGREE_GIVEN_D0>(warped_depth0),

@@ -468,9 +468,9 @@ std::vector<glm::vec4> agree_stages(gpu::AgreeCpu& cpu, const AgreeParams& p, Fi
         cpu.light_rows_buf.resize(n);
         each([&](glm::ivec2 t, size_t i) { cpu.light_buf[i] = cpu.agree_light(t, p); });
         for (uint32_t y = 0; y < p.g.height; ++y)
-            for (uint32_t sx = 0; sx < segments_x; ++sx) cpu.agree_light_rows_segment(glm::uvec2(sx, y), p);
+            for (uint32_t sx = 0; sx < segments_x; ++sx) cpu.agree_light_segment(glm::uvec2(sx, y), false, p);
         for (uint32_t sy = 0; sy < segments_y; ++sy)
-            for (uint32_t x = 0; x < p.g.width; ++x) cpu.agree_light_column_segment(glm::uvec2(x, sy), p);
+            for (uint32_t x = 0; x < p.g.width; ++x) cpu.agree_light_segment(glm::uvec2(x, sy), true, p);
     }
     each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = first(t); });
     for (uint32_t y = 0; y < p.g.height; ++y)

@@ -168,8 +168,8 @@ struct Session::Impl {
 
     // Params::colour_agree (generate.cpp, shaders/agree.h): a colour-only session fed the same
     // frames without vectors or depth, which generates with separate passes; the agree pass's
-    // disagreement and its row means (vec2 per pixel), the warped frames' brightness and its row
-    // sums (vec4 per pixel, AgreeParams::gain), created on first use.
+    // disagreement and its row means (vec2 per pixel), created on first use; the warped frames'
+    // brightness and its row sums (vec4 per pixel, AgreeParams::gain), at the first interpolation.
     std::unique_ptr<Session> colour_twin;
     vk::Buffer agree_e, agree_rows, agree_light, agree_light_rows;
     bool last_agreed = false; // the last generated frame is the agree pass's (read_intermediates)
@@ -188,7 +188,7 @@ struct Session::Impl {
     // Extrapolation of an agreeing session: both fields' frames of every alpha, then the agree
     // pass from the fields' residuals at the newest input (agree_residual) into the given ones.
     Result<std::vector<GeneratedFrame>> extrapolate_agreed(std::span<const float> alphas);
-    Result<void> ensure_agree_buffers();
+    Result<void> ensure_agree_buffers(bool light); // light: also the gain's (interpolation)
 
     // Motion estimation from colour (motion.cpp): sessions without vectors.
     struct Motion {
