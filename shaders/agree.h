@@ -35,9 +35,14 @@
 //   2. Means of e over the box of side 2 radius + 1 around the pixel (clamped to the frame), as
 //      two separable stages: rows, then columns, each a running sum along a segment of
 //      AGREE_SEGMENT pixels per invocation.
-//   3. w = clamp((ratio x mean e_given - mean e_colour - margin) / margin, 0, 1) x
+//   3. w = 1 / (1 + exp((mean e_colour + centre - ratio x mean e_given) / softness)) x
 //      clamp(1 - mean e_colour / colour_limit, 0, 1) (where neither field explains the colour, the
-//      given frame is kept more; change 35); the result is mix(given frame, colour frame, w).
+//      given frame is kept more; change 35); the result is mix(given frame, colour frame, w). The
+//      logistic mixes the two frames evenly where the given field disagrees by centre more, and
+//      where both agree equally still takes a small share (0.076 at the defaults) of the colour
+//      frame: made from independent estimates, the two frames err differently, and a little of
+//      the other lowers the error where neither disagreement tells them apart (change 43; until
+//      then a ramp from 0 at a margin of 0.02 to 1 at 0.04, which kept the given frame alone there).
 //
 // Extrapolation has one warped frame, so no two to disagree: stage 1 is then the fields' residual
 // at the newest input (stage 4, agree_residual), and stages 2 and 3 follow on the extrapolated frames:
@@ -148,7 +153,7 @@ FGSR_INLINE void agree_rows_segment(uvec2 s, AgreeParams p) {
 
 // Stage 3 at pixel i with its box means e: the colour frame's weight and the result.
 FGSR_INLINE vec4 agree_mix_pixel(uint i, vec2 e, AgreeParams p) {
-    float w = clamp((p.ratio * e.x - e.y - p.margin) / max(p.margin, 1.0e-6f), 0.0f, 1.0f);
+    float w = 1.0f / (1.0f + exp((e.y + p.centre - p.ratio * e.x) / p.softness));
     if (p.colour_limit > 0.0f) w *= clamp((p.colour_limit - e.y) / p.colour_limit, 0.0f, 1.0f);
     return mix(load_given(i), load_colour(i), w);
 }

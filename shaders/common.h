@@ -339,7 +339,8 @@ struct AgreeParams {
     GenParams g;  // the generated frame's (both fields' blend decisions: t_depth)
     uint radius;  // the box's half side, pixels
     float ratio;  // the given field's disagreement is scaled by this ...
-    float margin; // ... and must exceed the colour field's by more than this (brightness units)
+    float centre; // ... and exceeds the colour field's by this where the two frames mix evenly
+    float softness;   // the logistic's scale (brightness units): agree.h, stage 3
     float depth_band; // one surface within depth_band x g.t_depth (the two warped frames; stage 4: frame 0 at
                       // t + mv and frame 1 at t)
     float colour_limit; // the colour frame's weight falls to 0 as its field's mean reaches this (0: off)
@@ -451,7 +452,7 @@ static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
                   sizeof(PolishParams) == 100,
               "motion push constants");
-static_assert(sizeof(AgreeParams) == 80, "agree push constants");
+static_assert(sizeof(AgreeParams) == 84, "agree push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

@@ -159,7 +159,8 @@ gpu::AgreeParams agree_params(const GenParams& g) {
     p.g = g;
     p.radius = defaults::agree_radius;
     p.ratio = defaults::agree_ratio;
-    p.margin = defaults::agree_margin;
+    p.centre = defaults::agree_centre;
+    p.softness = defaults::agree_softness;
     p.depth_band = g.extrapolate != 0u ? defaults::agree_extrap_depth_band : defaults::agree_depth_band;
     p.colour_limit = defaults::agree_colour_limit;
     // Interpolation only: extrapolation's stage 4 compares frame 1 with frame 0 at t + mv.

@@ -81,8 +81,9 @@ inline constexpr float correct_depth = 0.3f;
 // +4.12 (twirl-fg +0.27 instead of +0.52), 0.1 +4.44, 0.2 +4.36 dB.
 inline constexpr float correct_front = 0.1f;
 // The agree pass (Params::colour_agree, shaders/agree.h): the box over which the two fields'
-// disagreement is averaged (side 2 radius + 1), and the colour-only frame's weight
-// clamp((ratio x given - colour - margin) / margin, 0, 1). Chosen on the train fg captures of
+// disagreement is averaged (side 2 radius + 1), and the colour-only frame's weight. Until change 43
+// the weight was the ramp clamp((ratio x given - colour - margin) / margin, 0, 1), margin 0.02;
+// side and ratio were chosen with it. Chosen on the train fg captures of
 // docs/ACCURACY.md (change 33) with a prototype on eval's outputs, from sides 5-31, ratios 0.5-1
 // and margins 0.005-0.02 (measured with blend's depth band): side 21, ratio 1, margin 0.02 gained
 // on every train capture (sundial-fg +3.16 dB, twirl-fg +0.96) and lost on none by 0.001; smaller
@@ -90,7 +91,18 @@ inline constexpr float correct_front = 0.1f;
 // lost up to 1.1 dB on rotor-fg and 0.5 on orbit-fg (checker floors, turning blades).
 inline constexpr uint32_t agree_radius = 10;
 inline constexpr float agree_ratio = 1.0f;
-inline constexpr float agree_margin = 0.02f;
+// Since change 43 the weight is the logistic 1 / (1 + exp((colour + centre - ratio x given) /
+// softness)): an even mix where the given field's mean disagreement exceeds the colour field's by
+// centre (the old ramp's midpoint), and where the two agree equally a share of 1 / (1 + exp(centre /
+// softness)) = 0.076 of the colour-only frame: two frames made from independent motion estimates
+// err differently, and a little of the other lowers the error where neither measure can tell them
+// apart. Chosen on the train fg captures (docs/ACCURACY.md, change 43) from centres 0.025-0.04 and
+// softnesses 0.01-0.02 (first on eval's outputs mixed outside the engine, then with the engine): at
+// 0.03 / 0.012 all 14 interp figures rose (+0.94 dB summed, mobfgsr-bunker HR +0.16, hdr-fg +0.20)
+// and extrap +1.13 (orbit-fg -0.010 the one lower); softer (0.015-0.02) or lower (0.025) centres
+// summed about as much or more but lost up to 0.19 on orbit-fg, vane-fg or slats-fg.
+inline constexpr float agree_centre = 0.03f;
+inline constexpr float agree_softness = 0.012f;
 // ... measured where the two warped frames are one surface: depths within this times t_depth
 // (relative). Blend's own band (1 x t_depth) leaves out most of a street the camera approaches
 // (blend takes one frame, for depth or a frame off screen, at 77 % of street-fg's pixels), where
