@@ -2053,6 +2053,52 @@ TEST(Motion, AgreeIsOnByDefaultAndOffWithoutVectorsOrWithScale) {
     EXPECT_FALSE(plain->params().colour_agree);
 }
 
+// On jittered input the agree pass stands aside (Session::Impl::agreeing): colour matching there
+// follows each frame's aliasing, and frame generation on the jittered renders lost 0.1-2.2 dB with
+// both fields (docs/ACCURACY.md, change 44). The sweeping shadow, where the pass otherwise changes
+// the frame by several dB: on the first, unjittered pair the pass runs; from the first jittered
+// frame on, the frames are those of a session without colour_agree, to the bit, and no agree pass
+// is timed.
+TEST(Motion, AgreeStandsAsideFromTheFirstJitteredFrame) {
+    const uint32_t w = 192, h = 96;
+    const float step = 7.f, alpha = 0.5f;
+    auto agreed = [](const GeneratedFrame& g) {
+        return std::any_of(g.passes.begin(), g.passes.end(),
+                           [](const PassTiming& t) { return t.pass == PassId::agree; });
+    };
+    for (const bool extrapolate : {false, true}) {
+        SCOPED_TRACE(extrapolate ? "extrapolation" : "interpolation");
+        std::vector<float> out[2];
+        for (int agree = 0; agree < 2; ++agree) {
+            Params p = given_field();
+            p.colour_agree = agree != 0;
+            auto s = session_of(internal_format(w, h), p);
+            ASSERT_TRUE(s);
+            auto generate = [&] {
+                return extrapolate ? s->extrapolate(std::span<const float>(&alpha, 1))
+                                   : s->interpolate(std::span<const float>(&alpha, 1));
+            };
+            for (float t : {0.f, 1.f}) ASSERT_TRUE(s->submit(shadow_frame(w, h, t, step).view()));
+            auto before = generate();
+            ASSERT_TRUE(before) << before.error().message;
+            EXPECT_EQ(agreed(before->front()), agree != 0) << "unjittered";
+            for (float t : {2.f, 3.f}) {
+                const RawFrame f = shadow_frame(w, h, t, step);
+                FrameView v = f.view();
+                v.jitter_x = 0.25f;
+                v.jitter_y = -0.25f;
+                ASSERT_TRUE(s->submit(v));
+            }
+            auto after = generate();
+            ASSERT_TRUE(after) << after.error().message;
+            EXPECT_FALSE(agreed(after->front())) << "jittered";
+            out[agree] = std::move(after->front().color.rgba);
+        }
+        EXPECT_TRUE(out[0] == out[1]) << "the frame of a session without colour_agree";
+    }
+    expect_no_validation_errors();
+}
+
 // A camera panning over a floor of flat checker cells (16 px, depth 20) and a textured square
 // (depth 16) moving its own way, exact vectors. The background the square uncovers lies within
 // correct_depth (30 %) of the square, as an object on the floor seen from afar is of the floor

@@ -116,7 +116,7 @@ Result<void> Session::Impl::check_generate(std::span<const float> alphas, bool e
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     FGSR_TRY(check_generate(alphas, extrapolate));
     last_agreed = false;
-    if (agrees()) return extrapolate ? extrapolate_agreed(alphas) : generate_agreed(alphas);
+    if (agreeing()) return extrapolate ? extrapolate_agreed(alphas) : generate_agreed(alphas);
     return generate_frames(alphas, extrapolate);
 }
 

@@ -488,7 +488,7 @@ Result<void> Session::Impl::record_polish_coarse(int cur, int prev, bool search,
 }
 
 std::vector<PassTiming> Session::last_motion_timings() const {
-    if (!impl_->agrees()) return impl_->estimator.timings;
+    if (!impl_->agreeing()) return impl_->estimator.timings;
     // Params::colour_agree: the colour-only twin's ingest of the frame and its motion estimation
     // (this session estimates nothing itself, or corrects its vectors with its own).
     std::vector<PassTiming> t = impl_->estimator.timings;

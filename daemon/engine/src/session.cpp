@@ -175,7 +175,7 @@ void Session::reset() {
 
 // Params::colour_agree: the twin sees the frame's colour, neither its vectors nor its depth.
 static Result<void> submit_to_twin(Session::Impl& s, const FrameView& frame) {
-    if (!s.agrees()) return {};
+    if (!s.agreeing()) return {};
     FrameView colour = frame;
     colour.depth = {};
     colour.mv = {};

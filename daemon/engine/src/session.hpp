@@ -174,6 +174,11 @@ struct Session::Impl {
     vk::Buffer agree_e, agree_rows, agree_light, agree_light_rows;
     bool last_agreed = false; // the last generated frame is the agree pass's (read_intermediates)
     bool agrees() const { return colour_twin != nullptr; }
+    // ... and generates from both fields: not once the input was jittered (input_jittered), where
+    // the twin's estimate follows each frame's aliasing, as the refinement of estimated motion does
+    // not run there; the twin is then no longer fed (docs/ACCURACY.md, change 44: frame generation
+    // on the jittered renders lost 0.1-2.2 dB with both fields).
+    bool agreeing() const { return agrees() && !input_jittered; }
     // The twin's parameters: this session's, estimating motion without correcting anything (its
     // interpolation runs separate passes, generate_agreed's force_separate).
     static Params twin_params(Params p) {
