@@ -1820,7 +1820,7 @@ TEST(Motion, AgreeForgivesAUniformChangeOfShadingButNotAShadow) {
 // warped frames written out here with a uniform disagreement per field (the gain off, so stage 1
 // is the plain difference). The colour-only frame's weight rises with the given field's
 // disagreement, is one half where it exceeds the colour field's by the centre (times the
-// colour-limit factor), and where both fields disagree equally, or not at all, is the small least
+// colour-limit factor), and where both fields disagree equally, or not at all, is a small floor,
 // 1 / (1 + exp(centre / softness)): neither 0 (the two frames are averaged a little) nor more than
 // a tenth.
 TEST(Motion, AgreeWeightIsALogisticOfTheFieldsDisagreement) {
