@@ -101,8 +101,9 @@ FGSR_INLINE vec2 given_depth_range(ivec2 t, float d1, AgreeParams p) {
     return vec2(min(1.0f, s), max(1.0f, s));
 }
 
-// Stage 1: one field's disagreement at pixel t, and both fields' (given, colour).
-FGSR_INLINE float field_disagreement(uint field, ivec2 t, AgreeParams p) {
+// Stage 1: one field's disagreement at pixel t, its frame-1 brightness scaled by g (the field's
+// fitted gain, 1 without), and both fields' (given, colour).
+FGSR_INLINE float field_disagreement(uint field, ivec2 t, float g, AgreeParams p) {
     uint i = uint(t.y) * p.g.width + uint(t.x);
     float d0 = load_warped_depth(field, 0u, i), d1 = load_warped_depth(field, 1u, i);
     if (load_field_state(field, i) == FIELD_HOLE_FILLED || !(d0 >= 0.0f) || !(d1 >= 0.0f)) return 0.0f;
@@ -112,15 +113,19 @@ FGSR_INLINE float field_disagreement(uint field, ivec2 t, AgreeParams p) {
     if (relative_depth_difference(d0, d1) > band &&
         (field != 0u || surface_distance0(d0, d1, vec3(given_depth_range(t, d1, p), 0.0f)) > band))
         return 0.0f;
-    float b0 = brightness(load_warped(field, 0u, i)), b1 = brightness(load_warped(field, 1u, i));
-    if (!(p.gain > 1.0f)) return abs(b0 - b1);
-    vec4 sums = load_light(i); // stage 7's box sums
-    vec2 s = field == 0u ? vec2(sums.x, sums.y) : vec2(sums.z, sums.w);
-    float g = s.y > 1.0e-4f ? clamp(s.x / s.y, 1.0f / p.gain, p.gain) : 1.0f;
-    return abs(b0 - g * b1);
+    return abs(brightness(load_warped(field, 0u, i)) - g * brightness(load_warped(field, 1u, i)));
+}
+// A field's gain from its box sums of frame-0 and frame-1 brightness (stage 7), within the bound.
+FGSR_INLINE float fitted_gain(float s0, float s1, AgreeParams p) {
+    return s1 > 1.0e-4f ? clamp(s0 / s1, 1.0f / p.gain, p.gain) : 1.0f;
 }
 FGSR_INLINE vec2 agree_error(ivec2 t, AgreeParams p) {
-    return vec2(field_disagreement(0u, t, p), field_disagreement(1u, t, p));
+    vec2 g = vec2(1.0f);
+    if (p.gain > 1.0f) {
+        vec4 sums = load_light(uint(t.y) * p.g.width + uint(t.x)); // (given S0, S1, colour S0, S1)
+        g = vec2(fitted_gain(sums.x, sums.y, p), fitted_gain(sums.z, sums.w, p));
+    }
+    return vec2(field_disagreement(0u, t, g.x, p), field_disagreement(1u, t, g.y, p));
 }
 
 // Stages 2 and 3 walk AGREE_SEGMENT pixels of a row (stage 2) or a column (stage 3) per invocation
