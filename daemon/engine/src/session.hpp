@@ -177,7 +177,7 @@ struct Session::Impl {
     // ... and generates from both fields: not once the input was jittered (input_jittered), where
     // the twin's estimate follows each frame's aliasing, as the refinement of estimated motion does
     // not run there; the twin is then no longer fed (docs/ACCURACY.md, change 44: frame generation
-    // on the jittered renders lost 0.1-2.2 dB with both fields).
+    // on the jittered renders, scored after a bicubic 2x upscale, lost 0.1-2.2 dB with both fields).
     bool agreeing() const { return agrees() && !input_jittered; }
     // The twin's parameters: this session's, estimating motion without correcting anything (its
     // interpolation runs separate passes, generate_agreed's force_separate).

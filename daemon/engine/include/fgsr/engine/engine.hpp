@@ -209,13 +209,14 @@ struct Params {
     // without vectors, which estimate their own motion, and with super resolution (scale other
     // than 1: on jittered, aliased input colour matching follows the aliasing); Session::params()
     // says which. Nor from a session's first jittered frame on, for the same reason (change 44:
-    // frame generation on the jittered renders lost 0.1-2.2 dB with it); Session::params() still
-    // reports the flag then, and the frames are those without it. On by default and in the
-    // quality preset since the patch inverse search (change 40) made the colour-only field good
-    // enough: train interp +8.67 dB summed over 11 captures, none lower by more than 0.0001;
-    // extrap +7.48, none lower by more than 0.001 (docs/ACCURACY.md, change 41). Off in balanced
-    // and performance: on CPU devices it costs several times a frame. fgsrd's sessions take it
-    // only with the protocol flag FGSR_SESSION_COLOUR_AGREE (changes 33 to 35, 41).
+    // frame generation on the jittered renders, upscaled 2x, lost 0.1-2.2 dB with it);
+    // Session::params() still reports the flag then, and the frames are those without it. On by
+    // default and in the quality preset since the patch inverse search (change 40) made the
+    // colour-only field good enough: train interp +8.67 dB summed over 11 captures, none lower by
+    // more than 0.0001; extrap +7.48, none lower by more than 0.001 (docs/ACCURACY.md, change 41).
+    // Off in balanced and performance: on CPU devices it costs several times a frame. fgsrd's
+    // sessions take it only with the protocol flag FGSR_SESSION_COLOUR_AGREE (changes 33 to 35,
+    // 41).
     bool colour_agree = true;
     float correct_ratio = defaults::correct_ratio;   // [0, 1]
     float correct_margin = defaults::correct_margin; // >= 0, luma units
