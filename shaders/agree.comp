@@ -68,13 +68,15 @@ vec4 load_given(uint i) { return given[i]; }
 vec4 load_colour(uint i) { return colour[i]; }
 void store_rows(uint i, vec2 v) { rows_buf[i] = v; }
 void store_agreed(uint i, vec4 c) { given[i] = c; }
+void store_means(uint i, vec2 m) { e_buf[i] = m; }
 
 #include "field.h"
 #include "blend.h"
 #include "agree.h"
 
 // Stages 1, 4 and 5: one invocation per pixel; stages 2 and 6: per segment of a row (x: the
-// segment, y: the row); stages 3 and 7: per segment of a column (x: the column, y: the segment).
+// segment, y: the row); stages 3, 7 and 8: per segment of a column (x: the column, y: the segment);
+// stage 9: one invocation per output pixel.
 void main() {
 #if AGREE_STAGE == 2
     agree_rows_segment(gl_GlobalInvocationID.xy, pc.p);
@@ -83,7 +85,13 @@ void main() {
 #elif AGREE_STAGE == 7
     agree_light_segment(gl_GlobalInvocationID.xy, true, pc.p);
 #elif AGREE_STAGE == 3
-    agree_column_segment(gl_GlobalInvocationID.xy, pc.p);
+    agree_column_segment(gl_GlobalInvocationID.xy, false, pc.p);
+#elif AGREE_STAGE == 8
+    agree_column_segment(gl_GlobalInvocationID.xy, true, pc.p);
+#elif AGREE_STAGE == 9
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (t.x >= int(pc.p.out_width) || t.y >= int(pc.p.out_height)) return;
+    agree_mix_upscaled(t, pc.p);
 #else
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
     if (!inside(t, pc.p.g)) return;

@@ -54,6 +54,13 @@
 //      than stage 1's (change 36). The weights are
 //      those of frame-1 pixels, applied at the extrapolated frame's pixels: the box spans 21
 //      pixels, the half step of motion between them lies mostly inside it.
+
+// With super resolution (extrapolation only; ESR) both fields' frames are at the output's size while
+// stages 4 and 2 run at the input's, and stage 3 splits in two:
+//   8. stage 3's box means along the columns, stored per input pixel (in place of stage 1's e,
+//      which stage 2 has read);
+//   9. per output pixel, the means read bilinearly at its position in the input, then stage 3's
+//      weight and mix (docs/ACCURACY.md, change 45).
 //
 // Entry provides:
 //   vec4  load_warped(uint field, uint frame, uint i)   field 0: given, 1: colour; frame 0 or 1
@@ -62,7 +69,8 @@
 //   vec2  load_e(uint i), load_rows(uint i)
 //   void  store_rows(uint i, vec2 means)                 stage 2
 //   vec4  load_given(uint i), load_colour(uint i)
-//   void  store_agreed(uint i, vec4 colour)              stage 3
+//   void  store_agreed(uint i, vec4 colour)              stages 3 and 9 (9: i of the output's size)
+//   void  store_means(uint i, vec2 means)                stage 8, into the e buffer
 //   vec4  load_given_field(uint i)                       the given field's (v0, v1) (stage 1)
 //   vec4  load_light(uint i), load_light_rows(uint i)    stages 5-7: (given b0, b1, colour b0, b1)
 //   void  store_light(uint i, vec4), store_light_rows(uint i, vec4)  per pixel, its row sums; stage 7
@@ -164,8 +172,8 @@ FGSR_INLINE vec4 agree_mix_pixel(uint i, vec2 e, AgreeParams p) {
 }
 
 // Stage 3: the box means along column s.x (of stage 2's row means), then the mix, for the pixels of
-// segment s.y.
-FGSR_INLINE void agree_column_segment(uvec2 s, AgreeParams p) {
+// segment s.y; with means_only (stage 8), the means into the e buffer instead (store_means).
+FGSR_INLINE void agree_column_segment(uvec2 s, bool means_only, AgreeParams p) {
     int h = int(p.g.height), r = int(p.radius);
     int y0 = int(s.y * AGREE_SEGMENT);
     if (s.x >= p.g.width || y0 >= h) return;
@@ -175,7 +183,10 @@ FGSR_INLINE void agree_column_segment(uvec2 s, AgreeParams p) {
     for (int y = lo; y <= hi; ++y) sum += load_rows(uint(y) * p.g.width + s.x);
     for (int y = y0; y < y1; ++y) {
         uint i = uint(y) * p.g.width + s.x;
-        store_agreed(i, agree_mix_pixel(i, sum / float(hi - lo + 1), p));
+        if (means_only)
+            store_means(i, sum / float(hi - lo + 1));
+        else
+            store_agreed(i, agree_mix_pixel(i, sum / float(hi - lo + 1), p));
         if (y - r >= 0) {
             sum -= load_rows(uint(y - r) * p.g.width + s.x);
             lo = y - r + 1;
@@ -185,6 +196,23 @@ FGSR_INLINE void agree_column_segment(uvec2 s, AgreeParams p) {
             hi = y + r + 1;
         }
     }
+}
+
+// Stage 9: the mix at output pixel t of frames of p.out_width x p.out_height (super resolution),
+// by stage 8's box means at g's size, read bilinearly at t's position there (pixel centres
+// aligned, clamped to the frame): the scale need not be an integer.
+FGSR_INLINE void agree_mix_upscaled(ivec2 t, AgreeParams p) {
+    vec2 to_input = vec2(float(p.g.width), float(p.g.height)) / vec2(float(p.out_width), float(p.out_height));
+    vec2 last = vec2(float(p.g.width - 1u), float(p.g.height - 1u));
+    vec2 q = clamp((vec2(t) + 0.5f) * to_input - 0.5f, vec2(0.0f), last);
+    ivec2 a = ivec2(floor(q));
+    ivec2 b = min(a + ivec2(1), ivec2(last));
+    vec2 f = q - vec2(a);
+    uint w = p.g.width;
+    vec2 top = mix(load_e(uint(a.y) * w + uint(a.x)), load_e(uint(a.y) * w + uint(b.x)), f.x);
+    vec2 bottom = mix(load_e(uint(b.y) * w + uint(a.x)), load_e(uint(b.y) * w + uint(b.x)), f.x);
+    uint i = uint(t.y) * p.out_width + uint(t.x);
+    store_agreed(i, agree_mix_pixel(i, mix(top, bottom, f.y), p));
 }
 
 // Stage 5: each field's brightness in its two warped frames where both are on screen, else 0:

@@ -347,6 +347,10 @@ struct AgreeParams {
     float gain;         // stage 1 forgives a field's brightness gain between its two warped frames up to
                         // this factor, fitted over the box of side 2 gain_radius + 1 (<= 1: off)
     uint gain_radius;
+    // The size of the frames stage 9 mixes (super resolution: the output's; the means are g's size),
+    // 0 where stage 3 mixes at g's size.
+    uint out_width;
+    uint out_height;
 };
 
 // Internal frame colour as stored between passes: RGBA as four IEEE half floats, 8 bytes per pixel
@@ -452,7 +456,7 @@ static_assert(sizeof(DenoiseParams) == 32, "denoise push constants");
 static_assert(sizeof(LumaParams) == 32 && sizeof(MatchParams) == 68 && sizeof(FlowParams) == 80 &&
                   sizeof(PolishParams) == 100,
               "motion push constants");
-static_assert(sizeof(AgreeParams) == 84, "agree push constants");
+static_assert(sizeof(AgreeParams) == 92, "agree push constants");
 } // namespace fgsr::gpu
 #endif
 #endif

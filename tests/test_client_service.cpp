@@ -73,28 +73,31 @@ fgsr_session_desc desc_for(const fgsr::FrameFormat& f, uint32_t policy = FGSR_QU
     return d;
 }
 
-// The default Params (colour_agree on since change 41) ask fgsrd for agreement exactly where the
-// engine agrees, with vectors at scale 1, and make a description fgsrd accepts at every scale and
-// with or without vectors (the flag is refused with a scale other than 1 and with NO_MVS).
+// The default Params (colour_agree on since change 41) ask fgsrd for agreement exactly where it is
+// used: with vectors, at scale 1 or in a session that extrapolates (ESR, change 45); and make a
+// description fgsrd accepts at every scale, with or without vectors and in every mode (the flag
+// is refused with NO_MVS, and with a scale other than 1 without FGSR_MODE_EXTRAPOLATE).
 TEST(SessionDesc, DefaultParamsAskForAgreementOnlyWhereItApplies) {
     for (const float scale : {1.f, 2.f})
-        for (const bool vectors : {true, false}) {
-            fgsr::FrameFormat f;
-            f.width = 64;
-            f.height = 32;
-            f.has_vectors = f.has_depth = vectors;
-            fgsr::Params p;
-            p.scale = scale;
-            const uint32_t modes = FGSR_MODE_INTERPOLATE | (scale != 1.f ? FGSR_MODE_SR : 0u);
-            const fgsr_session_desc in = fgsr::capture::session_desc(f, p, modes);
-            EXPECT_EQ((in.flags & FGSR_SESSION_COLOUR_AGREE) != 0, vectors && scale == 1.f)
-                << "scale " << scale << (vectors ? ", vectors" : ", colour only");
-            fgsr_session_desc out{};
-            char why[256] = {};
-            EXPECT_EQ(fgsr_session_desc_normalize(&in, &out, why, sizeof why), FGSR_STATUS_OK) << why;
-            p.colour_agree = false;
-            EXPECT_EQ(fgsr::capture::session_desc(f, p, modes).flags & FGSR_SESSION_COLOUR_AGREE, 0u);
-        }
+        for (const bool vectors : {true, false})
+            for (const uint32_t mode : {FGSR_MODE_INTERPOLATE, FGSR_MODE_EXTRAPOLATE}) {
+                fgsr::FrameFormat f;
+                f.width = 64;
+                f.height = 32;
+                f.has_vectors = f.has_depth = vectors;
+                fgsr::Params p;
+                p.scale = scale;
+                const uint32_t modes = mode | (scale != 1.f ? FGSR_MODE_SR : 0u);
+                const fgsr_session_desc in = fgsr::capture::session_desc(f, p, modes);
+                EXPECT_EQ((in.flags & FGSR_SESSION_COLOUR_AGREE) != 0,
+                          vectors && (scale == 1.f || mode == FGSR_MODE_EXTRAPOLATE))
+                    << "scale " << scale << (vectors ? ", vectors" : ", colour only") << ", modes " << modes;
+                fgsr_session_desc out{};
+                char why[256] = {};
+                EXPECT_EQ(fgsr_session_desc_normalize(&in, &out, why, sizeof why), FGSR_STATUS_OK) << why;
+                p.colour_agree = false;
+                EXPECT_EQ(fgsr::capture::session_desc(f, p, modes).flags & FGSR_SESSION_COLOUR_AGREE, 0u);
+            }
 }
 
 // Submits input i of the capture (interp at 0.5 from the second frame on).

@@ -1688,6 +1688,13 @@ TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
         light[i] = glm::vec4(bright(given_w.color[i].x), bright(given_w.color[n + i].x),
                              bright(colour_w.color[i].x), bright(colour_w.color[n + i].x));
     const std::vector<glm::vec2> plain_e = e;
+    // Frames of an output 1.5 times the size (ESR: stages 8 and 9 mix them by the same means).
+    const uint32_t out_w = 116, out_h = 68;
+    std::vector<glm::vec4> given_hr(size_t(out_w) * out_h), colour_hr(given_hr.size());
+    for (size_t i = 0; i < given_hr.size(); ++i) {
+        given_hr[i] = glm::vec4(grey(rng), grey(rng), grey(rng), 1.f);
+        colour_hr[i] = glm::vec4(grey(rng), grey(rng), grey(rng), 1.f);
+    }
     for (const auto& [radius, gain, gain_radius] :
          {std::tuple{defaults::agree_radius, 0.f, 0u}, std::tuple{60u, 0.f, 0u}, std::tuple{0u, 0.f, 0u},
           std::tuple{defaults::agree_radius, 1.1f, 8u}, std::tuple{0u, 1.3f, 40u},
@@ -1720,8 +1727,13 @@ TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
         }
         const auto got = ref::agree(given_w, given_f, given, colour_w, colour_state, colour, p);
         ASSERT_EQ(got.size(), n);
+        auto weight = [&](glm::dvec2 mean) {
+            const double wc = 1.0 / (1.0 + std::exp((mean.y + p.centre - p.ratio * mean.x) / p.softness));
+            return wc * std::clamp(1.0 - mean.y / p.colour_limit, 0.0, 1.0);
+        };
         float largest = 0.f;
         size_t mixed = 0;
+        std::vector<glm::dvec2> means(n);
         for (uint32_t y = 0; y < h; ++y)
             for (uint32_t x = 0; x < w; ++x) {
                 const int x0 = std::max(int(x) - int(radius), 0),
@@ -1731,10 +1743,9 @@ TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
                 glm::dvec2 sum(0.0);
                 for (int yy = y0; yy <= y1; ++yy)
                     for (int xx = x0; xx <= x1; ++xx) sum += glm::dvec2(e[size_t(yy) * w + size_t(xx)]);
-                const glm::dvec2 mean = sum / double((x1 - x0 + 1) * (y1 - y0 + 1));
-                double wc = 1.0 / (1.0 + std::exp((mean.y + p.centre - p.ratio * mean.x) / p.softness));
-                wc *= std::clamp(1.0 - mean.y / p.colour_limit, 0.0, 1.0);
                 const size_t i = size_t(y) * w + x;
+                means[i] = sum / double((x1 - x0 + 1) * (y1 - y0 + 1));
+                const double wc = weight(means[i]);
                 const glm::vec4 expected = given[i] + float(wc) * (colour[i] - given[i]);
                 largest = std::max(largest, glm::length(got[i] - expected));
                 mixed += wc > 0.05 && wc < 0.95 ? 1u : 0u;
@@ -1743,6 +1754,29 @@ TEST(Motion, AgreeBoxMeansOfRunningSumsEqualTheWholeBox) {
         if (radius > 0) {
             EXPECT_GT(mixed, n / 20) << "the weights are not all 0 or 1";
         }
+        // With the output's size set (ESR), each output pixel mixes by the means read bilinearly at
+        // its position in the input (pixel centres aligned, clamped to the frame).
+        ref::AgreeParams up = p;
+        up.out_width = out_w;
+        up.out_height = out_h;
+        const auto got_up = ref::agree(given_w, given_f, given_hr, colour_w, colour_state, colour_hr, up);
+        ASSERT_EQ(got_up.size(), given_hr.size());
+        float largest_up = 0.f;
+        for (uint32_t y = 0; y < out_h; ++y)
+            for (uint32_t x = 0; x < out_w; ++x) {
+                const double qx = std::clamp((x + 0.5) * w / out_w - 0.5, 0.0, double(w - 1));
+                const double qy = std::clamp((y + 0.5) * h / out_h - 0.5, 0.0, double(h - 1));
+                const uint32_t ax = uint32_t(qx), ay = uint32_t(qy);
+                const uint32_t bx = std::min(ax + 1, w - 1), by = std::min(ay + 1, h - 1);
+                const double fx = qx - ax, fy = qy - ay;
+                auto at = [&](uint32_t xx, uint32_t yy) { return means[size_t(yy) * w + xx]; };
+                const glm::dvec2 mean = (1 - fy) * ((1 - fx) * at(ax, ay) + fx * at(bx, ay)) +
+                                        fy * ((1 - fx) * at(ax, by) + fx * at(bx, by));
+                const size_t i = size_t(y) * out_w + x;
+                const glm::vec4 expected = given_hr[i] + float(weight(mean)) * (colour_hr[i] - given_hr[i]);
+                largest_up = std::max(largest_up, glm::length(got_up[i] - expected));
+            }
+        EXPECT_LT(largest_up, 1e-4f) << "upscaled";
     }
 }
 
@@ -2001,6 +2035,116 @@ TEST(Motion, AgreeExtrapolationGpuMatchesTheCpuReference) {
     expect_no_validation_errors();
 }
 
+// With super resolution (ESR, change 45) the residuals and their box means run at the input's size
+// and the mix per output pixel (agree.h, stages 8 and 9): at a scale of 1.5 (not an integer; the
+// output 225x105), the GPU's frames equal the CPU reference's on the same inputs and on both
+// fields' upscaled frames, which an SR session of each field gives alone.
+TEST(Motion, AgreeUpscaledExtrapolationGpuMatchesTheCpuReference) {
+    const uint32_t w = 150, h = 70;
+    const float step = 6.f;
+    Params agreeing;
+    agreeing.scale = 1.5f;
+    Params plain = agreeing;
+    plain.colour_agree = false;
+    auto a = session_of(internal_format(w, h), agreeing);
+    auto given = session_of(internal_format(w, h), plain);
+    auto colour = session_of(colour_only(w, h), plain);
+    ASSERT_TRUE(a && given && colour);
+    ASSERT_TRUE(a->params().colour_agree);
+    const uint32_t out_w = a->output_width(), out_h = a->output_height();
+    ASSERT_EQ(out_w, 225u);
+    ASSERT_EQ(out_h, 105u);
+    for (float t : {0.f, 1.f}) {
+        const RawFrame f = shadow_frame(w, h, t, step);
+        FrameView colour_view = f.view();
+        colour_view.depth = {};
+        colour_view.mv = {};
+        ASSERT_TRUE(a->submit(f.view()));
+        ASSERT_TRUE(given->submit(f.view()));
+        ASSERT_TRUE(colour->submit(colour_view));
+    }
+    auto vec4s = [](const ImageRGBA& img) {
+        std::vector<glm::vec4> v(img.rgba.size() / 4);
+        std::memcpy(v.data(), img.rgba.data(), v.size() * 16);
+        return v;
+    };
+    const std::vector<float> alphas{0.5f, 1.f};
+    auto out = a->extrapolate(alphas), g = given->extrapolate(alphas), c = colour->extrapolate(alphas);
+    ASSERT_TRUE(out && g && c);
+    auto f0 = given->read_frame(0), f1 = given->read_frame(1), cf = colour->read_frame(1);
+    ASSERT_TRUE(f0 && f1 && cf);
+    const size_t n = size_t(w) * h, out_n = size_t(out_w) * out_h;
+    std::vector<glm::vec2> colour_mv(n);
+    for (size_t i = 0; i < n; ++i) colour_mv[i] = glm::vec2(cf->mv[2 * i], cf->mv[2 * i + 1]);
+    for (size_t k = 0; k < alphas.size(); ++k) {
+        ASSERT_EQ((*out)[k].color.rgba.size(), out_n * 4);
+        ref::AgreeParams ap = params::agree_params(params::gen_params(
+            internal_format(w, h), agreeing, alphas[k], true, true, true, params::input_measure(*a)));
+        ap.out_width = out_w;
+        ap.out_height = out_h;
+        const auto expected =
+            ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
+                                    vec4s((*g)[k].color), vec4s((*c)[k].color), ap);
+        ASSERT_EQ(expected.size(), out_n);
+        float largest = 0.f, moved = 0.f;
+        for (size_t i = 0; i < out_n; ++i)
+            for (int q = 0; q < 4; ++q) {
+                largest =
+                    std::max(largest, std::abs((*out)[k].color.rgba[4 * i + size_t(q)] - expected[i][q]));
+                moved = std::max(moved, std::abs(expected[i][q] - (*g)[k].color.rgba[4 * i + size_t(q)]));
+            }
+        EXPECT_LT(largest, 1e-5f) << "GPU against CPU, alpha " << alphas[k];
+        EXPECT_GT(moved, 0.1f) << "the pass changed the frame (the largest change), alpha " << alphas[k];
+    }
+    expect_no_validation_errors();
+}
+
+// ESR of the sweeping shadow (exact zero vectors, depth 10) at scale 2: the frame half a step after
+// frame 2, against the truth rendered at the output's size, gains several dB with colour_agree, as
+// at scale 1; the agree pass is timed, and the twin's sr pass with the motion passes. Only
+// extrapolation generates from both fields with super resolution: the same session's upscaled and
+// interpolated frames are those of a session without colour_agree, to the bit.
+TEST(Motion, AgreeUpscaledExtrapolationTakesTheColourFieldWhereAShadowSweeps) {
+    const uint32_t w = 192, h = 96;
+    const float step = 7.f, alpha = 0.5f;
+    const std::vector<glm::vec4> truth =
+        colours_of(render(2 * w, 2 * h, [&](glm::vec2 q) { return shadow_scene(q / 2.f, 2.5f, step); }));
+    auto timed = [](const std::vector<PassTiming>& passes, PassId id) {
+        return std::count_if(passes.begin(), passes.end(), [&](const PassTiming& t) { return t.pass == id; });
+    };
+    double score[2] = {0, 0};
+    std::vector<float> upscaled[2], interpolated[2];
+    for (int agree = 0; agree < 2; ++agree) {
+        SCOPED_TRACE(agree ? "colour_agree" : "without");
+        Params p = given_field();
+        p.colour_agree = agree != 0;
+        p.scale = 2.f;
+        auto s = session_of(internal_format(w, h), p);
+        ASSERT_TRUE(s);
+        EXPECT_EQ(s->params().colour_agree, agree != 0);
+        for (float t : {0.f, 1.f, 2.f}) ASSERT_TRUE(s->submit(shadow_frame(w, h, t, step).view()));
+        EXPECT_EQ(timed(s->last_motion_timings(), PassId::sr), agree);
+        auto sr = s->super_resolved();
+        ASSERT_TRUE(sr) << sr.error().message;
+        upscaled[agree] = std::move(sr->color.rgba);
+        auto in = s->interpolate(std::span<const float>(&alpha, 1));
+        ASSERT_TRUE(in) << in.error().message;
+        EXPECT_EQ(timed(in->front().passes, PassId::agree), 0);
+        interpolated[agree] = std::move(in->front().color.rgba);
+        auto ex = s->extrapolate(std::span<const float>(&alpha, 1));
+        ASSERT_TRUE(ex) << ex.error().message;
+        EXPECT_EQ(timed(ex->front().passes, PassId::agree), agree);
+        ASSERT_EQ(ex->front().color.rgba.size(), truth.size() * 4);
+        score[agree] = psnr(ex->front().color.rgba, truth);
+    }
+    std::printf("[ measured ] sweeping shadow, ESR 2x: given vectors %.2f dB, with the agree pass %.2f dB\n",
+                score[0], score[1]);
+    EXPECT_GT(score[1], score[0] + 3.0);
+    EXPECT_TRUE(upscaled[0] == upscaled[1]) << "the upscaled frame";
+    EXPECT_TRUE(interpolated[0] == interpolated[1]) << "the interpolated frame";
+    expect_no_validation_errors();
+}
+
 // An agreeing call of several alphas generates them one at a time (the agree pass reads the warped
 // frames of the last one): each frame equals the one a call of that alpha alone gives.
 TEST(Motion, AgreeGivesEachAlphaOfACallAsAloneWould) {
@@ -2026,10 +2170,9 @@ TEST(Motion, AgreeGivesEachAlphaOfACallAsAloneWould) {
 }
 
 // Params::colour_agree is on by default (change 41) and off where it does not apply: in sessions
-// without vectors (they estimate their own motion; one Params serves both kinds, as in fgsr eval)
-// and with super resolution, where the default Params are taken as they are. It stays what it was
-// at creation.
-TEST(Motion, AgreeIsOnByDefaultAndOffWithoutVectorsOrWithScale) {
+// without vectors (they estimate their own motion; one Params serves both kinds, as in fgsr eval).
+// With super resolution it applies (ESR, change 45). It stays what it was at creation.
+TEST(Motion, AgreeIsOnByDefaultAndOffWithoutVectors) {
     EXPECT_TRUE(Params{}.colour_agree);
     Params p;
     auto colour = session_of(colour_only(64, 32), p);
@@ -2038,7 +2181,7 @@ TEST(Motion, AgreeIsOnByDefaultAndOffWithoutVectorsOrWithScale) {
     p.scale = 2.f;
     auto sr = engine().create_session(internal_format(64, 32), p);
     ASSERT_TRUE(sr) << sr.error().message;
-    EXPECT_FALSE((*sr)->params().colour_agree);
+    EXPECT_TRUE((*sr)->params().colour_agree);
     p.scale = 1.f;
     auto agreeing = session_of(internal_format(64, 32), p);
     Params off;

@@ -375,7 +375,7 @@ TEST(ProtocolAbi, EnumValues) {
 TEST(ProtocolAbi, DefineValues) {
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAGIC), uint64_t(0x52534746u));
     EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MAJOR), uint64_t(1u));
-    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(7u));
+    EXPECT_EQ(uint64_t(FGSR_PROTOCOL_MINOR), uint64_t(8u));
     EXPECT_EQ(uint64_t(FGSR_REPORT_APPLICATION), uint64_t(0xffffffffu));
     EXPECT_EQ(uint64_t(FGSR_REPORT_DROPPED), uint64_t(0x1u));
     EXPECT_EQ(uint64_t(FGSR_MAX_REPORTS_PER_MESSAGE), uint64_t(16u));

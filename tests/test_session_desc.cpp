@@ -437,7 +437,8 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(reason).find("CORRECT_MVS"), std::string::npos) << reason;
     // Interpolation by agreement (minor 7) adds a field from colour to given vectors: not with
-    // NO_MVS, and not with super resolution; with the correction of the given vectors it may.
+    // NO_MVS; with super resolution only for sessions that extrapolate (minor 8: ESR); with the
+    // correction of the given vectors it may.
     in.flags = FGSR_SESSION_COLOUR_AGREE;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
     in.flags = FGSR_SESSION_COLOUR_AGREE | FGSR_SESSION_CORRECT_MVS;
@@ -451,7 +452,12 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
     in.modes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(reason).find("COLOUR_AGREE"), std::string::npos) << reason;
-    EXPECT_NE(std::string(reason).find("scale 1"), std::string::npos) << reason;
+    EXPECT_NE(std::string(reason).find("FGSR_MODE_EXTRAPOLATE"), std::string::npos) << reason;
+    in.modes = FGSR_MODE_SR | FGSR_MODE_EXTRAPOLATE;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
+    in.modes = FGSR_MODE_EXTRAPOLATE;
+    in.scale = 1.5f;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
     in.scale = 1.f;
     in.modes = FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE;
     // Fast motion estimation is for sessions that estimate motion: only with NO_MVS.

@@ -116,7 +116,10 @@ Result<void> Session::Impl::check_generate(std::span<const float> alphas, bool e
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     FGSR_TRY(check_generate(alphas, extrapolate));
     last_agreed = false;
-    if (agreeing()) return extrapolate ? extrapolate_agreed(alphas) : generate_agreed(alphas);
+    // With super resolution only extrapolation generates from both fields (generate_sr makes no
+    // warped frames at the input's size for stage 1 to compare).
+    if (agreeing() && extrapolate) return extrapolate_agreed(alphas);
+    if (agreeing() && !sr()) return generate_agreed(alphas);
     return generate_frames(alphas, extrapolate);
 }
 
@@ -344,7 +347,9 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_agreed(std::span<con
 
 // Params::colour_agree in extrapolation: both fields extrapolate every alpha (fused passes as
 // configured); the fields' residuals at the newest input (agree_residual) and their box means are
-// the same for every alpha, so they run once, then agree_mix once per frame.
+// the same for every alpha, so they run once, then agree_mix once per frame. With super resolution
+// (ESR: both fields' frames at the output's size) the means are stored at the input's size
+// (agree_means) and agree_mix_upscaled mixes each frame per output pixel.
 Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<const float> alphas) {
     auto given = generate_frames(alphas, true);
     if (!given) return given.error();
@@ -359,8 +364,12 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
     FGSR_TRY(ensure_agree_buffers(false));
-    const gpu::AgreeParams p = params::agree_params(
+    gpu::AgreeParams p = params::agree_params(
         params::gen_params(format, params, alphas.front(), true, f0.has_mv, f1.has_mv, input_measure()));
+    if (sr()) {
+        p.out_width = out_w;
+        p.out_height = out_h;
+    }
     const BufRef colour_mv = colour.frames[size_t(colour.newest)].mv;
     FGSR_TRY(rec.begin());
     rec.timestamp(0);
@@ -382,10 +391,18 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
     FGSR_TRY(
         rec.dispatch_pixels(Variant::agree_rows, slots(0), &p, agree_segments(format.width), format.height));
     rec.barrier();
+    if (sr()) {
+        FGSR_TRY(rec.dispatch_pixels(Variant::agree_means, slots(0), &p, format.width,
+                                     agree_segments(format.height)));
+        rec.barrier();
+    }
     rec.timestamp(1);
     for (size_t k = 0; k < alphas.size(); ++k) {
-        FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix, slots(k), &p, format.width,
-                                     agree_segments(format.height)));
+        if (sr())
+            FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix_upscaled, slots(k), &p, out_w, out_h));
+        else
+            FGSR_TRY(rec.dispatch_pixels(Variant::agree_mix, slots(k), &p, format.width,
+                                         agree_segments(format.height)));
         rec.barrier();
         rec.timestamp(uint32_t(k) + 2);
     }

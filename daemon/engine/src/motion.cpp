@@ -494,6 +494,8 @@ std::vector<PassTiming> Session::last_motion_timings() const {
     std::vector<PassTiming> t = impl_->estimator.timings;
     t.push_back(impl_->colour_twin->last_ingest_timing());
     for (PassTiming& p : impl_->colour_twin->last_motion_timings()) t.push_back(std::move(p));
+    if (impl_->sr() && impl_->colour_twin->impl_->sr_history.valid)
+        t.push_back(impl_->colour_twin->impl_->sr_history.timing); // the twin's upscale (its ESR's history)
     return t;
 }
 

@@ -151,6 +151,7 @@ struct AgreeCpu {
     void store_rows(uint i, vec2 v) { rows_buf[i] = v; }
     std::vector<vec4>* agreed = nullptr; // stage 3's output
     void store_agreed(uint i, vec4 c) { (*agreed)[i] = c; }
+    void store_means(uint i, vec2 m) { e_buf[i] = m; } // stage 8
     vec4 load_given(uint i) const { return (*frames[0])[i]; }
     vec4 load_colour(uint i) const { return (*frames[1])[i]; }
 #include "field.h"
@@ -450,7 +451,8 @@ std::vector<glm::vec4> blend(const InternalFrame& f0, const InternalFrame& f1, c
 
 // The agree pass's stages over every pixel: with AgreeParams::gain in interpolation, the brightness
 // box sums (stages 5-7); the first (`first`: stage 1 or 4, e per pixel), the box's rows, then its
-// columns and the mix (stages 2 and 3 per segment, as the GPU runs them).
+// columns and the mix (stages 2 and 3 per segment, as the GPU runs them); with
+// AgreeParams::out_width set, the columns' means (stage 8), then the mix per output pixel (stage 9).
 namespace {
 template <class First>
 std::vector<glm::vec4> agree_stages(gpu::AgreeCpu& cpu, const AgreeParams& p, First first) {
@@ -475,10 +477,14 @@ std::vector<glm::vec4> agree_stages(gpu::AgreeCpu& cpu, const AgreeParams& p, Fi
     each([&](glm::ivec2 t, size_t i) { cpu.e_buf[i] = first(t); });
     for (uint32_t y = 0; y < p.g.height; ++y)
         for (uint32_t sx = 0; sx < segments_x; ++sx) cpu.agree_rows_segment(glm::uvec2(sx, y), p);
-    std::vector<glm::vec4> out(n);
+    const bool upscaled = p.out_width != 0u;
+    std::vector<glm::vec4> out(upscaled ? size_t(p.out_width) * p.out_height : n);
     cpu.agreed = &out;
     for (uint32_t sy = 0; sy < segments_y; ++sy)
-        for (uint32_t x = 0; x < p.g.width; ++x) cpu.agree_column_segment(glm::uvec2(x, sy), p);
+        for (uint32_t x = 0; x < p.g.width; ++x) cpu.agree_column_segment(glm::uvec2(x, sy), upscaled, p);
+    if (upscaled)
+        for (uint32_t y = 0; y < p.out_height; ++y)
+            for (uint32_t x = 0; x < p.out_width; ++x) cpu.agree_mix_upscaled(glm::ivec2(int(x), int(y)), p);
     return out;
 }
 } // namespace

@@ -97,13 +97,11 @@ Result<std::unique_ptr<Session>> Engine::create_session(const FrameFormat& forma
     FGSR_TRY(params::validate(format, FrameView{c, d, {}}));
     FGSR_TRY(impl->init());
     // Sessions without vectors estimate their own motion: colour_agree is off there (as
-    // correct_vectors is), so that one Params serves every kind of session (fgsr eval's methods);
-    // and with super resolution, where colour matching on jittered, aliased input follows the
-    // aliasing (the default Params serve sr, isr and esr as they are).
+    // correct_vectors is), so that one Params serves every kind of session (fgsr eval's methods).
     impl->params.colour_agree = colour_agree_applies(format, params);
     if (impl->params.colour_agree) {
-        // The twin: the same frames without vectors or depth (interpolating with separate passes:
-        // the agree pass reads its warped frames).
+        // The twin: the same frames without vectors or depth, at the same scale (interpolating
+        // with separate passes: the agree pass reads its warped frames).
         FrameFormat colour_format = format;
         colour_format.has_vectors = false;
         colour_format.has_depth = false;

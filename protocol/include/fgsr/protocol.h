@@ -32,8 +32,9 @@ extern "C" {
  * 4: FGSR_SESSION_CORRECT_MVS;
  * 5: FGSR_SESSION_FAST_MOTION;
  * 6: FGSR_PASS_AGREE;
- * 7: FGSR_SESSION_COLOUR_AGREE, fgsr_pass_record.runs (one record per pass and output) */
-#define FGSR_PROTOCOL_MINOR 7u
+ * 7: FGSR_SESSION_COLOUR_AGREE, fgsr_pass_record.runs (one record per pass and output);
+ * 8: FGSR_SESSION_COLOUR_AGREE with a scale other than 1 (ESR) */
+#define FGSR_PROTOCOL_MINOR 8u
 
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
 #define FGSR_MAX_ALPHAS 8u          /* interpolated or extrapolated frames per submit, each */
@@ -140,7 +141,9 @@ typedef enum fgsr_queue_policy {
  * vectors do not (shading that moves on its own: sun shadows; docs/ACCURACY.md, changes 33 to 35).
  * Where the given vectors explain the colour the frame is the one without the flag. Costs the
  * motion passes at every submit and a second generation per frame (on lavapipe about five times an
- * interpolated frame's time). Refused together with NO_MVS, and with a scale other than 1. */
+ * interpolated frame's time). Refused together with NO_MVS. With a scale other than 1 (minor 8)
+ * only extrapolated frames (ESR) come from both fields, and the estimate's session upscales every
+ * submit too (its own sr pass): refused there unless modes has FGSR_MODE_EXTRAPOLATE. */
 #define FGSR_SESSION_COLOUR_AGREE 0x200u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */

@@ -88,8 +88,9 @@ struct Stream {
 };
 
 fgsr_session_desc make_desc(const FrameFormat& f, const ReplayOptions& o, float scale, uint32_t modes) {
-    fgsr_session_desc d = capture::session_desc(f, o.params, modes);
-    d.scale = scale;
+    Params p = o.params;
+    p.scale = scale;
+    fgsr_session_desc d = capture::session_desc(f, p, modes);
     d.queue_policy = o.mailbox ? FGSR_QUEUE_MAILBOX : FGSR_QUEUE_FIFO;
     return d;
 }

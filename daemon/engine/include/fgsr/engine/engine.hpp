@@ -204,13 +204,17 @@ struct Params {
     // Interpolation compares each field's two warped frames (the given field's generation then
     // runs as separate passes), forgiving each a small brightness gain fitted over a box (a
     // surface turning towards the light: change 42), extrapolation each field's residual at the
-    // newest input. Costs the
-    // motion estimation's passes at every submit and a second generated frame. Off in sessions
-    // without vectors, which estimate their own motion, and with super resolution (scale other
-    // than 1: on jittered, aliased input colour matching follows the aliasing); Session::params()
-    // says which. Nor from a session's first jittered frame on, for the same reason (change 44:
-    // frame generation on the jittered renders, upscaled 2x, lost 0.1-2.2 dB with it);
-    // Session::params() still reports the flag then, and the frames are those without it. On by
+    // newest input. Costs the motion estimation's passes at every submit and a second generated
+    // frame. Off in sessions without vectors, which estimate their own motion; Session::params()
+    // says which. With super resolution (scale other than 1) the twin upscales too (its own sr
+    // pass at every submit) and only extrapolation (ESR) generates from both fields: the residuals
+    // and their box means at the input's size, the mix per output pixel (change 45); interpolation
+    // and the upscaled frame are those without the flag, so a session that does not extrapolate
+    // should leave it off (fgsr eval does; fgsrd honours the flag at scale other than 1 only with
+    // FGSR_MODE_EXTRAPOLATE). Nor from a session's first jittered frame on: the twin's estimate
+    // follows each frame's aliasing (change 44: frame generation on the jittered renders, upscaled
+    // 2x, lost 0.1-2.2 dB with it); Session::params() still reports the flag then, the frames are
+    // those without it and the twin is no longer fed. On by
     // default and in the quality preset since the patch inverse search (change 40) made the
     // colour-only field good enough: train interp +8.67 dB summed over 11 captures, none lower by
     // more than 0.0001; extrap +7.48, none lower by more than 0.001 (docs/ACCURACY.md, change 41).
@@ -286,10 +290,11 @@ struct Params {
 Result<void> validate(const Params& params);
 
 // Whether a session of `format` and `params` generates from both fields (Params::colour_agree): with
-// vectors at scale 1 only. Engine::create_session decides by it, and a client describing the same
-// session to fgsrd sends FGSR_SESSION_COLOUR_AGREE by it (capture::session_desc).
+// vectors. Engine::create_session decides by it, and a client describing the same session to fgsrd
+// sends FGSR_SESSION_COLOUR_AGREE by it (capture::session_desc; with a scale other than 1 only
+// when the session extrapolates).
 inline bool colour_agree_applies(const FrameFormat& format, const Params& params) {
-    return params.colour_agree && format.has_vectors && params.scale == 1.f;
+    return params.colour_agree && format.has_vectors;
 }
 
 struct PassTiming {
@@ -430,7 +435,8 @@ class Session {
     // Sessions without vectors (FrameFormat::has_vectors false), or that estimate motion beside
     // them (Params::correct_vectors, colour_agree): the timings of the last submit's motion passes
     // (luma, then match and flow when there was a previous frame; empty otherwise). With
-    // colour_agree they are the colour-only twin's, after the twin's own ingest of the frame.
+    // colour_agree they are the colour-only twin's, after the twin's own ingest of the frame, and
+    // with super resolution its sr pass last.
     std::vector<PassTiming> last_motion_timings() const;
     // Whether the last submit was found to be a scene cut (then it started afresh, as with
     // FrameView::reset: frames before it are not interpolated from): by block matching in sessions

@@ -117,7 +117,9 @@ std::vector<glm::vec4> agree(const Warped& given_warped, const Field& given_fiel
                              const std::vector<uint32_t>& colour_state, const std::vector<glm::vec4>& colour,
                              const AgreeParams& p);
 // Its extrapolation (stage 4, agree_residual, then the same box and mix): the inputs (f1's vectors
-// the given field's), the colour-only field's frame-1 vectors, both extrapolated frames.
+// the given field's), the colour-only field's frame-1 vectors, both extrapolated frames. With
+// p.out_width set (super resolution), both frames are p.out_width x p.out_height and so is the
+// result (stages 8 and 9).
 std::vector<glm::vec4> agree_extrapolated(const InternalFrame& f0, const InternalFrame& f1,
                                           const std::vector<glm::vec2>& colour_mv,
                                           const std::vector<glm::vec4>& given,
