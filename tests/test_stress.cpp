@@ -157,18 +157,21 @@ TEST(Stress, CorrectedCasesGiveVectorsAndCorrectThem) {
     EXPECT_EQ(cases, 3u);
 }
 
-// The agreeing cases give zero vectors and depth with every frame and turn colour_agree on (scale 1,
-// which it needs), so EveryCasePasses runs the agree pass on them, at sizes whose sides hold no full
-// segment of its box stages and at ones whose last segment is partial.
+// The agreeing cases give zero vectors and depth with every frame and turn colour_agree on, so
+// EveryCasePasses runs the agree pass on them, at sizes whose sides hold no full segment of its box
+// stages and at ones whose last segment is partial; four of them with super resolution (/sr: ESR
+// from both fields, change 45) at scales 1.5, 2 and 3.
 TEST(Stress, AgreeingCasesGiveVectorsAndAgree) {
-    size_t cases = 0, partial = 0;
+    size_t cases = 0, partial = 0, upscaled = 0;
     for (const stress::Case& c : reduced_cases()) {
         if (c.name.rfind("agreeing/", 0) != 0) continue;
         ++cases;
         EXPECT_TRUE(c.format.has_vectors && c.format.has_depth) << c.name;
         EXPECT_TRUE(c.params.colour_agree) << c.name;
         EXPECT_FALSE(c.params.correct_vectors) << c.name;
-        EXPECT_EQ(c.params.scale, 1.f) << c.name;
+        const bool sr = c.name.size() > 3 && c.name.compare(c.name.size() - 3, 3, "/sr") == 0;
+        EXPECT_EQ(c.params.scale > 1.f, sr) << c.name;
+        upscaled += sr ? 1u : 0u;
         partial += c.format.width % AGREE_SEGMENT != 0 && c.format.height % AGREE_SEGMENT != 0 ? 1u : 0u;
         for (size_t i = 0; i < c.step_count; ++i) {
             const stress::Step st = c.step(i);
@@ -176,8 +179,9 @@ TEST(Stress, AgreeingCasesGiveVectorsAndAgree) {
             EXPECT_EQ(st.frame.mv.size(), size_t(c.format.width) * c.format.height * 8) << c.name;
         }
     }
-    EXPECT_EQ(cases, 8u);
-    EXPECT_GE(partial, 5u);
+    EXPECT_EQ(cases, 12u);
+    EXPECT_EQ(upscaled, 4u);
+    EXPECT_GE(partial, 7u);
 }
 
 // The check across a cut (Step::across_cut) holds the engine to "no warp across a cut": a session

@@ -123,7 +123,7 @@ Case sequence_case(std::string name, std::string checks, const FrameFormat& f, f
     c.format = f;
     c.params = params_of(scale);
     c.params.correct_vectors = f.has_vectors && !agree; // the corrected/* cases below
-    c.params.colour_agree = agree;                      // the agreeing/* cases (scale 1)
+    c.params.colour_agree = agree;                      // the agreeing/* cases
     c.params.fast_motion = fast_motion;
     c.cpu_reference = false; // the CPU reference has no motion estimation; GPU-CPU tests are the passes'
     c.max_seconds = kMaxSeconds;
@@ -228,6 +228,22 @@ void add_colour_only_cases(std::vector<Case>& out) {
             "agreeing/noise-" + wh,
             "colour_agree: " + wh + " frames of independent noise, zero vectors given", a, 1.f,
             [a](int k) { return noise(a, uint32_t(k)); }, false, true));
+    }
+    // With super resolution, extrapolation from both fields (ESR: the box means at the input's
+    // size, the mix per output pixel), at scales that are and are not integers.
+    out.push_back(sequence_case(
+        "agreeing/flat-changing",
+        "colour_agree, x2: flat colour that brightens every frame, zero vectors given", z, 2.f,
+        [z](int k) { return flat(z, 0.2f + 0.3f * float(k)); }, false, true));
+    for (const auto& [size, scale] : {std::pair{glm::uvec2(1, 1), 2.f}, std::pair{glm::uvec2(37, 23), 1.5f},
+                                      std::pair{glm::uvec2(7, 1), 3.f}}) {
+        const FrameFormat a = format_of(size.x, size.y);
+        const std::string wh = std::to_string(size.x) + "x" + std::to_string(size.y);
+        out.push_back(sequence_case(
+            "agreeing/noise-" + wh,
+            "colour_agree, x" + std::to_string(scale).substr(0, 3) + ": " + wh +
+                " frames of independent noise, zero vectors given",
+            a, scale, [a](int k) { return noise(a, uint32_t(k)); }, false, true));
     }
 
     // A cut the client does not flag: two frames of one scene (a slow pan), then another scene.
