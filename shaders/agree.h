@@ -55,8 +55,11 @@
 //      those of frame-1 pixels, applied at the extrapolated frame's pixels: the box spans 21
 //      pixels, the half step of motion between them lies mostly inside it.
 
-// With super resolution (extrapolation only; ESR) both fields' frames are at the output's size while
-// stages 4 and 2 run at the input's, and stage 3 splits in two:
+// With super resolution both fields' frames (ISR and ESR alike: the joint pass makes no warped frames
+// at the input's size for stage 1) are at the output's size, and the weights are stage 4's (the
+// residual of each field's frame-1 vectors, a property of the field rather than of the instant, so
+// that it serves an interpolated frame as an extrapolated one); stages 4 and 2 run at the input's
+// size, and stage 3 splits in two:
 //   8. stage 3's box means along the columns, stored per input pixel (in place of stage 1's e,
 //      which stage 2 has read);
 //   9. per output pixel, the means read bilinearly at its position in the input, then stage 3's

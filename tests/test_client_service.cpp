@@ -74,23 +74,24 @@ fgsr_session_desc desc_for(const fgsr::FrameFormat& f, uint32_t policy = FGSR_QU
 }
 
 // The default Params (colour_agree on since change 41) ask fgsrd for agreement exactly where it is
-// used: with vectors, at scale 1 or in a session that extrapolates (ESR, change 45); and make a
-// description fgsrd accepts at every scale, with or without vectors and in every mode (the flag
-// is refused with NO_MVS, and with a scale other than 1 without FGSR_MODE_EXTRAPOLATE).
+// used: with vectors, at scale 1 or in a session that generates frames (ISR, ESR: change 45); and
+// make a description fgsrd accepts at every scale, with or without vectors and in every mode (the
+// flag is refused with NO_MVS, and with a scale other than 1 in a session that only upscales).
 TEST(SessionDesc, DefaultParamsAskForAgreementOnlyWhereItApplies) {
     for (const float scale : {1.f, 2.f})
         for (const bool vectors : {true, false})
-            for (const uint32_t mode : {FGSR_MODE_INTERPOLATE, FGSR_MODE_EXTRAPOLATE}) {
+            for (const uint32_t generated :
+                 {0u, uint32_t(FGSR_MODE_INTERPOLATE), uint32_t(FGSR_MODE_EXTRAPOLATE)}) {
+                if (scale == 1.f && generated == 0u) continue; // a session at scale 1 generates
                 fgsr::FrameFormat f;
                 f.width = 64;
                 f.height = 32;
                 f.has_vectors = f.has_depth = vectors;
                 fgsr::Params p;
                 p.scale = scale;
-                const uint32_t modes = mode | (scale != 1.f ? FGSR_MODE_SR : 0u);
+                const uint32_t modes = generated | (scale != 1.f ? FGSR_MODE_SR : 0u);
                 const fgsr_session_desc in = fgsr::capture::session_desc(f, p, modes);
-                EXPECT_EQ((in.flags & FGSR_SESSION_COLOUR_AGREE) != 0,
-                          vectors && (scale == 1.f || mode == FGSR_MODE_EXTRAPOLATE))
+                EXPECT_EQ((in.flags & FGSR_SESSION_COLOUR_AGREE) != 0, vectors && generated != 0u)
                     << "scale " << scale << (vectors ? ", vectors" : ", colour only") << ", modes " << modes;
                 fgsr_session_desc out{};
                 char why[256] = {};

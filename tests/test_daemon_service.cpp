@@ -382,18 +382,18 @@ TEST_F(Daemon, AgreeingSessionsReportEachPassOnceWithItsRuns) {
     }
 }
 
-// FGSR_SESSION_COLOUR_AGREE with super resolution (minor 8), in a session that extrapolates: each
-// extrapolated (ESR) frame comes from both fields. Its completion records the agree pass once, the
+// FGSR_SESSION_COLOUR_AGREE with super resolution (minor 8): each interpolated (ISR) and
+// extrapolated (ESR) frame comes from both fields. Each completion records the agree pass once, the
 // frame's ingest and the twin's, the twin's motion passes and the twin's sr pass (the history its
-// ESR frame warps); without the flag none of them. The frame is the output's size, and vectors
-// that explain the colour leave it as without the flag but for the colour-only frame's least share
+// frames warp); without the flag none of them. The frames are the output's size, and vectors that
+// explain the colour leave them as without the flag but for the colour-only frame's least share
 // (agree.h stage 3), as at scale 1.
-TEST_F(Daemon, AgreeingUpscaledSessionsExtrapolateFromBothFields) {
-    std::vector<float> frames[2];
+TEST_F(Daemon, AgreeingUpscaledSessionsGenerateFromBothFields) {
+    std::vector<std::vector<float>> frames[2]; // [flag] ISR, ESR outputs
     for (const bool agree : {false, true}) {
         SCOPED_TRACE(agree ? "colour agree" : "given vectors only");
-        fgsr_session_desc d =
-            frame_generation_desc(agree ? FGSR_SESSION_COLOUR_AGREE : 0u, FGSR_MODE_EXTRAPOLATE);
+        fgsr_session_desc d = frame_generation_desc(agree ? FGSR_SESSION_COLOUR_AGREE : 0u,
+                                                    FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE);
         d.scale = 2.f;
         auto c = open_session(path(), d);
         ASSERT_TRUE(c);
@@ -402,40 +402,45 @@ TEST_F(Daemon, AgreeingUpscaledSessionsExtrapolateFromBothFields) {
             s.fill(frame, float(frame));
             fgsr_submit_entry e = s.entry(frame, FGSR_SUBMIT_HAS_MV);
             const float alpha = 0.5f;
+            e.interp_count = 1;
             e.extrap_count = 1;
+            std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
             std::memcpy(e.extrap_alphas, &alpha, sizeof(alpha));
             s.push(e);
             const auto done = s.wait_submit();
-            ASSERT_EQ(done.size(), 1u);
+            ASSERT_EQ(done.size(), 2u);
             if (frame == 0) continue;
-            const fgsr_completion_entry& o = done.front();
-            ASSERT_EQ(o.status, FGSR_STATUS_OK);
-            const fgsr_telemetry& t = o.telemetry;
-            EXPECT_EQ(t.frame_type, uint32_t(FGSR_FRAME_EXTRAPOLATED));
-            std::map<uint32_t, uint32_t> runs;
-            for (uint32_t i = 0; i < t.pass_count; ++i) runs[t.passes[i].pass] = t.passes[i].runs;
-            EXPECT_EQ(runs[FGSR_PASS_INGEST], agree ? 2u : 1u);
-            EXPECT_EQ(runs.count(FGSR_PASS_AGREE), agree ? 1u : 0u);
-            EXPECT_EQ(runs.count(FGSR_PASS_MATCH), agree ? 1u : 0u) << "the twin's motion passes";
-            EXPECT_EQ(runs.count(FGSR_PASS_SR), agree ? 1u : 0u) << "the twin's upscale";
-            ASSERT_NE(o.output_slot, FGSR_NO_SLOT);
-            const auto* px = reinterpret_cast<const float*>(s.out_slot(o.output_slot));
-            frames[agree].assign(px, px + size_t(2 * kW) * (2 * kH) * 4);
-            s.release(o.output_slot);
+            for (const fgsr_completion_entry& o : done) {
+                ASSERT_EQ(o.status, FGSR_STATUS_OK);
+                const fgsr_telemetry& t = o.telemetry;
+                std::map<uint32_t, uint32_t> runs;
+                for (uint32_t i = 0; i < t.pass_count; ++i) runs[t.passes[i].pass] = t.passes[i].runs;
+                EXPECT_EQ(runs[FGSR_PASS_INGEST], agree ? 2u : 1u);
+                EXPECT_EQ(runs.count(FGSR_PASS_AGREE), agree ? 1u : 0u);
+                EXPECT_EQ(runs.count(FGSR_PASS_MATCH), agree ? 1u : 0u) << "the twin's motion passes";
+                EXPECT_EQ(runs.count(FGSR_PASS_SR), agree ? 1u : 0u) << "the twin's upscale";
+                ASSERT_NE(o.output_slot, FGSR_NO_SLOT);
+                const auto* px = reinterpret_cast<const float*>(s.out_slot(o.output_slot));
+                frames[agree].emplace_back(px, px + size_t(2 * kW) * (2 * kH) * 4);
+                s.release(o.output_slot);
+            }
         }
     }
-    ASSERT_EQ(frames[0].size(), frames[1].size());
-    ASSERT_FALSE(frames[0].empty());
+    ASSERT_EQ(frames[0].size(), 2u);
+    ASSERT_EQ(frames[1].size(), 2u);
     const float least = 1.f / (1.f + std::exp(fgsr::defaults::agree_centre / fgsr::defaults::agree_softness));
-    float largest = 0.f;
-    double sum = 0.0;
-    for (size_t i = 0; i < frames[0].size(); ++i) {
-        const float dd = std::abs(frames[0][i] - frames[1][i]);
-        largest = std::max(largest, dd);
-        sum += dd;
+    for (size_t k = 0; k < 2; ++k) {
+        SCOPED_TRACE(k == 0 ? "ISR" : "ESR");
+        float largest = 0.f;
+        double sum = 0.0;
+        for (size_t i = 0; i < frames[0][k].size(); ++i) {
+            const float dd = std::abs(frames[0][k][i] - frames[1][k][i]);
+            largest = std::max(largest, dd);
+            sum += dd;
+        }
+        EXPECT_LE(largest, least + 1e-3f);
+        EXPECT_LT(sum / double(frames[0][k].size()), 0.01);
     }
-    EXPECT_LE(largest, least + 1e-3f);
-    EXPECT_LT(sum / double(frames[0].size()), 0.01);
 }
 
 // Colour-only sessions (FGSR_SESSION_NO_MVS | NO_DEPTH, minor 2) estimate motion from colour at

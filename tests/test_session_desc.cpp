@@ -437,8 +437,8 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(reason).find("CORRECT_MVS"), std::string::npos) << reason;
     // Interpolation by agreement (minor 7) adds a field from colour to given vectors: not with
-    // NO_MVS; with super resolution only for sessions that extrapolate (minor 8: ESR); with the
-    // correction of the given vectors it may.
+    // NO_MVS; with super resolution only for sessions that generate frames (minor 8: ISR, ESR);
+    // with the correction of the given vectors it may.
     in.flags = FGSR_SESSION_COLOUR_AGREE;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
     in.flags = FGSR_SESSION_COLOUR_AGREE | FGSR_SESSION_CORRECT_MVS;
@@ -449,10 +449,12 @@ TEST(PoolLayout, ColourOnlySessionsHaveNoAbsentPlanes) {
     EXPECT_NE(std::string(reason).find("NO_MVS"), std::string::npos) << reason;
     in.flags = FGSR_SESSION_COLOUR_AGREE;
     in.scale = 2.f;
-    in.modes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE;
+    in.modes = FGSR_MODE_SR;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(reason).find("COLOUR_AGREE"), std::string::npos) << reason;
-    EXPECT_NE(std::string(reason).find("FGSR_MODE_EXTRAPOLATE"), std::string::npos) << reason;
+    EXPECT_NE(std::string(reason).find("FGSR_MODE_INTERPOLATE"), std::string::npos) << reason;
+    in.modes = FGSR_MODE_SR | FGSR_MODE_INTERPOLATE;
+    EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
     in.modes = FGSR_MODE_SR | FGSR_MODE_EXTRAPOLATE;
     EXPECT_EQ(fgsr_session_desc_normalize(&in, &d, reason, sizeof reason), FGSR_STATUS_OK) << reason;
     in.modes = FGSR_MODE_EXTRAPOLATE;

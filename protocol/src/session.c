@@ -89,10 +89,11 @@ fgsr_status fgsr_session_desc_normalize(const fgsr_session_desc* in, fgsr_sessio
         return refuse(reason, reason_size,
                       "FGSR_SESSION_CORRECT_MVS is for scale 1, not %g (no super resolution)",
                       (double)d.scale);
-    if ((d.flags & FGSR_SESSION_COLOUR_AGREE) && d.scale != 1.f && !(d.modes & FGSR_MODE_EXTRAPOLATE))
+    if ((d.flags & FGSR_SESSION_COLOUR_AGREE) && d.scale != 1.f &&
+        !(d.modes & (FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE)))
         return refuse(reason, reason_size,
-                      "FGSR_SESSION_COLOUR_AGREE at scale %g is for extrapolation (ESR): modes lack "
-                      "FGSR_MODE_EXTRAPOLATE",
+                      "FGSR_SESSION_COLOUR_AGREE at scale %g is for generated frames (ISR, ESR): modes lack "
+                      "FGSR_MODE_INTERPOLATE and FGSR_MODE_EXTRAPOLATE",
                       (double)d.scale);
     if (d.queue_policy > FGSR_QUEUE_MAILBOX) return refuse(reason, reason_size, "unknown queue policy");
     if (d.input_slots > FGSR_MAX_SLOTS || d.output_slots > FGSR_MAX_SLOTS)

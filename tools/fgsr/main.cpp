@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
                    "capture's vector where the colour follows the estimate by far better (moving shadows)");
     eval->add_flag(
         "--colour-agree", eo.params.colour_agree,
-        "interp, extrap, esr: method fgsr also generates from motion estimated from colour and takes "
+        "interp, extrap, isr, esr: method fgsr also generates from motion estimated from colour and takes "
         "that frame where it explains the colour and the capture's vectors do not (moving shadows); "
         "on by default and in --preset quality, --colour-agree=false turns it off");
     eval->add_option("--correct-ratio", eo.params.correct_ratio,

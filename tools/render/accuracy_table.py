@@ -28,6 +28,10 @@ NEW_VALIDATION = ['static', 'fan', 'cut']
 NEW_TRAIN_FG = ['rotor', 'sundial', 'pan-s2', 'twirl', 'orbit', 'vane', 'brickvane', 'slats']
 # Train renders of kind sr made later still: rotor (fan-sr's counterpart, docs/ACCURACY.md change 19).
 NEW_TRAIN_SR = ['rotor']
+# Kind sr rendered without jitter and with antialiased lr/ (`--no-jitter --lr-spp 16`: an unjittered
+# game handing over its antialiased output, as mobfgsr-bunker LR is), named SCENE-sraa; each scene
+# keeps its split (docs/ACCURACY.md, change 45).
+AA_SR = [('street', 'train'), ('fan', 'validation'), ('static', 'validation'), ('cut', 'validation')]
 
 
 def captures(shared, renders):
@@ -47,6 +51,8 @@ def captures(shared, renders):
         c.append(('%s-sr' % s, os.path.join(renders, '%s-sr' % s), 'train', 'sr', []))
     for s in ('pan', 'spin', 'shadow'):
         c.append(('%s-fg' % s, os.path.join(renders, '%s-fg' % s), 'validation', 'fg', []))
+    for s, split in AA_SR:
+        c.append(('%s-sraa' % s, os.path.join(renders, '%s-sraa' % s), split, 'sr', []))
     return c
 
 

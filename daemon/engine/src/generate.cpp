@@ -116,10 +116,10 @@ Result<void> Session::Impl::check_generate(std::span<const float> alphas, bool e
 Result<std::vector<GeneratedFrame>> Session::Impl::generate(std::span<const float> alphas, bool extrapolate) {
     FGSR_TRY(check_generate(alphas, extrapolate));
     last_agreed = false;
-    // With super resolution only extrapolation generates from both fields (generate_sr makes no
-    // warped frames at the input's size for stage 1 to compare).
-    if (agreeing() && extrapolate) return extrapolate_agreed(alphas);
-    if (agreeing() && !sr()) return generate_agreed(alphas);
+    // Extrapolation, and interpolation with super resolution (generate_sr makes no warped frames at
+    // the input's size for stage 1 to compare), mix by the fields' residuals at the newest input.
+    if (agreeing() && (extrapolate || sr())) return agree_by_residual(alphas, extrapolate);
+    if (agreeing()) return generate_agreed(alphas);
     return generate_frames(alphas, extrapolate);
 }
 
@@ -345,13 +345,15 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_agreed(std::span<con
     return result;
 }
 
-// Params::colour_agree in extrapolation: both fields extrapolate every alpha (fused passes as
-// configured); the fields' residuals at the newest input (agree_residual) and their box means are
-// the same for every alpha, so they run once, then agree_mix once per frame. With super resolution
-// (ESR: both fields' frames at the output's size) the means are stored at the input's size
-// (agree_means) and agree_mix_upscaled mixes each frame per output pixel.
-Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<const float> alphas) {
-    auto given = generate_frames(alphas, true);
+// Params::colour_agree in extrapolation, and with super resolution in interpolation too: both fields
+// generate every alpha (fused passes as configured); the fields' residuals at the newest input
+// (agree_residual) and their box means are the same for every alpha, so they run once, then
+// agree_mix once per frame. With super resolution (ISR, ESR: both fields' frames at the output's
+// size) the means are stored at the input's size (agree_means) and agree_mix_upscaled mixes each
+// frame per output pixel.
+Result<std::vector<GeneratedFrame>> Session::Impl::agree_by_residual(std::span<const float> alphas,
+                                                                     bool extrapolate) {
+    auto given = generate_frames(alphas, extrapolate);
     if (!given) return given.error();
     Impl& colour = *colour_twin->impl_;
     // The twin restarted at a cut of its own (or has not two frames since), or either field has no
@@ -359,11 +361,13 @@ Result<std::vector<GeneratedFrame>> Session::Impl::extrapolate_agreed(std::span<
     if (colour.submitted < 2 || !colour.frames[size_t(colour.newest)].has_mv ||
         !frames[size_t(newest)].has_mv)
         return given;
-    auto from_colour = colour.generate_frames(alphas, true);
+    auto from_colour = colour.generate_frames(alphas, extrapolate);
     if (!from_colour) return from_colour.error();
     const GpuFrame& f1 = frames[size_t(newest)];
     const GpuFrame& f0 = frames[size_t(1 - newest)];
     FGSR_TRY(ensure_agree_buffers(false));
+    // The residual spans a whole frame step whichever way the frames are generated: extrapolation's
+    // parameters (its depth band, no gain).
     gpu::AgreeParams p = params::agree_params(
         params::gen_params(format, params, alphas.front(), true, f0.has_mv, f1.has_mv, input_measure()));
     if (sr()) {

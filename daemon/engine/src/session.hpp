@@ -190,9 +190,10 @@ struct Session::Impl {
     // the twin's, then the agree pass over both into the given one's output.
     Result<std::vector<GeneratedFrame>> generate_agreed(std::span<const float> alphas);
     Result<PassTiming> record_agree(const gpu::GenParams& g, Session::Impl& colour);
-    // Extrapolation of an agreeing session: both fields' frames of every alpha, then the agree
-    // pass from the fields' residuals at the newest input (agree_residual) into the given ones.
-    Result<std::vector<GeneratedFrame>> extrapolate_agreed(std::span<const float> alphas);
+    // Extrapolation of an agreeing session, and with super resolution interpolation too: both
+    // fields' frames of every alpha, then the agree pass from the fields' residuals at the newest
+    // input (agree_residual) into the given ones.
+    Result<std::vector<GeneratedFrame>> agree_by_residual(std::span<const float> alphas, bool extrapolate);
     Result<void> ensure_agree_buffers(bool light); // light: also the gain's (interpolation)
 
     // Motion estimation from colour (motion.cpp): sessions without vectors.

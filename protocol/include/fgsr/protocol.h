@@ -33,7 +33,7 @@ extern "C" {
  * 5: FGSR_SESSION_FAST_MOTION;
  * 6: FGSR_PASS_AGREE;
  * 7: FGSR_SESSION_COLOUR_AGREE, fgsr_pass_record.runs (one record per pass and output);
- * 8: FGSR_SESSION_COLOUR_AGREE with a scale other than 1 (ESR) */
+ * 8: FGSR_SESSION_COLOUR_AGREE with a scale other than 1 (ISR, ESR) */
 #define FGSR_PROTOCOL_MINOR 8u
 
 #define FGSR_PLANE_ALIGNMENT 4096u  /* plane offsets and slot strides (host-pointer import) */
@@ -142,8 +142,10 @@ typedef enum fgsr_queue_policy {
  * Where the given vectors explain the colour the frame is the one without the flag. Costs the
  * motion passes at every submit and a second generation per frame (on lavapipe about five times an
  * interpolated frame's time). Refused together with NO_MVS. With a scale other than 1 (minor 8)
- * only extrapolated frames (ESR) come from both fields, and the estimate's session upscales every
- * submit too (its own sr pass): refused there unless modes has FGSR_MODE_EXTRAPOLATE. */
+ * the generated frames (ISR, ESR) come from both fields, mixed by each field's residual at the
+ * newest input, and the estimate's session upscales every submit too (its own sr pass); the
+ * upscaled frame is the one without the flag: refused there unless modes has
+ * FGSR_MODE_INTERPOLATE or FGSR_MODE_EXTRAPOLATE. */
 #define FGSR_SESSION_COLOUR_AGREE 0x200u
 
 /* Capability bits (fgsr_hello / fgsr_hello_reply). */

@@ -84,7 +84,7 @@ bool switch_applies(const std::string& key, const std::string& mode) {
     if (key == "dilate_mvs") return mode == "sr";
     if (key == "denoise") return mode == "sr" || joint;
     if (key == "correct_vectors") return fg; // refused with super resolution
-    if (key == "colour_agree") return fg;    // off with super resolution
+    if (key == "colour_agree") return fg || joint; // the upscaled frame does not use it (change 45)
     // fast_motion and motion_consensus act on sessions without vectors only: fast_motion's
     // configuration is the colour-only one's (configs_for), not a toggle of the configurations with
     // vectors; motion_consensus is measured with fgsr eval (docs/MOTION.md).

@@ -55,14 +55,14 @@ Resample resample_of(const std::string& m, Resample preset = Resample::lut) {
 // Sessions of the engine methods: the same pipeline with the method's resampling. `fgsr` keeps
 // the options' history and warp kernels; `fgsr-bilinear` / `fgsr-bicubic` use theirs for both
 // (the history of `sr` and ISR / ESR's warps of the SR outputs).
-SessionParams sr_params_for(const EvalOptions& o, float scale, bool extrapolates) {
-    return [&o, scale, extrapolates](const std::string& m) -> std::optional<Params> {
+SessionParams sr_params_for(const EvalOptions& o, float scale, bool generates) {
+    return [&o, scale, generates](const std::string& m) -> std::optional<Params> {
         if (!is_engine_sr(m)) return std::nullopt;
         Params p = o.params;
         p.scale = scale;
-        // With super resolution only ESR generates from both fields (Params::colour_agree): sr and
-        // isr would pay for the twin's motion and upscale and use neither.
-        p.colour_agree = p.colour_agree && extrapolates;
+        // With super resolution only ISR and ESR generate from both fields (Params::colour_agree):
+        // sr would pay for the twin's motion and upscale and use neither.
+        p.colour_agree = p.colour_agree && generates;
         p.resample = resample_of(m, o.params.resample);
         p.warp_resample = resample_of(m, o.params.warp_resample);
         return p;
@@ -248,7 +248,7 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
         new_report(cap, extrap ? "esr" : "isr", o.alpha, targets.size(), out_w, out_h, o.methods);
 
     std::unique_ptr<Engine> engine;
-    auto made = make_sessions(o, cap.format, sr_params_for(o, scale, extrap), engine, rep);
+    auto made = make_sessions(o, cap.format, sr_params_for(o, scale, true), engine, rep);
     if (!made) return made.error();
     auto& sessions = *made;
     auto lr_engine = eval_engine(o, engine, rep);

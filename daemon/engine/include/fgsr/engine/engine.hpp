@@ -207,10 +207,11 @@ struct Params {
     // newest input. Costs the motion estimation's passes at every submit and a second generated
     // frame. Off in sessions without vectors, which estimate their own motion; Session::params()
     // says which. With super resolution (scale other than 1) the twin upscales too (its own sr
-    // pass at every submit) and only extrapolation (ESR) generates from both fields: the residuals
-    // and their box means at the input's size, the mix per output pixel (change 45); interpolation
-    // and the upscaled frame are those without the flag, so a session that does not extrapolate
-    // should leave it off (fgsr eval does; fgsrd honours the flag at scale other than 1 only with
+    // pass at every submit), and interpolation (ISR) as extrapolation (ESR) mixes the two fields'
+    // frames by each field's residual at the newest input: the residuals and their box means at
+    // the input's size, the mix per output pixel (change 45); the upscaled frame is the one without
+    // the flag, so a session that only upscales should leave it off (fgsr eval does in sr; fgsrd
+    // takes the flag at a scale other than 1 only with FGSR_MODE_INTERPOLATE or
     // FGSR_MODE_EXTRAPOLATE). Nor from a session's first jittered frame on: the twin's estimate
     // follows each frame's aliasing (change 44: frame generation on the jittered renders, upscaled
     // 2x, lost 0.1-2.2 dB with it); Session::params() still reports the flag then, the frames are
@@ -292,7 +293,7 @@ Result<void> validate(const Params& params);
 // Whether a session of `format` and `params` generates from both fields (Params::colour_agree): with
 // vectors. Engine::create_session decides by it, and a client describing the same session to fgsrd
 // sends FGSR_SESSION_COLOUR_AGREE by it (capture::session_desc; with a scale other than 1 only
-// when the session extrapolates).
+// when the session generates frames).
 inline bool colour_agree_applies(const FrameFormat& format, const Params& params) {
     return params.colour_agree && format.has_vectors;
 }

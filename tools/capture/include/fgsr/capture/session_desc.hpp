@@ -34,7 +34,8 @@ inline fgsr_session_desc session_desc(const FrameFormat& f, const Params& p, uin
               (p.denoise ? 0u : FGSR_SESSION_NO_DENOISE) | (f.has_vectors ? 0u : FGSR_SESSION_NO_MVS) |
               (f.has_depth ? 0u : FGSR_SESSION_NO_DEPTH) |
               (p.correct_vectors && f.has_vectors ? FGSR_SESSION_CORRECT_MVS : 0u) |
-              (colour_agree_applies(f, p) && (p.scale == 1.f || (modes & FGSR_MODE_EXTRAPOLATE) != 0u)
+              (colour_agree_applies(f, p) &&
+                       (p.scale == 1.f || (modes & (FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE)) != 0u)
                    ? FGSR_SESSION_COLOUR_AGREE
                    : 0u) |
               (p.fast_motion && !f.has_vectors ? FGSR_SESSION_FAST_MOTION : 0u);
