@@ -5,6 +5,7 @@
 #include "run_process.hpp"
 
 #include <fgsr/cli/capture_spec.hpp>
+#include <fgsr/cli/eval.hpp>
 #include <fgsr/cli/eval_motion.hpp>
 
 #include <fgsr/capture/flow_io.hpp>
@@ -319,6 +320,48 @@ TEST(EvalMotionTiming, DetectedCutIsScoredAsTheNearestInput) {
     EXPECT_EQ(v.scene_cuts, 1u) << "with vectors: the cut before input 5, and nothing else";
     EXPECT_EQ(v.psnr.size(), r->frames);
     EXPECT_EQ(j["methods"]["fgsr"]["scene_cuts"].get<size_t>(), 1u);
+    expect_no_validation_errors();
+}
+
+// isr / esr's `bilinear` / `bicubic` baselines generate at input resolution in a session with
+// vectors, which starts afresh at a scene cut it detects (change 22). That pair's baseline frame is
+// then the input `repeat` would show, counted as a scene cut, and eval goes on (it stopped with
+// "interpolation needs two submitted frames" on an unjittered render with a cut, cut-sraa). Two
+// synthetic scenes spliced at the cut, half rate; references the inputs at twice the size.
+TEST(EvalJoint, BaselinesTakeTheInputAtADetectedCut) {
+    capture::SceneOptions so;
+    so.width = 192;
+    so.height = 108;
+    auto a = capture::make_synthetic_capture(so, 4);
+    so.seed = 7;
+    auto b = capture::make_synthetic_capture(so, 5);
+    ASSERT_TRUE(a && b);
+    capture::Capture cap = std::move(*a);
+    cap.inputs.insert(cap.inputs.end(), b->inputs.begin() + 1, b->inputs.end()); // B's with vectors
+    cap.ground_truth.clear();
+    cap.ground_truth_kind = capture::GroundTruth::consecutive;
+    for (const capture::Frame& f : cap.inputs) {
+        const ImageRGBA lr = capture::decode_color(cap.format, f);
+        ImageRGBA hr{2 * lr.width, 2 * lr.height, std::vector<float>(size_t(4) * lr.width * lr.height * 4)};
+        for (uint32_t y = 0; y < hr.height; ++y)
+            for (uint32_t x = 0; x < hr.width; ++x)
+                for (int c = 0; c < 4; ++c)
+                    hr.rgba[(size_t(y) * hr.width + x) * 4 + size_t(c)] =
+                        lr.rgba[(size_t(y / 2) * lr.width + x / 2) * 4 + size_t(c)];
+        cap.hr_reference.push_back(std::move(hr));
+    }
+    for (const cli::EvalMode mode : {cli::EvalMode::isr, cli::EvalMode::esr}) {
+        SCOPED_TRACE(mode == cli::EvalMode::isr ? "isr" : "esr");
+        cli::EvalOptions o;
+        o.mode = mode;
+        o.methods = {"fgsr", "bicubic"};
+        o.progress = false;
+        auto r = cli::run_eval_joint(o, cap);
+        ASSERT_TRUE(r) << r.error().message;
+        EXPECT_EQ(r->methods.at("bicubic").scene_cuts, 1u);
+        EXPECT_EQ(r->methods.at("bicubic").psnr.size(), r->frames);
+        for (const double v : r->methods.at("bicubic").psnr) EXPECT_TRUE(std::isfinite(v));
+    }
     expect_no_validation_errors();
 }
 

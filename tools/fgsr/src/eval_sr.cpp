@@ -272,6 +272,7 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
                          targets.size());
         const float a[] = {o.alpha};
         std::optional<ImageRGBA> lr_frame;
+        bool lr_cut = false; // frame generation at input resolution restarted at a cut
         for (const std::string& m : o.methods) {
             MethodScore& score = rep.methods[m];
             ImageRGBA img;
@@ -291,9 +292,19 @@ Result<EvalReport> run_eval_joint(const EvalOptions& o, capture::Capture cap) {
             } else {
                 if (!lr_frame) {
                     auto out = extrap ? (*lr_session)->extrapolate(a) : (*lr_session)->interpolate(a);
-                    if (!out) return out.error();
-                    lr_frame = std::move((*out)[0].color);
+                    if (!out && restarted_at_cut(**lr_session)) {
+                        // Frame generation took the pair for a scene cut: the newer or older input,
+                        // as `repeat` and eval's interp / extrap do.
+                        lr_frame = capture::decode_color(cap.format,
+                                                         cap.inputs[extrap || o.alpha > 0.5f ? i : i - 1]);
+                        lr_cut = true;
+                    } else if (!out) {
+                        return out.error();
+                    } else {
+                        lr_frame = std::move((*out)[0].color);
+                    }
                 }
+                if (lr_cut) ++score.scene_cuts;
                 img = spatial_upscale(*lr_frame, out_w, out_h, resample_of(m), 0.f, 0.f);
             }
             FGSR_TRY(score_image(score, img, cap.hr_ground_truth[k]));
