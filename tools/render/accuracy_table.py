@@ -31,7 +31,8 @@ NEW_TRAIN_SR = ['rotor']
 # Kind sr rendered without jitter and with antialiased lr/ (`--no-jitter --lr-spp 16`: an unjittered
 # game handing over its antialiased output, as mobfgsr-bunker LR is), named SCENE-sraa; each scene
 # keeps its split (docs/ACCURACY.md, change 45).
-AA_SR = [('street', 'train'), ('fan', 'validation'), ('static', 'validation'), ('cut', 'validation')]
+AA_SR = [('street', 'train'), ('rotor', 'train'), ('fan', 'validation'), ('static', 'validation'),
+         ('cut', 'validation')]
 
 
 def captures(shared, renders):
