@@ -151,6 +151,8 @@ struct SplatParams {
 #define SR_SMOOTH_SPATIAL 2u // sr.h step 5: the spatial upsample is the cubic B-spline (aliased input)
 #define SR_NOISE_AVERAGE 4u  // sr.h step 7: fewer new samples where they scatter about the history like noise
 #define SR_NOISE_KERNEL 8u   // sr.h step 3: the LUT's history smoother where the samples scatter like noise
+#define SR_SHARP_CURRENT                                                                                     \
+    16u // sr.h step 4: the current samples' term is the spatial upsample (antialiased input)
 
 // super resolution of one rendered frame (sr.h) and the joint ISR / ESR pass (generate_sr.h)
 struct SrParams {

@@ -25,7 +25,11 @@
 //      LUT would keep as the samples aliased it; it costs on detail near the output's resolution,
 //      which looks the same to the 3x3 (docs/ACCURACY.md, change 20).
 //   4. Current samples: LR pixel (i, j) sampled the scene at (i + 0.5 + jitter) LR pixels; the
-//      samples within one LR pixel of p get weight w = 1 - b * d (d: distance in LR pixels).
+//      samples within one LR pixel of p get weight w = 1 - b * d (d: distance in LR pixels). With
+//      SR_SHARP_CURRENT (the host sets it where the input measures antialiased) their term in Eq. 2
+//      is the spatial upsample (Catmull-Rom at p - jitter) with the same total weight: such input
+//      is low-passed already, and the tent would blur it again every frame (docs/ACCURACY.md,
+//      change 46).
 //   5. Eq. 2 with its weights normalised: q = (a * sum(w s) / n + (1 - a) * history) /
 //      (a * sum(w) / n + (1 - a)), n the number of samples in reach; read literally (dividing by
 //      n only) the equation would darken the image by a * mean(w) + (1 - a) every frame.
@@ -213,5 +217,6 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
     float wc = a * wsum / n;
     float norm = wc + wh;
     if (!(norm > 0.0f)) return lr_upsample(pos - jitter, p);
+    if ((p.flags & SR_SHARP_CURRENT) != 0u) return (wc * lr_upsample(pos - jitter, p) + wh * hist) / norm;
     return (a * sum / n + wh * hist) / norm;
 }

@@ -742,6 +742,9 @@ TEST(Sr, JointModesBeatUpscaledFrameGeneration) {
 // bilinear warp scores higher than the LUT's sharper one for ESR, whose positions are extrapolated,
 // and a little lower for ISR (about 0.07 dB; on the train captures it scored higher in both modes,
 // docs/ACCURACY.md, change 10). The kernel reaches the pass: the two warps give different frames.
+// The scene's input is antialiased (4x4 supersampled): the history here is the one before
+// Params::sr_sharp_current, which the comparison was made on (with it the LUT's warp scores 0.06 dB
+// higher for ESR on this scene: a lead for deciding the warp again on train, change 46).
 TEST(Sr, JointWarpOfGeneratedPositions) {
     SyntheticScene scene(hr_options(320, 180, 0.5f));
     for (bool extrap : {false, true}) {
@@ -750,6 +753,7 @@ TEST(Sr, JointWarpOfGeneratedPositions) {
         for (int w = 0; w < 2; ++w) {
             Params p = static_params();
             p.scale = 2.f;
+            p.sr_sharp_current = false;
             p.warp_resample = w == 0 ? Resample::lut : Resample::bilinear;
             auto s = engine().create_session(internal_format(160, 90), p);
             ASSERT_TRUE(s);
@@ -1076,6 +1080,76 @@ TEST(Sr, HistoryDisagreementOnlyForUnjitteredAntialiasedInput) {
     };
     EXPECT_LT(largest(true), 1e-4);
     EXPECT_GT(largest(false), 1e-2); // the rule changed the frame
+    expect_no_validation_errors();
+}
+
+// Params::sr_sharp_current (shaders/sr.h step 4, change 46): on antialiased input (the still
+// synthetic scene box-filtered 2x2 from a render at the output's size, exact zero vectors, no
+// jitter) the current samples' term as the Catmull-Rom upsample scores closer to that render than
+// the tent weights, which blur low-passed input again every frame; the session sets the flag only
+// on input that measures antialiased (point samples: bit for bit the frames without it); and the
+// GPU pass equals its CPU reference with the flag.
+TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
+    const uint32_t w = 96, h = 64, frames = 6;
+    SyntheticScene scene(hr_options(2 * w, 2 * h, 0.f));
+    struct Run {
+        std::vector<ImageRGBA> out;
+        double psnr = 0; // mean over frames 1..
+        std::unique_ptr<Session> session;
+    };
+    auto run = [&](bool sharp, bool aliased) {
+        Params p;
+        p.scale = 2.f;
+        p.sr_sharp_current = sharp;
+        auto s = engine().create_session(internal_format(w, h), p);
+        EXPECT_TRUE(s);
+        Run r;
+        for (uint32_t k = 0; k < frames; ++k) {
+            RawFrame f =
+                aliased ? random_frame(w, h, 40 + k, 0.f) : antialiased_wrong_vectors(scene, w, h, 0.0);
+            if (aliased) f.mv.assign(f.mv.size(), std::byte{0});
+            EXPECT_TRUE((*s)->submit(f.view()));
+            auto out = (*s)->super_resolved();
+            EXPECT_TRUE(out);
+            if (k >= 1) r.psnr += *capture::psnr(out->color, scene.render_color(0.0)) / double(frames - 1);
+            r.out.push_back(std::move(out->color));
+        }
+        r.session = std::move(*s);
+        return r;
+    };
+    Run on = run(true, false), off = run(false, false);
+    std::printf("[ measured ] antialiased still input (aliasing %.2f), 2x: Catmull-Rom current term %.2f dB, "
+                "tent %.2f dB\n",
+                on.session->input_aliasing(), on.psnr, off.psnr);
+    EXPECT_TRUE(measures_antialiased(on.session->input_aliasing()));
+    EXPECT_GT(on.psnr, off.psnr + 0.2);
+    {
+        const Run a = run(true, true), b = run(false, true);
+        EXPECT_FALSE(measures_antialiased(a.session->input_aliasing()));
+        for (size_t k = 0; k < a.out.size(); ++k) EXPECT_EQ(a.out[k].rgba, b.out[k].rgba) << "frame " << k;
+    }
+    // The pass against its CPU reference on the last pair of the antialiased run, flag on.
+    auto g0 = on.session->read_frame(0), g1 = on.session->read_frame(1);
+    ASSERT_TRUE(g0 && g1);
+    const ref::InternalFrame cur = to_internal(*g1, w, h);
+    std::vector<glm::vec4> hist(size_t(4 * w * h));
+    std::memcpy(hist.data(), on.out[frames - 2].rgba.data(), hist.size() * 16);
+    const Lut lut = default_lut(2.f);
+    Params p;
+    p.scale = 2.f;
+    auto largest = [&](bool sharp) {
+        ref::SrParams sp = params::sr_params(internal_format(w, h), p, 2 * w, 2 * h, 0.f, 0.f, true,
+                                             params::input_measure(*on.session));
+        if (!sharp) sp.flags &= ~SR_SHARP_CURRENT;
+        const auto expect = ref::super_resolve(cur, g0->depth, hist, sp, lut.weights);
+        double err = 0;
+        for (size_t i = 0; i < expect.size(); ++i)
+            for (int c = 0; c < 4; ++c)
+                err = std::max(err, double(std::abs(expect[i][c] - on.out.back().rgba[4 * i + size_t(c)])));
+        return err;
+    };
+    EXPECT_LT(largest(true), 1e-4);
+    EXPECT_GT(largest(false), 1e-2); // the flag changed the frame
     expect_no_validation_errors();
 }
 

@@ -95,6 +95,11 @@ int main(int argc, char** argv) {
                      "SR: on input that measures aliased, fewer new samples where they scatter about the "
                      "history like noise (false: Eq. 2's a everywhere)")
         ->capture_default_str();
+    eval->add_option(
+            "--sr-sharp-current", eo.params.sr_sharp_current,
+            "SR: on input that measures antialiased, the current samples' term of Eq. 2 is the "
+            "Catmull-Rom upsample of the input (false: the samples' tent weights, as on aliased input)")
+        ->capture_default_str();
     eval->add_option("--sr-noise-kernel", eo.params.sr_noise_kernel,
                      "SR: on input that measures aliased, the LUT's history read moves towards the cubic "
                      "B-spline where the samples scatter like noise and the history is smoother (false: "
@@ -328,6 +333,7 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-depth-motion")) p.sr_depth_motion = eo.params.sr_depth_motion;
             if (eval->count("--sr-noise-average")) p.sr_noise_average = eo.params.sr_noise_average;
             if (eval->count("--sr-noise-kernel")) p.sr_noise_kernel = eo.params.sr_noise_kernel;
+            if (eval->count("--sr-sharp-current")) p.sr_sharp_current = eo.params.sr_sharp_current;
             if (eval->count("--dilate-bright")) p.dilate_bright = eo.params.dilate_bright;
             if (eval->count("--dilate-edges")) p.dilate_edges = eo.params.dilate_edges;
             if (eval->count("--correct-vectors")) p.correct_vectors = true;

@@ -230,7 +230,8 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
     const bool smooth = params.sr_spatial == SrSpatial::bspline || (params.sr_spatial == SrSpatial::automatic && aliased);
     p.flags = (params.sr_depth_motion ? SR_DEPTH_MOTION : 0u) | (smooth ? SR_SMOOTH_SPATIAL : 0u) |
               (params.sr_noise_average && aliased ? SR_NOISE_AVERAGE : 0u) |
-              (params.sr_noise_kernel && aliased && params.resample == Resample::lut ? SR_NOISE_KERNEL : 0u);
+              (params.sr_noise_kernel && aliased && params.resample == Resample::lut ? SR_NOISE_KERNEL : 0u) |
+              (params.sr_sharp_current && antialiased ? SR_SHARP_CURRENT : 0u);
     return p;
 }
 

@@ -189,6 +189,15 @@ struct Params {
     // texture near the output's resolution (orbit-sr, foliage-sr -0.015; docs/ACCURACY.md,
     // change 20). Not carried by the wire protocol.
     bool sr_noise_kernel = false;
+    // sr, on input that measures antialiased: Eq. 2's term of the current samples is the spatial
+    // upsample (Catmull-Rom of the input at the output pixel) instead of the samples' tent weights
+    // (shaders/sr.h step 4). Antialiased input is already low-passed, and the tent blurs it again,
+    // frame after frame; Catmull-Rom restores what the reference shows. On by default: train sr
+    // +0.22 / +0.57 dB on street-sraa / rotor-sraa (bunker LR -0.001), validation +0.35 to +0.43,
+    // isr / esr +0.02 to +0.19 everywhere (docs/ACCURACY.md, change 46). Aliased input (point
+    // samples) keeps the tent, which does not interpolate the aliasing. Not carried by the wire
+    // protocol (the default applies).
+    bool sr_sharp_current = true;
     // Sessions with vectors: estimate motion from colour as colour-only sessions do (luma, match,
     // flow passes) and replace, per pixel, the client's vector by the estimate where the colour
     // follows the estimate by far better (shading that moves on its own: shadows, reflections).
