@@ -306,140 +306,90 @@ TEST_F(Daemon, CorrectedVectorSessionsRunAndReportTheMotionPasses) {
 }
 
 // FGSR_SESSION_COLOUR_AGREE (minor 7): the daemon estimates motion from colour beside the given
-// vectors and generates each interpolated frame from both fields. The completion names every pass
-// once (fgsr_pass_record.runs counts the runs: the frame's ingest and the colour twin's, each
-// field's separate generation passes), agree among them, within FGSR_MAX_PASSES; the records'
-// times stay within the output's GPU time. Vectors that explain the colour leave the frames as
-// without the flag but for the colour-only frame's least share (agree.h stage 3, change 43:
-// 1 / (1 + exp(centre / softness)), where both fields agree), and the twin's frame differs little.
+// vectors and generates each interpolated and extrapolated frame from both fields; with super
+// resolution too (minor 8: ISR and ESR, change 45). The completion names every pass once
+// (fgsr_pass_record.runs counts the runs: the frame's ingest and the colour twin's, each field's
+// generation passes), agree among them, within FGSR_MAX_PASSES; the records' times stay within the
+// output's GPU time; at scale 2 the twin's sr pass (the history its frames warp) is among them.
+// Vectors that explain the colour leave the frames (of the output's size) as without the flag but
+// for the colour-only frame's least share (agree.h stage 3, change 43: 1 / (1 + exp(centre /
+// softness)), where both fields agree), and the twin's frame differs little.
 TEST_F(Daemon, AgreeingSessionsReportEachPassOnceWithItsRuns) {
-    std::vector<std::vector<float>> frames[2]; // [flag] interp, extrap outputs
-    for (const bool agree : {false, true}) {
-        SCOPED_TRACE(agree ? "colour agree" : "given vectors only");
-        auto c = open_session(path(), frame_generation_desc(agree ? FGSR_SESSION_COLOUR_AGREE : 0u,
-                                                            FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE));
-        ASSERT_TRUE(c);
-        RawSession& s = *c->s;
-        for (uint32_t frame = 0; frame < 2; ++frame) {
-            s.fill(frame, float(frame));
-            fgsr_submit_entry e = s.entry(frame, FGSR_SUBMIT_HAS_MV);
-            const float alpha = 0.5f;
-            e.interp_count = 1;
-            e.extrap_count = 1;
-            std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
-            std::memcpy(e.extrap_alphas, &alpha, sizeof(alpha));
-            s.push(e);
-            const auto done = s.wait_submit();
-            ASSERT_EQ(done.size(), 2u);
-            if (frame == 0) continue;
-            for (const fgsr_completion_entry& o : done) {
-                ASSERT_EQ(o.status, FGSR_STATUS_OK);
-                const fgsr_telemetry& t = o.telemetry;
-                ASSERT_LE(t.pass_count, FGSR_MAX_PASSES);
-                std::map<uint32_t, uint32_t> runs;
-                uint64_t summed = 0;
-                for (uint32_t i = 0; i < t.pass_count; ++i) {
-                    const fgsr_pass_record& r = t.passes[i];
-                    EXPECT_EQ(runs.count(r.pass), 0u) << "pass " << r.pass << " has two records";
-                    runs[r.pass] = r.runs;
-                    EXPECT_GE(r.gpu_end_ns, r.gpu_begin_ns);
-                    summed += r.gpu_end_ns - r.gpu_begin_ns;
+    for (const float scale : {1.f, 2.f}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        const size_t out_px = size_t(float(kW) * scale) * size_t(float(kH) * scale);
+        std::vector<std::vector<float>> frames[2]; // [flag] interp, extrap outputs
+        for (const bool agree : {false, true}) {
+            SCOPED_TRACE(agree ? "colour agree" : "given vectors only");
+            fgsr_session_desc d = frame_generation_desc(agree ? FGSR_SESSION_COLOUR_AGREE : 0u,
+                                                        FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE);
+            d.scale = scale;
+            auto c = open_session(path(), d);
+            ASSERT_TRUE(c);
+            RawSession& s = *c->s;
+            for (uint32_t frame = 0; frame < 2; ++frame) {
+                s.fill(frame, float(frame));
+                fgsr_submit_entry e = s.entry(frame, FGSR_SUBMIT_HAS_MV);
+                const float alpha = 0.5f;
+                e.interp_count = 1;
+                e.extrap_count = 1;
+                std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
+                std::memcpy(e.extrap_alphas, &alpha, sizeof(alpha));
+                s.push(e);
+                const auto done = s.wait_submit();
+                ASSERT_EQ(done.size(), 2u);
+                if (frame == 0) continue;
+                for (const fgsr_completion_entry& o : done) {
+                    ASSERT_EQ(o.status, FGSR_STATUS_OK);
+                    const fgsr_telemetry& t = o.telemetry;
+                    ASSERT_LE(t.pass_count, FGSR_MAX_PASSES);
+                    std::map<uint32_t, uint32_t> runs;
+                    uint64_t summed = 0;
+                    for (uint32_t i = 0; i < t.pass_count; ++i) {
+                        const fgsr_pass_record& r = t.passes[i];
+                        EXPECT_EQ(runs.count(r.pass), 0u) << "pass " << r.pass << " has two records";
+                        runs[r.pass] = r.runs;
+                        EXPECT_GE(r.gpu_end_ns, r.gpu_begin_ns);
+                        summed += r.gpu_end_ns - r.gpu_begin_ns;
+                    }
+                    // gpu_ns sums each run's time; a record's span is its runs' (the ingest's cut
+                    // stage and polish's coarse levels count in gpu_ns only), each rounded to the ns.
+                    EXPECT_GT(summed, 0u);
+                    EXPECT_LE(summed, t.gpu_ns + 1000u * t.pass_count);
+                    const bool interp = t.frame_type == FGSR_FRAME_INTERPOLATED;
+                    EXPECT_EQ(runs[FGSR_PASS_INGEST], agree ? 2u : 1u);
+                    EXPECT_EQ(runs.count(FGSR_PASS_AGREE), agree ? 1u : 0u);
+                    EXPECT_EQ(runs.count(FGSR_PASS_MATCH), agree ? 1u : 0u) << "the twin's motion passes";
+                    EXPECT_EQ(runs.count(FGSR_PASS_SR), agree && scale != 1.f ? 1u : 0u)
+                        << "the twin's upscale";
+                    if (agree && interp && scale == 1.f) {
+                        EXPECT_EQ(runs[FGSR_PASS_BLEND], 2u) << "both fields blend";
+                    }
+                    ASSERT_NE(o.output_slot, FGSR_NO_SLOT);
+                    const auto* px = reinterpret_cast<const float*>(s.out_slot(o.output_slot));
+                    frames[agree].emplace_back(px, px + out_px * 4);
+                    s.release(o.output_slot);
                 }
-                // gpu_ns sums each run's time; a record's span is its runs' (the ingest's cut stage
-                // and polish's coarse levels count in gpu_ns only), each rounded to the ns.
-                EXPECT_GT(summed, 0u);
-                EXPECT_LE(summed, t.gpu_ns + 1000u * t.pass_count);
-                const bool interp = t.frame_type == FGSR_FRAME_INTERPOLATED;
-                EXPECT_EQ(runs[FGSR_PASS_INGEST], agree ? 2u : 1u);
-                EXPECT_EQ(runs.count(FGSR_PASS_AGREE), agree ? 1u : 0u);
-                EXPECT_EQ(runs.count(FGSR_PASS_MATCH), agree ? 1u : 0u) << "the twin's motion passes";
-                if (agree && interp) {
-                    EXPECT_EQ(runs[FGSR_PASS_BLEND], 2u) << "both fields blend";
-                }
-                ASSERT_NE(o.output_slot, FGSR_NO_SLOT);
-                const auto* px = reinterpret_cast<const float*>(s.out_slot(o.output_slot));
-                frames[agree].emplace_back(px, px + size_t(kW) * kH * 4);
-                s.release(o.output_slot);
             }
         }
-    }
-    ASSERT_EQ(frames[0].size(), 2u);
-    ASSERT_EQ(frames[1].size(), 2u);
-    // The given vectors explain the colour: the given frames, but for that share of the twin's.
-    const float least = 1.f / (1.f + std::exp(fgsr::defaults::agree_centre / fgsr::defaults::agree_softness));
-    for (size_t k = 0; k < 2; ++k) {
-        SCOPED_TRACE(k == 0 ? "interpolated" : "extrapolated");
-        ASSERT_EQ(frames[0][k].size(), frames[1][k].size());
-        float largest = 0.f;
-        double sum = 0.0;
-        for (size_t i = 0; i < frames[0][k].size(); ++i) {
-            const float d = std::abs(frames[0][k][i] - frames[1][k][i]);
-            largest = std::max(largest, d);
-            sum += d;
-        }
-        EXPECT_LE(largest, least + 1e-3f);
-        EXPECT_LT(sum / double(frames[0][k].size()), 0.01);
-    }
-}
-
-// FGSR_SESSION_COLOUR_AGREE with super resolution (minor 8): each interpolated (ISR) and
-// extrapolated (ESR) frame comes from both fields. Each completion records the agree pass once, the
-// frame's ingest and the twin's, the twin's motion passes and the twin's sr pass (the history its
-// frames warp); without the flag none of them. The frames are the output's size, and vectors that
-// explain the colour leave them as without the flag but for the colour-only frame's least share
-// (agree.h stage 3), as at scale 1.
-TEST_F(Daemon, AgreeingUpscaledSessionsGenerateFromBothFields) {
-    std::vector<std::vector<float>> frames[2]; // [flag] ISR, ESR outputs
-    for (const bool agree : {false, true}) {
-        SCOPED_TRACE(agree ? "colour agree" : "given vectors only");
-        fgsr_session_desc d = frame_generation_desc(agree ? FGSR_SESSION_COLOUR_AGREE : 0u,
-                                                    FGSR_MODE_INTERPOLATE | FGSR_MODE_EXTRAPOLATE);
-        d.scale = 2.f;
-        auto c = open_session(path(), d);
-        ASSERT_TRUE(c);
-        RawSession& s = *c->s;
-        for (uint32_t frame = 0; frame < 2; ++frame) {
-            s.fill(frame, float(frame));
-            fgsr_submit_entry e = s.entry(frame, FGSR_SUBMIT_HAS_MV);
-            const float alpha = 0.5f;
-            e.interp_count = 1;
-            e.extrap_count = 1;
-            std::memcpy(e.interp_alphas, &alpha, sizeof(alpha));
-            std::memcpy(e.extrap_alphas, &alpha, sizeof(alpha));
-            s.push(e);
-            const auto done = s.wait_submit();
-            ASSERT_EQ(done.size(), 2u);
-            if (frame == 0) continue;
-            for (const fgsr_completion_entry& o : done) {
-                ASSERT_EQ(o.status, FGSR_STATUS_OK);
-                const fgsr_telemetry& t = o.telemetry;
-                std::map<uint32_t, uint32_t> runs;
-                for (uint32_t i = 0; i < t.pass_count; ++i) runs[t.passes[i].pass] = t.passes[i].runs;
-                EXPECT_EQ(runs[FGSR_PASS_INGEST], agree ? 2u : 1u);
-                EXPECT_EQ(runs.count(FGSR_PASS_AGREE), agree ? 1u : 0u);
-                EXPECT_EQ(runs.count(FGSR_PASS_MATCH), agree ? 1u : 0u) << "the twin's motion passes";
-                EXPECT_EQ(runs.count(FGSR_PASS_SR), agree ? 1u : 0u) << "the twin's upscale";
-                ASSERT_NE(o.output_slot, FGSR_NO_SLOT);
-                const auto* px = reinterpret_cast<const float*>(s.out_slot(o.output_slot));
-                frames[agree].emplace_back(px, px + size_t(2 * kW) * (2 * kH) * 4);
-                s.release(o.output_slot);
+        ASSERT_EQ(frames[0].size(), 2u);
+        ASSERT_EQ(frames[1].size(), 2u);
+        // The given vectors explain the colour: the given frames, but for that share of the twin's.
+        const float least =
+            1.f / (1.f + std::exp(fgsr::defaults::agree_centre / fgsr::defaults::agree_softness));
+        for (size_t k = 0; k < 2; ++k) {
+            SCOPED_TRACE(k == 0 ? "interpolated" : "extrapolated");
+            ASSERT_EQ(frames[0][k].size(), frames[1][k].size());
+            float largest = 0.f;
+            double sum = 0.0;
+            for (size_t i = 0; i < frames[0][k].size(); ++i) {
+                const float dd = std::abs(frames[0][k][i] - frames[1][k][i]);
+                largest = std::max(largest, dd);
+                sum += dd;
             }
+            EXPECT_LE(largest, least + 1e-3f);
+            EXPECT_LT(sum / double(frames[0][k].size()), 0.01);
         }
-    }
-    ASSERT_EQ(frames[0].size(), 2u);
-    ASSERT_EQ(frames[1].size(), 2u);
-    const float least = 1.f / (1.f + std::exp(fgsr::defaults::agree_centre / fgsr::defaults::agree_softness));
-    for (size_t k = 0; k < 2; ++k) {
-        SCOPED_TRACE(k == 0 ? "ISR" : "ESR");
-        float largest = 0.f;
-        double sum = 0.0;
-        for (size_t i = 0; i < frames[0][k].size(); ++i) {
-            const float dd = std::abs(frames[0][k][i] - frames[1][k][i]);
-            largest = std::max(largest, dd);
-            sum += dd;
-        }
-        EXPECT_LE(largest, least + 1e-3f);
-        EXPECT_LT(sum / double(frames[0][k].size()), 0.01);
     }
 }
 

@@ -1981,127 +1981,82 @@ TEST(Motion, AgreeGpuMatchesTheCpuReference) {
     expect_no_validation_errors();
 }
 
-// The agree pass's extrapolation on the GPU against the CPU reference (ref::agree_extrapolated) on
-// independent inputs: the frames and the extrapolated frames of a session without the switch (the
-// given field), the estimated vectors and extrapolated frames of a colour-only session (the twin's
-// kind) on the same frames. Two alphas in one call: the residuals serve both, each frame its own mix.
-TEST(Motion, AgreeExtrapolationGpuMatchesTheCpuReference) {
+// The agree pass by residuals on the GPU against the CPU reference (ref::agree_extrapolated) on
+// independent inputs: the frames and the generated frames of a session without the switch (the
+// given field), the estimated vectors and generated frames of a colour-only session (the twin's
+// kind) on the same frames. Extrapolation at scale 1; with super resolution (change 45) ISR and ESR
+// at a scale of 1.5 (not an integer; 225x105 from 150x70), where the residuals and their box means
+// run at the input's size and the mix per output pixel (agree.h stages 8 and 9). Two alphas in one
+// extrapolating call: the residuals serve both, each frame its own mix.
+TEST(Motion, AgreeByResidualGpuMatchesTheCpuReference) {
     const uint32_t w = 150, h = 70; // neither side a multiple of AGREE_SEGMENT or of a workgroup
     const float step = 6.f;
-    Params agreeing;
-    agreeing.colour_agree = true;
-    auto a = session_of(internal_format(w, h), agreeing);
-    auto given = session_of(internal_format(w, h));
-    auto colour = session_of(colour_only(w, h));
-    ASSERT_TRUE(a && given && colour);
-    for (float t : {0.f, 1.f}) {
-        const RawFrame f = shadow_frame(w, h, t, step);
-        FrameView colour_view = f.view(); // as the twin sees it: neither vectors nor depth
-        colour_view.depth = {};
-        colour_view.mv = {};
-        ASSERT_TRUE(a->submit(f.view()));
-        ASSERT_TRUE(given->submit(f.view()));
-        ASSERT_TRUE(colour->submit(colour_view));
-    }
-    auto vec4s = [](const ImageRGBA& img) {
-        std::vector<glm::vec4> v(img.rgba.size() / 4);
-        std::memcpy(v.data(), img.rgba.data(), v.size() * 16);
-        return v;
-    };
-    const std::vector<float> alphas{0.5f, 1.f};
-    auto out = a->extrapolate(alphas), g = given->extrapolate(alphas), c = colour->extrapolate(alphas);
-    ASSERT_TRUE(out && g && c);
-    auto f0 = given->read_frame(0), f1 = given->read_frame(1), cf = colour->read_frame(1);
-    ASSERT_TRUE(f0 && f1 && cf);
-    const size_t n = size_t(w) * h;
-    std::vector<glm::vec2> colour_mv(n);
-    for (size_t i = 0; i < n; ++i) colour_mv[i] = glm::vec2(cf->mv[2 * i], cf->mv[2 * i + 1]);
-    for (size_t k = 0; k < alphas.size(); ++k) {
-        const ref::AgreeParams ap = params::agree_params(params::gen_params(
-            internal_format(w, h), agreeing, alphas[k], true, true, true, params::input_measure(*a)));
-        const auto expected =
-            ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
-                                    vec4s((*g)[k].color), vec4s((*c)[k].color), ap);
-        float largest = 0.f, moved = 0.f;
-        for (size_t i = 0; i < n; ++i)
-            for (int q = 0; q < 4; ++q) {
-                largest =
-                    std::max(largest, std::abs((*out)[k].color.rgba[4 * i + size_t(q)] - expected[i][q]));
-                moved = std::max(moved, std::abs(expected[i][q] - (*g)[k].color.rgba[4 * i + size_t(q)]));
-            }
-        EXPECT_LT(largest, 1e-5f) << "GPU against CPU, alpha " << alphas[k];
-        EXPECT_GT(moved, 0.1f) << "the pass changed the frame (the largest change), alpha " << alphas[k];
-    }
-    expect_no_validation_errors();
-}
-
-// With super resolution (ISR and ESR, change 45) the residuals and their box means run at the
-// input's size and the mix per output pixel (agree.h, stages 4, 2, 8 and 9): at a scale of 1.5 (not
-// an integer; the output 225x105), the GPU's frames equal the CPU reference's on the same inputs and
-// on both fields' generated frames, which an SR session of each field gives alone; interpolated
-// (0.5) and extrapolated (0.5 and 1) alike.
-TEST(Motion, AgreeUpscaledGpuMatchesTheCpuReference) {
-    const uint32_t w = 150, h = 70;
-    const float step = 6.f;
-    Params agreeing;
-    agreeing.scale = 1.5f;
-    Params plain = agreeing;
-    plain.colour_agree = false;
-    auto a = session_of(internal_format(w, h), agreeing);
-    auto given = session_of(internal_format(w, h), plain);
-    auto colour = session_of(colour_only(w, h), plain);
-    ASSERT_TRUE(a && given && colour);
-    ASSERT_TRUE(a->params().colour_agree);
-    const uint32_t out_w = a->output_width(), out_h = a->output_height();
-    ASSERT_EQ(out_w, 225u);
-    ASSERT_EQ(out_h, 105u);
-    for (float t : {0.f, 1.f}) {
-        const RawFrame f = shadow_frame(w, h, t, step);
-        FrameView colour_view = f.view();
-        colour_view.depth = {};
-        colour_view.mv = {};
-        ASSERT_TRUE(a->submit(f.view()));
-        ASSERT_TRUE(given->submit(f.view()));
-        ASSERT_TRUE(colour->submit(colour_view));
-    }
-    auto vec4s = [](const ImageRGBA& img) {
-        std::vector<glm::vec4> v(img.rgba.size() / 4);
-        std::memcpy(v.data(), img.rgba.data(), v.size() * 16);
-        return v;
-    };
-    auto f0 = given->read_frame(0), f1 = given->read_frame(1), cf = colour->read_frame(1);
-    ASSERT_TRUE(f0 && f1 && cf);
-    const size_t n = size_t(w) * h, out_n = size_t(out_w) * out_h;
-    std::vector<glm::vec2> colour_mv(n);
-    for (size_t i = 0; i < n; ++i) colour_mv[i] = glm::vec2(cf->mv[2 * i], cf->mv[2 * i + 1]);
-    for (const bool extrapolate : {false, true}) {
-        SCOPED_TRACE(extrapolate ? "ESR" : "ISR");
-        const std::vector<float> alphas =
-            extrapolate ? std::vector<float>{0.5f, 1.f} : std::vector<float>{0.5f};
-        auto generate = [&](Session& s) {
-            return extrapolate ? s.extrapolate(alphas) : s.interpolate(alphas);
+    for (const float scale : {1.f, 1.5f}) {
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        Params agreeing;
+        agreeing.scale = scale;
+        Params plain = agreeing;
+        plain.colour_agree = false;
+        auto a = session_of(internal_format(w, h), agreeing);
+        auto given = session_of(internal_format(w, h), plain);
+        auto colour = session_of(colour_only(w, h), plain);
+        ASSERT_TRUE(a && given && colour);
+        ASSERT_TRUE(a->params().colour_agree);
+        const uint32_t out_w = a->output_width(), out_h = a->output_height();
+        ASSERT_EQ(out_w, uint32_t(std::lround(w * scale)));
+        for (float t : {0.f, 1.f}) {
+            const RawFrame f = shadow_frame(w, h, t, step);
+            FrameView colour_view = f.view(); // as the twin sees it: neither vectors nor depth
+            colour_view.depth = {};
+            colour_view.mv = {};
+            ASSERT_TRUE(a->submit(f.view()));
+            ASSERT_TRUE(given->submit(f.view()));
+            ASSERT_TRUE(colour->submit(colour_view));
+        }
+        auto vec4s = [](const ImageRGBA& img) {
+            std::vector<glm::vec4> v(img.rgba.size() / 4);
+            std::memcpy(v.data(), img.rgba.data(), v.size() * 16);
+            return v;
         };
-        auto out = generate(*a), g = generate(*given), c = generate(*colour);
-        ASSERT_TRUE(out && g && c);
-        for (size_t k = 0; k < alphas.size(); ++k) {
-            ASSERT_EQ((*out)[k].color.rgba.size(), out_n * 4);
-            ref::AgreeParams ap = params::agree_params(params::gen_params(
-                internal_format(w, h), agreeing, alphas[k], true, true, true, params::input_measure(*a)));
-            ap.out_width = out_w;
-            ap.out_height = out_h;
-            const auto expected =
-                ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
-                                        vec4s((*g)[k].color), vec4s((*c)[k].color), ap);
-            ASSERT_EQ(expected.size(), out_n);
-            float largest = 0.f, moved = 0.f;
-            for (size_t i = 0; i < out_n; ++i)
-                for (int q = 0; q < 4; ++q) {
-                    largest =
-                        std::max(largest, std::abs((*out)[k].color.rgba[4 * i + size_t(q)] - expected[i][q]));
-                    moved = std::max(moved, std::abs(expected[i][q] - (*g)[k].color.rgba[4 * i + size_t(q)]));
+        auto f0 = given->read_frame(0), f1 = given->read_frame(1), cf = colour->read_frame(1);
+        ASSERT_TRUE(f0 && f1 && cf);
+        const size_t n = size_t(w) * h, out_n = size_t(out_w) * out_h;
+        std::vector<glm::vec2> colour_mv(n);
+        for (size_t i = 0; i < n; ++i) colour_mv[i] = glm::vec2(cf->mv[2 * i], cf->mv[2 * i + 1]);
+        for (const bool extrapolate : {false, true}) {
+            if (!extrapolate && scale == 1.f) continue; // stage 1 there (AgreeGpuMatchesTheCpuReference)
+            SCOPED_TRACE(extrapolate ? "extrapolated" : "interpolated");
+            const std::vector<float> alphas =
+                extrapolate ? std::vector<float>{0.5f, 1.f} : std::vector<float>{0.5f};
+            auto generate = [&](Session& s) {
+                return extrapolate ? s.extrapolate(alphas) : s.interpolate(alphas);
+            };
+            auto out = generate(*a), g = generate(*given), c = generate(*colour);
+            ASSERT_TRUE(out && g && c);
+            for (size_t k = 0; k < alphas.size(); ++k) {
+                ASSERT_EQ((*out)[k].color.rgba.size(), out_n * 4);
+                ref::AgreeParams ap = params::agree_params(params::gen_params(
+                    internal_format(w, h), agreeing, alphas[k], true, true, true, params::input_measure(*a)));
+                if (scale != 1.f) {
+                    ap.out_width = out_w;
+                    ap.out_height = out_h;
                 }
-            EXPECT_LT(largest, 1e-5f) << "GPU against CPU, alpha " << alphas[k];
-            EXPECT_GT(moved, 0.1f) << "the pass changed the frame (the largest change), alpha " << alphas[k];
+                const auto expected =
+                    ref::agree_extrapolated(to_internal(*f0, w, h), to_internal(*f1, w, h), colour_mv,
+                                            vec4s((*g)[k].color), vec4s((*c)[k].color), ap);
+                ASSERT_EQ(expected.size(), out_n);
+                float largest = 0.f, moved = 0.f;
+                for (size_t i = 0; i < out_n; ++i)
+                    for (int q = 0; q < 4; ++q) {
+                        largest = std::max(
+                            largest, std::abs((*out)[k].color.rgba[4 * i + size_t(q)] - expected[i][q]));
+                        moved =
+                            std::max(moved, std::abs(expected[i][q] - (*g)[k].color.rgba[4 * i + size_t(q)]));
+                    }
+                EXPECT_LT(largest, 1e-5f) << "GPU against CPU, alpha " << alphas[k];
+                EXPECT_GT(moved, 0.1f)
+                    << "the pass changed the frame (the largest change), alpha " << alphas[k];
+            }
         }
     }
     expect_no_validation_errors();

@@ -988,6 +988,21 @@ RawFrame antialiased_wrong_vectors(const SyntheticScene& hr_scene, uint32_t w, u
     return make_raw(c, std::vector<float>(c.size(), 1.f), std::vector<glm::vec2>(c.size(), glm::vec2(0.f)));
 }
 
+// The largest channel difference between the CPU reference's sr pass (2x, the default table) on
+// the current frame, the previous depth and the history, and the GPU's output.
+template <class Depth>
+double largest_sr_difference(const ref::InternalFrame& cur, const Depth& prev_depth,
+                             const std::vector<glm::vec4>& hist, const ref::SrParams& sp,
+                             const ImageRGBA& gpu) {
+    const Lut lut = default_lut(2.f);
+    const auto expect = ref::super_resolve(cur, prev_depth, hist, sp, lut.weights);
+    double err = 0;
+    for (size_t i = 0; i < expect.size(); ++i)
+        for (int c = 0; c < 4; ++c)
+            err = std::max(err, double(std::abs(expect[i][c] - gpu.rgba[4 * i + size_t(c)])));
+    return err;
+}
+
 // Params::sr_disagree (shaders/sr.h step 6): on antialiased input without jitter whose vectors
 // do not follow the colour, less history where it disagrees with the new samples scores closer to
 // the truth; the session applies it only to such input (jittered or aliased input: the frames are
@@ -1066,17 +1081,11 @@ TEST(Sr, HistoryDisagreementOnlyForUnjitteredAntialiasedInput) {
     const ref::InternalFrame cur = to_internal(*g1, w, h);
     std::vector<glm::vec4> hist(size_t(4 * w * h));
     std::memcpy(hist.data(), history->rgba.data(), hist.size() * 16);
-    const Lut lut = default_lut(2.f);
     auto largest = [&](bool antialiased) {
-        const ref::SrParams sp =
-            params::sr_params(internal_format(w, h), p, 2 * w, 2 * h, 0.f, 0.f, true,
-                              params::InputMeasure{antialiased ? 1.f : 3.f, false});
-        const auto expect = ref::super_resolve(cur, g0->depth, hist, sp, lut.weights);
-        double err = 0;
-        for (size_t i = 0; i < expect.size(); ++i)
-            for (int c = 0; c < 4; ++c)
-                err = std::max(err, double(std::abs(expect[i][c] - out->color.rgba[4 * i + size_t(c)])));
-        return err;
+        return largest_sr_difference(cur, g0->depth, hist,
+                                     params::sr_params(internal_format(w, h), p, 2 * w, 2 * h, 0.f, 0.f, true,
+                                                       params::InputMeasure{antialiased ? 1.f : 3.f, false}),
+                                     out->color);
     };
     EXPECT_LT(largest(true), 1e-4);
     EXPECT_GT(largest(false), 1e-2); // the rule changed the frame
@@ -1134,19 +1143,13 @@ TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
     const ref::InternalFrame cur = to_internal(*g1, w, h);
     std::vector<glm::vec4> hist(size_t(4 * w * h));
     std::memcpy(hist.data(), on.out[frames - 2].rgba.data(), hist.size() * 16);
-    const Lut lut = default_lut(2.f);
     Params p;
     p.scale = 2.f;
     auto largest = [&](bool sharp) {
         ref::SrParams sp = params::sr_params(internal_format(w, h), p, 2 * w, 2 * h, 0.f, 0.f, true,
                                              params::input_measure(*on.session));
         if (!sharp) sp.flags &= ~SR_SHARP_CURRENT;
-        const auto expect = ref::super_resolve(cur, g0->depth, hist, sp, lut.weights);
-        double err = 0;
-        for (size_t i = 0; i < expect.size(); ++i)
-            for (int c = 0; c < 4; ++c)
-                err = std::max(err, double(std::abs(expect[i][c] - on.out.back().rgba[4 * i + size_t(c)])));
-        return err;
+        return largest_sr_difference(cur, g0->depth, hist, sp, on.out.back());
     };
     EXPECT_LT(largest(true), 1e-4);
     EXPECT_GT(largest(false), 1e-2); // the flag changed the frame
