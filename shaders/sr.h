@@ -191,7 +191,8 @@ FGSR_INLINE vec4 super_resolve(ivec2 q, SrParams p) {
                 front = s;
             }
         }
-    // The spatial upsample (16 taps) is computed only where it is the answer.
+    // The spatial upsample (16 taps) is computed only where it is the answer (or, with
+    // SR_SHARP_CURRENT, the current samples' term).
     if (p.has_history == 0u || n == 0.0f) return lr_upsample(pos - jitter, p);
 
     vec2 mv = load_lr_mv(p.dilate != 0u ? front : t);
