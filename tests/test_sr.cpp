@@ -8,6 +8,7 @@
 #include <fgsr/capture/synthetic.hpp>
 #include <fgsr/core/halton.hpp>
 #include <fgsr/engine/color.hpp>
+#include <fgsr/engine/defaults.hpp>
 #include <fgsr/engine/lut.hpp>
 
 #include <array>
@@ -1153,6 +1154,70 @@ TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
     };
     EXPECT_LT(largest(true), 1e-4);
     EXPECT_GT(largest(false), 1e-2); // the flag changed the frame
+    expect_no_validation_errors();
+}
+
+// Params::sr_clip_antialiased (change 47): ISR and ESR clip the warped SR history to the spread of
+// the input's 3x3 neighbourhood, which on antialiased input is low-passed: at 0.7 of that spread the
+// clip cuts the detail the history restores. On the still synthetic scene box-filtered 2x2 (exact
+// zero vectors, no jitter), both generated frames score closer to the render at the output's size
+// with the wider antialiased width than with sr_clip's 0.7, and nearer the upscaled input frame's
+// own score; on point-sampled input the antialiased width changes no bit.
+TEST(Sr, WiderHistoryClipOnAntialiasedInput) {
+    const uint32_t w = 96, h = 64, frames = 4;
+    SyntheticScene scene(hr_options(2 * w, 2 * h, 0.f));
+    const ImageRGBA truth = scene.render_color(0.0);
+    struct Run {
+        double isr = 0, esr = 0, sr = 0; // PSNR of the last pair's frames and of the last upscaled input
+        std::vector<ImageRGBA> out;
+        float aliasing = -1.f;
+    };
+    auto run = [&](float clip_aa, bool aliased) {
+        Params p;
+        p.scale = 2.f;
+        p.sr_clip_antialiased = clip_aa;
+        auto s = engine().create_session(internal_format(w, h), p);
+        EXPECT_TRUE(s);
+        Run r;
+        for (uint32_t k = 0; k < frames; ++k) {
+            RawFrame f =
+                aliased ? random_frame(w, h, 60 + k, 0.f) : antialiased_wrong_vectors(scene, w, h, 0.0);
+            if (aliased) f.mv.assign(f.mv.size(), std::byte{0});
+            EXPECT_TRUE((*s)->submit(f.view()));
+        }
+        const float a[] = {0.5f};
+        auto i = (*s)->interpolate(a);
+        auto e = (*s)->extrapolate(a);
+        auto u = (*s)->super_resolved();
+        EXPECT_TRUE(i && e && u);
+        r.isr = *capture::psnr((*i)[0].color, truth);
+        r.esr = *capture::psnr((*e)[0].color, truth);
+        r.sr = *capture::psnr(u->color, truth);
+        r.out = {(*i)[0].color, (*e)[0].color};
+        r.aliasing = (*s)->input_aliasing();
+        return r;
+    };
+    const Run wide = run(defaults::sr_clip_antialiased, false), narrow = run(defaults::sr_clip, false);
+    std::printf(
+        "[ measured ] antialiased still input (aliasing %.2f), 2x: clip %.2f sd: ISR %.2f dB, ESR %.2f "
+        "dB; clip %.2f sd: ISR %.2f dB, ESR %.2f dB; the upscaled input %.2f dB\n",
+        wide.aliasing, defaults::sr_clip_antialiased, wide.isr, wide.esr, defaults::sr_clip, narrow.isr,
+        narrow.esr, wide.sr);
+    ASSERT_TRUE(measures_antialiased(wide.aliasing));
+    EXPECT_GT(wide.isr, narrow.isr + 0.2);
+    EXPECT_GT(wide.esr, narrow.esr + 0.2);
+    EXPECT_GT(wide.esr, wide.sr - 0.5); // still content: the generated frame is the upscaled one, little cut
+    const Run a = run(defaults::sr_clip_antialiased, true), b = run(defaults::sr_clip, true);
+    EXPECT_FALSE(measures_antialiased(a.aliasing));
+    for (size_t k = 0; k < a.out.size(); ++k) EXPECT_EQ(a.out[k].rgba, b.out[k].rgba) << (k ? "ESR" : "ISR");
+    // The rule itself: the antialiased width only where the input measures antialiased.
+    Params p;
+    p.sr_clip = 0.3f;
+    p.sr_clip_antialiased = 2.f;
+    const FrameFormat fmt = internal_format(w, h);
+    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, {1.f, false}).clip, 2.f);
+    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, {3.f, false}).clip, 0.3f);
+    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, {}).clip, 0.3f); // not measured
     expect_no_validation_errors();
 }
 

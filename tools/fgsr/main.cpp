@@ -80,7 +80,11 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     eval->add_option("--sr-clip", eo.params.sr_clip,
                      "ISR, ESR: clip the warped history to mean +- this many standard deviations of the "
-                     "input frame's 3x3 neighbourhood (0: no clipping)")
+                     "input frame's 3x3 neighbourhood (0: no clipping); input that measures aliased")
+        ->capture_default_str();
+    eval->add_option("--sr-clip-antialiased", eo.params.sr_clip_antialiased,
+                     "ISR, ESR: the same width on input that measures antialiased (its neighbourhood is "
+                     "low-passed; 0: no clipping)")
         ->capture_default_str();
     eval->add_option(
             "--sr-disagree", eo.params.sr_disagree,
@@ -329,6 +333,7 @@ int main(int argc, char** argv) {
             if (eval->count("--sr-a")) p.sr_a = eo.params.sr_a;
             if (eval->count("--sr-b")) p.sr_b = eo.params.sr_b;
             if (eval->count("--sr-clip")) p.sr_clip = eo.params.sr_clip;
+            if (eval->count("--sr-clip-antialiased")) p.sr_clip_antialiased = eo.params.sr_clip_antialiased;
             if (eval->count("--sr-disagree")) p.sr_disagree = eo.params.sr_disagree;
             if (eval->count("--sr-depth-motion")) p.sr_depth_motion = eo.params.sr_depth_motion;
             if (eval->count("--sr-noise-average")) p.sr_noise_average = eo.params.sr_noise_average;

@@ -19,6 +19,8 @@ Result<void> validate(const Params& p) {
     if (!(p.sr_a >= 0.f && p.sr_a <= 1.f)) return bad("sr_a", p.sr_a, "[0, 1]");
     if (!(std::isfinite(p.sr_b) && p.sr_b >= 0.f)) return bad("sr_b", p.sr_b, "[0, inf)");
     if (!(std::isfinite(p.sr_clip) && p.sr_clip >= 0.f)) return bad("sr_clip", p.sr_clip, "[0, inf)");
+    if (!(std::isfinite(p.sr_clip_antialiased) && p.sr_clip_antialiased >= 0.f))
+        return bad("sr_clip_antialiased", p.sr_clip_antialiased, "[0, inf)");
     if (!(std::isfinite(p.sr_disagree) && p.sr_disagree >= 0.f))
         return bad("sr_disagree", p.sr_disagree, "[0, inf)");
     if (!(std::isfinite(p.dilate_bright) && p.dilate_bright >= 0.f))
@@ -222,9 +224,9 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
     p.resample = uint32_t(params.resample);
     p.has_history = has_history ? 1u : 0u;
     p.dilate = params.dilate_mvs ? 1u : 0u;
-    p.clip = params.sr_clip;
     // measures_antialiased is false for an unmeasured input; aliased means measured and not that.
     const bool antialiased = measures_antialiased(input.aliasing);
+    p.clip = antialiased ? params.sr_clip_antialiased : params.sr_clip;
     const bool aliased = input.aliasing >= 0.f && !antialiased;
     p.disagree = antialiased && !input.jittered ? params.sr_disagree : 0.f;
     const bool smooth = params.sr_spatial == SrSpatial::bspline || (params.sr_spatial == SrSpatial::automatic && aliased);
@@ -236,8 +238,8 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
 }
 
 SrParams generate_sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
-                            uint32_t out_height, float jitter_x, float jitter_y) {
-    SrParams p = sr_params(format, params, out_width, out_height, jitter_x, jitter_y, true);
+                            uint32_t out_height, float jitter_x, float jitter_y, InputMeasure input) {
+    SrParams p = sr_params(format, params, out_width, out_height, jitter_x, jitter_y, true, input);
     p.resample = uint32_t(params.warp_resample);
     return p;
 }

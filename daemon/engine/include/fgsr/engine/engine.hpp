@@ -164,6 +164,11 @@ struct Params {
     // instant (variance clipping); 0 turns it off. Not carried by the wire protocol: fgsrd's
     // sessions use the default.
     float sr_clip = defaults::sr_clip;
+    // The same on input that measures antialiased (Session::input_aliasing): wider, since the
+    // low-passed neighbourhood's spread is narrower than the detail the SR history restores
+    // (docs/ACCURACY.md, change 47: train isr / esr +0.01 to +0.37 dB on foliage-, hdr-, shelf-sraa).
+    // 0 turns it off. Not carried by the wire protocol.
+    float sr_clip_antialiased = defaults::sr_clip_antialiased;
     // sr: on input without jitter that measures antialiased (Session::input_aliasing), the
     // history's weight is lowered where it disagrees with the new samples, by this factor of the
     // disagreement (shaders/sr.h step 6; 0 turns it off). Not carried by the wire protocol.

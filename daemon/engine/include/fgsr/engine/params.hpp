@@ -54,9 +54,11 @@ gpu::SrParams sr_params(const FrameFormat& format, const Params& params, uint32_
                         InputMeasure input = {});
 
 // The SR half of the `generate_sr` push constants (ISR / ESR): sr_params with history, and
-// Params::warp_resample as the resampling of the SR outputs.
+// Params::warp_resample as the resampling of the SR outputs; the history's clip is
+// Params::sr_clip_antialiased where `input` measures antialiased, else Params::sr_clip.
 gpu::SrParams generate_sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
-                                 uint32_t out_height, float jitter_x, float jitter_y);
+                                 uint32_t out_height, float jitter_x, float jitter_y,
+                                 InputMeasure input = {});
 
 // The push constants of the `denoise` pass (stage left 0) for frames of this format.
 gpu::DenoiseParams denoise_params(const FrameFormat& format, const Params& params);
