@@ -15,9 +15,10 @@
 //        The SR history is sharp and carries what the point-sampled inputs alias; where the
 //        motion is fast it is also reprojected over two input intervals, and the clip keeps it
 //        from straying further from the rendered samples than their own spread (street-sr isr
-//        15.90 -> 17.13 dB, docs/ACCURACY.md change 2). clip = 0: no clipping. Frame 0's
-//        neighbourhood is centred without its jitter (the session keeps only frame 1's): at most
-//        half an input pixel off, on a window of three.
+//        15.90 -> 17.13 dB, docs/ACCURACY.md change 2); on antialiased input the neighbourhood is
+//        low-passed and the width wider (Params::sr_clip_antialiased, change 47). clip = 0: no
+//        clipping. Frame 0's neighbourhood is centred without its jitter (the session keeps only
+//        frame 1's): at most half an input pixel off, on a window of three.
 //
 // Entry provides the loads of refine.h and warp.h (input resolution), and of resample.h:
 //   vec4 load_src(ivec2 out_pixel)   I_0^sr (ISR) or I_1^sr (ESR)

@@ -831,7 +831,8 @@ TEST(Sr, JointPassMatchesReference) {
         const FrameFormat fmt = internal_format(w, h);
         const ref::GenParams g =
             params::gen_params(fmt, p, 0.5f, extrap, true, true, params::input_measure(**s));
-        const ref::SrParams sr = params::generate_sr_params(fmt, p, 2 * w, 2 * h, v_jitter(2), 0.f);
+        const ref::SrParams sr = params::generate_sr_params(fmt, p, 2 * w, 2 * h, v_jitter(2), 0.f, extrap,
+                                                            params::input_measure(**s));
         auto expect = ref::generate_sr(in->f0, in->f1, in->splat, src, g, sr, default_lut(2.f).weights);
         double err = 0;
         for (size_t i = 0; i < expect.size(); ++i)
@@ -882,7 +883,7 @@ TEST(Sr, JointHistoryIsClippedToTheInputNeighbourhood) {
         for (int on = 0; on < 2; ++on) {
             Params q = p;
             q.sr_clip = on ? 0.7f : 0.f;
-            const ref::SrParams sr = params::generate_sr_params(fmt, q, 2 * w, 2 * h, 0.f, 0.f);
+            const ref::SrParams sr = params::generate_sr_params(fmt, q, 2 * w, 2 * h, 0.f, 0.f, extrap);
             auto out = ref::generate_sr(in->f0, in->f1, in->splat, src, g, sr, default_lut(2.f).weights);
             for (size_t i = 0; i < out.size(); ++i)
                 for (int ch = 0; ch < 3; ++ch) err[on] += std::abs(double(out[i][ch] - hr_truth[i][ch]));
@@ -1215,9 +1216,94 @@ TEST(Sr, WiderHistoryClipOnAntialiasedInput) {
     p.sr_clip = 0.3f;
     p.sr_clip_antialiased = 2.f;
     const FrameFormat fmt = internal_format(w, h);
-    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, {1.f, false}).clip, 2.f);
-    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, {3.f, false}).clip, 0.3f);
-    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, {}).clip, 0.3f); // not measured
+    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, true, {1.f, false}).clip, 2.f);
+    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, true, {3.f, false}).clip, 0.3f);
+    EXPECT_EQ(params::generate_sr_params(fmt, p, 2 * w, 2 * h, 0.f, 0.f, true, {}).clip,
+              0.3f); // not measured
+    expect_no_validation_errors();
+}
+
+// Params::warp_resample unset (change 48): ISR reads the previous SR output with Catmull-Rom on input
+// that measures antialiased, bilinear otherwise and in ESR. On the moving synthetic scene rendered
+// antialiased (the output-size render box-filtered 2x2, exact vectors, no jitter) the automatic ISR
+// frames score closer to the output-size truth halfway between inputs than bilinear ones; its ESR
+// frames, and ISR on input that measures aliased (white noise), are bit for bit the bilinear ones.
+TEST(Sr, IsrWarpIsCatmullRomOnAntialiasedInput) {
+    const uint32_t w = 160, h = 90;
+    SyntheticScene scene(hr_options(2 * w, 2 * h, 0.5f));
+    auto antialiased = [&](double t) {
+        const SyntheticScene::Sample hr = scene.render(t, t - 1.0);
+        std::vector<glm::vec4> c(size_t(w) * h);
+        std::vector<float> d(c.size());
+        std::vector<glm::vec2> m(c.size());
+        for (uint32_t y = 0; y < h; ++y)
+            for (uint32_t x = 0; x < w; ++x) {
+                glm::vec4 sum(0.f);
+                for (uint32_t j = 0; j < 2; ++j)
+                    for (uint32_t i = 0; i < 2; ++i) {
+                        const size_t q = (size_t(2 * y + j) * hr.color.width + 2 * x + i) * 4;
+                        sum += glm::vec4(hr.color.rgba[q], hr.color.rgba[q + 1], hr.color.rgba[q + 2], 1.f);
+                    }
+                const size_t centre = size_t(2 * y + 1) * 2 * w + 2 * x + 1, i = size_t(y) * w + x;
+                c[i] = sum * 0.25f;
+                d[i] = hr.depth[centre];
+                m[i] = hr.mv[centre] * 0.5f; // output pixels to input pixels
+            }
+        return make_raw(c, d, m);
+    };
+    struct Run {
+        double isr = 0; // mean PSNR of the ISR frames
+        std::vector<ImageRGBA> isr_out, esr_out;
+        float aliasing = -1.f;
+    };
+    auto run = [&](std::optional<Resample> warp, bool aliased) {
+        Params p;
+        p.scale = 2.f;
+        p.warp_resample = warp;
+        auto s = engine().create_session(internal_format(w, h), p);
+        EXPECT_TRUE(s);
+        Run r;
+        int count = 0;
+        for (int k = 0; k < 8; ++k) {
+            RawFrame f = aliased ? random_frame(w, h, 80 + uint32_t(k), 0.f) : antialiased(double(k));
+            if (aliased) f.mv.assign(f.mv.size(), std::byte{0});
+            EXPECT_TRUE((*s)->submit(f.view()));
+            if (k < 3) continue;
+            const float a[] = {0.5f};
+            auto i = (*s)->interpolate(a);
+            auto e = (*s)->extrapolate(a);
+            EXPECT_TRUE(i && e);
+            r.isr += *capture::psnr((*i)[0].color, scene.render_color(k - 0.5));
+            ++count;
+            r.isr_out.push_back(std::move((*i)[0].color));
+            r.esr_out.push_back(std::move((*e)[0].color));
+        }
+        r.isr /= count;
+        r.aliasing = (*s)->input_aliasing();
+        return r;
+    };
+    const Run automatic = run(std::nullopt, false), bilinear = run(Resample::bilinear, false);
+    std::printf(
+        "[ measured ] antialiased moving input (aliasing %.2f), 2x ISR: automatic (Catmull-Rom) %.3f dB, "
+        "bilinear %.3f dB\n",
+        automatic.aliasing, automatic.isr, bilinear.isr);
+    ASSERT_TRUE(measures_antialiased(automatic.aliasing));
+    EXPECT_GT(automatic.isr, bilinear.isr + 0.05);
+    for (size_t k = 0; k < automatic.esr_out.size(); ++k)
+        EXPECT_EQ(automatic.esr_out[k].rgba, bilinear.esr_out[k].rgba) << "ESR " << k;
+    const Run a = run(std::nullopt, true), b = run(Resample::bilinear, true);
+    EXPECT_FALSE(measures_antialiased(a.aliasing));
+    for (size_t k = 0; k < a.isr_out.size(); ++k)
+        EXPECT_EQ(a.isr_out[k].rgba, b.isr_out[k].rgba) << "ISR " << k;
+    // The rule itself.
+    const Params unset;
+    EXPECT_EQ(params::warp_resample(unset, false, {1.f, false}), Resample::catmull_rom);
+    EXPECT_EQ(params::warp_resample(unset, true, {1.f, false}), Resample::bilinear);
+    EXPECT_EQ(params::warp_resample(unset, false, {3.f, true}), Resample::bilinear);
+    EXPECT_EQ(params::warp_resample(unset, false, {}), Resample::bilinear); // not measured
+    Params set;
+    set.warp_resample = Resample::lut;
+    EXPECT_EQ(params::warp_resample(set, false, {1.f, false}), Resample::lut);
     expect_no_validation_errors();
 }
 

@@ -19,6 +19,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
+
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -169,7 +171,7 @@ int main(int argc, char** argv) {
     eval->add_option("--t-bright", eo.params.t_bright, "T_B: display luma difference for shading change")
         ->capture_default_str();
     std::string blend = "mix";
-    std::string resample = "lut", warp_resample = "bilinear";
+    std::string resample = "lut", warp_resample = "auto";
     const std::vector<std::string> kernel_names(fgsr::kResampleNames.begin(), fgsr::kResampleNames.end());
     bool no_gaps = false, no_holes = false, quiet = false, separate = false;
     eval->add_option("--blend", blend,
@@ -183,10 +185,13 @@ int main(int argc, char** argv) {
             "fgsr-colour)")
         ->check(CLI::IsMember(kernel_names))
         ->capture_default_str();
+    std::vector<std::string> warp_names = kernel_names;
+    warp_names.push_back("auto");
     eval->add_option("--warp-resample", warp_resample,
-                     "ISR, ESR: resampling of the SR outputs at the generated instant (bilinear, "
-                     "catmull_rom or lut; methods fgsr and fgsr-colour)")
-        ->check(CLI::IsMember(kernel_names))
+                     "ISR, ESR: resampling of the SR outputs at the generated instant (auto: Catmull-Rom "
+                     "for ISR on input that measures antialiased, else bilinear; bilinear, catmull_rom "
+                     "or lut; methods fgsr and fgsr-colour)")
+        ->check(CLI::IsMember(warp_names))
         ->capture_default_str();
     std::string sr_spatial = "auto";
     eval->add_option("--sr-spatial", sr_spatial,
@@ -361,7 +366,9 @@ int main(int argc, char** argv) {
         // The names were checked against the kernels' (CLI::IsMember above).
         auto kernel = [](const std::string& k) { return fgsr::resample_from_name(k).value(); };
         if (preset.empty() || eval->count("--resample")) eo.params.resample = kernel(resample);
-        if (preset.empty() || eval->count("--warp-resample")) eo.params.warp_resample = kernel(warp_resample);
+        if (preset.empty() || eval->count("--warp-resample"))
+            eo.params.warp_resample =
+                warp_resample == "auto" ? std::nullopt : std::optional<fgsr::Resample>(kernel(warp_resample));
         if (preset.empty() || eval->count("--sr-spatial"))
             eo.params.sr_spatial = sr_spatial == "catmull_rom" ? fgsr::SrSpatial::catmull_rom
                                    : sr_spatial == "bspline"   ? fgsr::SrSpatial::bspline

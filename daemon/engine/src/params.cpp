@@ -50,7 +50,7 @@ Result<void> validate(const Params& p) {
                               std::to_string(p.scale));
     if (uint32_t(p.motion) > uint32_t(MotionModel::linear) || uint32_t(p.blend) > uint32_t(BlendMode::mix) ||
         uint32_t(p.resample) > uint32_t(Resample::lut) ||
-        uint32_t(p.warp_resample) > uint32_t(Resample::lut) ||
+        uint32_t(p.warp_resample.value_or(Resample::bilinear)) > uint32_t(Resample::lut) ||
         uint32_t(p.sr_spatial) > uint32_t(SrSpatial::bspline) ||
         uint32_t(p.warp_kernel) > uint32_t(WarpKernel::cubic))
         return make_error(
@@ -237,10 +237,16 @@ SrParams sr_params(const FrameFormat& format, const Params& params, uint32_t out
     return p;
 }
 
+Resample warp_resample(const Params& params, bool extrapolate, InputMeasure input) {
+    if (params.warp_resample) return *params.warp_resample;
+    return !extrapolate && measures_antialiased(input.aliasing) ? Resample::catmull_rom : Resample::bilinear;
+}
+
 SrParams generate_sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
-                            uint32_t out_height, float jitter_x, float jitter_y, InputMeasure input) {
+                            uint32_t out_height, float jitter_x, float jitter_y, bool extrapolate,
+                            InputMeasure input) {
     SrParams p = sr_params(format, params, out_width, out_height, jitter_x, jitter_y, true, input);
-    p.resample = uint32_t(params.warp_resample);
+    p.resample = uint32_t(warp_resample(params, extrapolate, input));
     return p;
 }
 

@@ -58,8 +58,8 @@ void Session::Impl::finish_sr(const PassTiming& t) {
 }
 
 GenSrPush Session::Impl::gen_sr_push(const gpu::GenParams& g) const {
-    return GenSrPush{
-        g, params::generate_sr_params(format, params, out_w, out_h, jitter_x, jitter_y, input_measure())};
+    return GenSrPush{g, params::generate_sr_params(format, params, out_w, out_h, jitter_x, jitter_y,
+                                                   g.extrapolate != 0u, input_measure())};
 }
 
 const vk::Buffer& Session::Impl::gen_sr_source(bool extrapolate) const {

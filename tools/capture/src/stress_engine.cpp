@@ -308,7 +308,7 @@ class Runner {
                 const ref::Splat sp = ref::splat(cs_.f0, cs_.f1, g);
                 const ref::SrParams p =
                     params::generate_sr_params(c_.format, c_.params, s.output_width(), s.output_height(),
-                                               cs_.jitter_x, cs_.jitter_y, params::input_measure(s));
+                                               cs_.jitter_x, cs_.jitter_y, extrap, params::input_measure(s));
                 out = ref::generate_sr(cs_.f0, cs_.f1, sp, extrap ? cs_.hr_new : cs_.hr_prev, g, p, lut);
             } else {
                 out = ref::generate(cs_.f0, cs_.f1, g);

@@ -52,9 +52,10 @@ Resample resample_of(const std::string& m, Resample preset = Resample::lut) {
     return preset;
 }
 
-// Sessions of the engine methods: the same pipeline with the method's resampling. `fgsr` keeps
-// the options' history and warp kernels; `fgsr-bilinear` / `fgsr-bicubic` use theirs for both
-// (the history of `sr` and ISR / ESR's warps of the SR outputs).
+// Sessions of the engine methods: the same pipeline with the method's resampling. `fgsr` (and
+// `fgsr-colour`) keep the options' history and warp kernels (the warp's unset: the engine's
+// automatic choice); `fgsr-bilinear` / `fgsr-bicubic` use theirs for both (the history of `sr` and
+// ISR / ESR's warps of the SR outputs).
 SessionParams sr_params_for(const EvalOptions& o, float scale, bool generates) {
     return [&o, scale, generates](const std::string& m) -> std::optional<Params> {
         if (!is_engine_sr(m)) return std::nullopt;
@@ -64,7 +65,7 @@ SessionParams sr_params_for(const EvalOptions& o, float scale, bool generates) {
         // sr would pay for the twin's motion and upscale and use neither.
         p.colour_agree = p.colour_agree && generates;
         p.resample = resample_of(m, o.params.resample);
-        p.warp_resample = resample_of(m, o.params.warp_resample);
+        if (m != "fgsr" && !is_colour_method(m)) p.warp_resample = resample_of(m);
         return p;
     };
 }
@@ -192,8 +193,9 @@ Result<EvalReport> run_eval_sr(const EvalOptions& o, capture::Capture cap) {
                                         cap.hr_reference[k]));
         FGSR_TRY(score_vectors(cap.inputs[k], reference, sessions, rep));
     }
-    // The input's aliasing measure, which decides Params::sr_disagree and the spatial upsample's
-    // kernel (before the stability stretch, which jitters unjittered captures).
+    // The input's aliasing measure, which decides Params::sr_disagree, sr_sharp_current, the
+    // spatial upsample's kernel and ISR / ESR's clip width (before the stability stretch, which
+    // jitters unjittered captures).
     if (o.progress)
         for (const std::string& m : o.methods)
             if (is_engine_sr(m)) {

@@ -36,7 +36,7 @@ inline constexpr float sr_clip = 0.7f;
 // low-passed, so 0.7 of its spread cuts the detail the SR history restores. Chosen on the train
 // captures without jitter (street-, rotor-, foliage-, hdr-, shelf-sraa, bunker LR; isr and esr) from
 // 0.7 / 1 / 1.25 / 1.5 / 2 / off: the sum of the 12 gains over 0.7 is 1.30 / 1.52 / 1.55 / 1.54 /
-// 1.54 dB, the worst row -0.015 / -0.023 / -0.025 / -0.033 / -0.034 (rotor-sraa and bunker LR esr);
+// 1.51 dB, the worst row -0.015 / -0.023 / -0.025 / -0.033 / -0.034 (rotor-sraa and bunker LR esr);
 // 1.25 takes 98 % of the gain with the smaller loss (docs/ACCURACY.md, change 47).
 inline constexpr float sr_clip_antialiased = 1.25f;
 // Less SR history where it disagrees with the new samples (shaders/sr.h step 6), for sessions whose

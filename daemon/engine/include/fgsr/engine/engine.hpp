@@ -10,6 +10,7 @@
 #include <fgsr/core/types.hpp>
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -88,10 +89,14 @@ struct Params {
     float scale = 1.f;
     Resample resample = Resample::lut; // history resampling (the `sr` pass)
     // ISR / ESR (shaders/generate_sr.h): resampling of the SR outputs at the generated instant.
-    // Bilinear: there the positions come from frame generation's motion, not from rendered
-    // vectors, and the LUT lost to it on 15 of 16 train figures, by up to 0.35 dB
-    // (docs/ACCURACY.md, change 10). Not carried by the wire protocol.
-    Resample warp_resample = Resample::bilinear;
+    // Unset (the default): automatic, bilinear except Catmull-Rom for ISR on input that measures
+    // antialiased (params::warp_resample). Bilinear because there the positions come from frame
+    // generation's motion, not from rendered vectors, and the LUT lost to it on 15 of 16 train
+    // figures, by up to 0.35 dB (docs/ACCURACY.md, change 10); Catmull-Rom for ISR on antialiased
+    // input, which scored higher with it on all six train captures, with the client's vectors and
+    // with colour-only motion, while ESR and the jittered captures did not (change 48). Not carried
+    // by the wire protocol.
+    std::optional<Resample> warp_resample;
     std::vector<float> lut;            // kLutSize weights; empty: fgsr::default_lut(scale)
     float sr_a = defaults::sr_a;       // Eq. 2: weight of the current samples
     float sr_b = defaults::sr_b;       // Eq. 2: weight fall-off with sample distance (LR pixels)
@@ -166,7 +171,7 @@ struct Params {
     float sr_clip = defaults::sr_clip;
     // The same on input that measures antialiased (Session::input_aliasing): wider, since the
     // low-passed neighbourhood's spread is narrower than the detail the SR history restores
-    // (docs/ACCURACY.md, change 47: train isr / esr +0.01 to +0.37 dB on foliage-, hdr-, shelf-sraa).
+    // (docs/ACCURACY.md, change 47: train isr / esr +0.11 to +0.37 dB on foliage-, hdr-, shelf-sraa).
     // 0 turns it off. Not carried by the wire protocol.
     float sr_clip_antialiased = defaults::sr_clip_antialiased;
     // sr: on input without jitter that measures antialiased (Session::input_aliasing), the
@@ -296,11 +301,11 @@ struct Params {
     uint32_t tile_size = 0;
 };
 
-// Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b, sr_clip
-// and sr_disagree finite and >= 0, correct_ratio in [0, 1], correct_margin finite and >= 0,
-// correct_depth and correct_front >= 0 (correct_vectors only with scale 1), scale finite in
-// [1, 4], lut empty or kLutSize finite weights, denoise_strength in [0, 64], noise_floor finite and
-// >= 0, denoise_gamma in [0, 2], known enum values.
+// Checks the documented ranges: t_depth and t_bright finite and >= 0, sr_a in [0, 1], sr_b,
+// sr_clip, sr_clip_antialiased and sr_disagree finite and >= 0, correct_ratio in [0, 1],
+// correct_margin finite and >= 0, correct_depth and correct_front >= 0 (correct_vectors only with
+// scale 1), scale finite in [1, 4], lut empty or kLutSize finite weights, denoise_strength in
+// [0, 64], noise_floor finite and >= 0, denoise_gamma in [0, 2], known enum values.
 // Errors: invalid_argument naming the field and its value.
 Result<void> validate(const Params& params);
 

@@ -53,11 +53,16 @@ gpu::SrParams sr_params(const FrameFormat& format, const Params& params, uint32_
                         uint32_t out_height, float jitter_x, float jitter_y, bool has_history,
                         InputMeasure input = {});
 
+// The resampling of the SR outputs in ISR (extrapolate false) or ESR: Params::warp_resample where
+// set; unset, Catmull-Rom for ISR on input that measures antialiased, else bilinear
+// (docs/ACCURACY.md, change 48).
+Resample warp_resample(const Params& params, bool extrapolate, InputMeasure input);
+
 // The SR half of the `generate_sr` push constants (ISR / ESR): sr_params with history, and
-// Params::warp_resample as the resampling of the SR outputs; the history's clip is
+// warp_resample above as the resampling of the SR outputs; the history's clip is
 // Params::sr_clip_antialiased where `input` measures antialiased, else Params::sr_clip.
 gpu::SrParams generate_sr_params(const FrameFormat& format, const Params& params, uint32_t out_width,
-                                 uint32_t out_height, float jitter_x, float jitter_y,
+                                 uint32_t out_height, float jitter_x, float jitter_y, bool extrapolate,
                                  InputMeasure input = {});
 
 // The push constants of the `denoise` pass (stage left 0) for frames of this format.

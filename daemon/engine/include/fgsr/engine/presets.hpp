@@ -72,6 +72,7 @@ inline Params preset_params(Preset preset) {
         p.accel_depth_motion = false;
         p.cover_edges = false;
         p.warp_kernel = WarpKernel::bilinear; // the cubic's 16 reads a warped sample
+        p.warp_resample = Resample::bilinear; // ISR's too
         p.motion_search = false;              // fast_motion refines nothing anyway
         p.colour_agree = false;
         break;
