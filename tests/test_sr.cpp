@@ -990,6 +990,14 @@ RawFrame antialiased_wrong_vectors(const SyntheticScene& hr_scene, uint32_t w, u
     return make_raw(c, std::vector<float>(c.size(), 1.f), std::vector<glm::vec2>(c.size(), glm::vec2(0.f)));
 }
 
+// White noise with zero vectors, w x h, from `seed`: input that measures aliased (the rules for
+// antialiased input stay off).
+RawFrame still_noise(uint32_t w, uint32_t h, uint32_t seed) {
+    RawFrame f = random_frame(w, h, seed, 0.f);
+    f.mv.assign(f.mv.size(), std::byte{0});
+    return f;
+}
+
 // The largest channel difference between the CPU reference's sr pass (2x, the default table) on
 // the current frame, the previous depth and the history, and the GPU's output.
 template <class Depth>
@@ -1025,9 +1033,8 @@ TEST(Sr, HistoryDisagreementOnlyForUnjitteredAntialiasedInput) {
         EXPECT_TRUE(s);
         Run r;
         for (uint32_t k = 0; k < frames; ++k) {
-            RawFrame f = kind == 2 ? random_frame(w, h, 20 + k, 0.f)
-                                   : antialiased_wrong_vectors(scene, w, h, double(k));
-            if (kind == 2) f.mv.assign(f.mv.size(), std::byte{0});
+            RawFrame f =
+                kind == 2 ? still_noise(w, h, 20 + k) : antialiased_wrong_vectors(scene, w, h, double(k));
             FrameView v = f.view();
             if (kind == 1) {
                 const glm::vec2 j = halton_jitter(k);
@@ -1116,9 +1123,8 @@ TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
         EXPECT_TRUE(s);
         Run r;
         for (uint32_t k = 0; k < frames; ++k) {
-            RawFrame f =
-                aliased ? random_frame(w, h, 40 + k, 0.f) : antialiased_wrong_vectors(scene, w, h, 0.0);
-            if (aliased) f.mv.assign(f.mv.size(), std::byte{0});
+            const RawFrame f =
+                aliased ? still_noise(w, h, 40 + k) : antialiased_wrong_vectors(scene, w, h, 0.0);
             EXPECT_TRUE((*s)->submit(f.view()));
             auto out = (*s)->super_resolved();
             EXPECT_TRUE(out);
@@ -1181,9 +1187,8 @@ TEST(Sr, WiderHistoryClipOnAntialiasedInput) {
         EXPECT_TRUE(s);
         Run r;
         for (uint32_t k = 0; k < frames; ++k) {
-            RawFrame f =
-                aliased ? random_frame(w, h, 60 + k, 0.f) : antialiased_wrong_vectors(scene, w, h, 0.0);
-            if (aliased) f.mv.assign(f.mv.size(), std::byte{0});
+            const RawFrame f =
+                aliased ? still_noise(w, h, 60 + k) : antialiased_wrong_vectors(scene, w, h, 0.0);
             EXPECT_TRUE((*s)->submit(f.view()));
         }
         const float a[] = {0.5f};
@@ -1265,8 +1270,7 @@ TEST(Sr, IsrWarpIsCatmullRomOnAntialiasedInput) {
         Run r;
         int count = 0;
         for (int k = 0; k < 8; ++k) {
-            RawFrame f = aliased ? random_frame(w, h, 80 + uint32_t(k), 0.f) : antialiased(double(k));
-            if (aliased) f.mv.assign(f.mv.size(), std::byte{0});
+            const RawFrame f = aliased ? still_noise(w, h, 80 + uint32_t(k)) : antialiased(double(k));
             EXPECT_TRUE((*s)->submit(f.view()));
             if (k < 3) continue;
             const float a[] = {0.5f};
