@@ -31,8 +31,10 @@ NEW_TRAIN_SR = ['rotor']
 # Kind sr rendered without jitter and with antialiased lr/ (`--no-jitter --lr-spp 16`: an unjittered
 # game handing over its antialiased output, as mobfgsr-bunker LR is), named SCENE-sraa; each scene
 # keeps its split (docs/ACCURACY.md, change 45). foliage, hdr and shelf (a train counterpart of static,
-# 2026-12-07) were added by change 47, after the first five had been measured.
+# 2026-12-07) were added by change 47, after the first five had been measured; vane, slats and twirl
+# (train scenes) after change 48.
 AA_SR = [('street', 'train'), ('rotor', 'train'), ('foliage', 'train'), ('hdr', 'train'), ('shelf', 'train'),
+         ('vane', 'train'), ('slats', 'train'), ('twirl', 'train'),
          ('fan', 'validation'), ('static', 'validation'), ('cut', 'validation')]
 
 
