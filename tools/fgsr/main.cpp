@@ -19,10 +19,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include <optional>
-
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 namespace {
@@ -81,12 +80,12 @@ int main(int argc, char** argv) {
     eval->add_option("--sr-b", eo.params.sr_b, "SR: sample weight fall-off with distance (Eq. 2, b)")
         ->capture_default_str();
     eval->add_option("--sr-clip", eo.params.sr_clip,
-                     "ISR, ESR: clip the warped history to mean +- this many standard deviations of the "
-                     "input frame's 3x3 neighbourhood (0: no clipping); input that measures aliased")
+                     "ISR, ESR on input that measures aliased: clip the warped history to mean +- this many "
+                     "standard deviations of the input frame's 3x3 neighbourhood (0: no clipping)")
         ->capture_default_str();
     eval->add_option("--sr-clip-antialiased", eo.params.sr_clip_antialiased,
-                     "ISR, ESR: the same width on input that measures antialiased (its neighbourhood is "
-                     "low-passed; 0: no clipping)")
+                     "ISR, ESR on input that measures antialiased: the same clip's width (its neighbourhood "
+                     "is low-passed; 0: no clipping)")
         ->capture_default_str();
     eval->add_option(
             "--sr-disagree", eo.params.sr_disagree,
