@@ -1196,6 +1196,7 @@ TEST(Sr, WiderHistoryClipOnAntialiasedInput) {
         auto e = (*s)->extrapolate(a);
         auto u = (*s)->super_resolved();
         EXPECT_TRUE(i && e && u);
+        if (!i || !e || !u) return r;
         r.isr = *capture::psnr((*i)[0].color, truth);
         r.esr = *capture::psnr((*e)[0].color, truth);
         r.sr = *capture::psnr(u->color, truth);
@@ -1277,6 +1278,7 @@ TEST(Sr, IsrWarpIsCatmullRomOnAntialiasedInput) {
             auto i = (*s)->interpolate(a);
             auto e = (*s)->extrapolate(a);
             EXPECT_TRUE(i && e);
+            if (!i || !e) break;
             r.isr += *capture::psnr((*i)[0].color, scene.render_color(k - 0.5));
             ++count;
             r.isr_out.push_back(std::move((*i)[0].color));
