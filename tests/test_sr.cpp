@@ -14,6 +14,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <initializer_list>
 #include <optional>
 #include <random>
@@ -998,6 +999,17 @@ RawFrame still_noise(uint32_t w, uint32_t h, uint32_t seed) {
     return f;
 }
 
+// A 2x session on w x h internal frames with the Params `set` changes (the runs of the
+// antialiased-input tests); null, with a failed expectation, where it cannot be created.
+std::unique_ptr<Session> sr_session(uint32_t w, uint32_t h, const std::function<void(Params&)>& set) {
+    Params p;
+    p.scale = 2.f;
+    set(p);
+    auto s = engine().create_session(internal_format(w, h), p);
+    EXPECT_TRUE(s);
+    return s ? std::move(*s) : nullptr;
+}
+
 // The largest channel difference between the CPU reference's sr pass (2x, the default table) on
 // the current frame, the previous depth and the history, and the GPU's output.
 template <class Depth>
@@ -1026,12 +1038,9 @@ TEST(Sr, HistoryDisagreementOnlyForUnjitteredAntialiasedInput) {
         float aliasing = 0;
     };
     auto run = [&](float disagree, int kind) { // 0: antialiased, 1: the same jittered, 2: noise
-        Params p;
-        p.scale = 2.f;
-        p.sr_disagree = disagree;
-        auto s = engine().create_session(internal_format(w, h), p);
-        EXPECT_TRUE(s);
+        auto s = sr_session(w, h, [&](Params& p) { p.sr_disagree = disagree; });
         Run r;
+        if (!s) return r;
         for (uint32_t k = 0; k < frames; ++k) {
             RawFrame f =
                 kind == 2 ? still_noise(w, h, 20 + k) : antialiased_wrong_vectors(scene, w, h, double(k));
@@ -1041,14 +1050,14 @@ TEST(Sr, HistoryDisagreementOnlyForUnjitteredAntialiasedInput) {
                 v.jitter_x = j.x;
                 v.jitter_y = j.y;
             }
-            EXPECT_TRUE((*s)->submit(v));
-            auto out = (*s)->super_resolved();
+            EXPECT_TRUE(s->submit(v));
+            auto out = s->super_resolved();
             EXPECT_TRUE(out);
             if (k >= 2)
                 r.psnr += *capture::psnr(out->color, scene.render_color(double(k))) / double(frames - 2);
             r.out.push_back(std::move(out->color));
         }
-        r.aliasing = (*s)->input_aliasing();
+        r.aliasing = s->input_aliasing();
         return r;
     };
     const Run on = run(4.f, 0), off = run(0.f, 0);
@@ -1116,25 +1125,23 @@ TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
         std::unique_ptr<Session> session;
     };
     auto run = [&](bool sharp, bool aliased) {
-        Params p;
-        p.scale = 2.f;
-        p.sr_sharp_current = sharp;
-        auto s = engine().create_session(internal_format(w, h), p);
-        EXPECT_TRUE(s);
+        auto s = sr_session(w, h, [&](Params& p) { p.sr_sharp_current = sharp; });
         Run r;
+        if (!s) return r;
         for (uint32_t k = 0; k < frames; ++k) {
             const RawFrame f =
                 aliased ? still_noise(w, h, 40 + k) : antialiased_wrong_vectors(scene, w, h, 0.0);
-            EXPECT_TRUE((*s)->submit(f.view()));
-            auto out = (*s)->super_resolved();
+            EXPECT_TRUE(s->submit(f.view()));
+            auto out = s->super_resolved();
             EXPECT_TRUE(out);
             if (k >= 1) r.psnr += *capture::psnr(out->color, scene.render_color(0.0)) / double(frames - 1);
             r.out.push_back(std::move(out->color));
         }
-        r.session = std::move(*s);
+        r.session = std::move(s);
         return r;
     };
     Run on = run(true, false), off = run(false, false);
+    ASSERT_TRUE(on.session && off.session);
     std::printf("[ measured ] antialiased still input (aliasing %.2f), 2x: Catmull-Rom current term %.2f dB, "
                 "tent %.2f dB\n",
                 on.session->input_aliasing(), on.psnr, off.psnr);
@@ -1142,6 +1149,7 @@ TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
     EXPECT_GT(on.psnr, off.psnr + 0.2);
     {
         const Run a = run(true, true), b = run(false, true);
+        ASSERT_TRUE(a.session && b.session);
         EXPECT_FALSE(measures_antialiased(a.session->input_aliasing()));
         for (size_t k = 0; k < a.out.size(); ++k) EXPECT_EQ(a.out[k].rgba, b.out[k].rgba) << "frame " << k;
     }
@@ -1180,28 +1188,25 @@ TEST(Sr, WiderHistoryClipOnAntialiasedInput) {
         float aliasing = -1.f;
     };
     auto run = [&](float clip_aa, bool aliased) {
-        Params p;
-        p.scale = 2.f;
-        p.sr_clip_antialiased = clip_aa;
-        auto s = engine().create_session(internal_format(w, h), p);
-        EXPECT_TRUE(s);
+        auto s = sr_session(w, h, [&](Params& p) { p.sr_clip_antialiased = clip_aa; });
         Run r;
+        if (!s) return r;
         for (uint32_t k = 0; k < frames; ++k) {
             const RawFrame f =
                 aliased ? still_noise(w, h, 60 + k) : antialiased_wrong_vectors(scene, w, h, 0.0);
-            EXPECT_TRUE((*s)->submit(f.view()));
+            EXPECT_TRUE(s->submit(f.view()));
         }
         const float a[] = {0.5f};
-        auto i = (*s)->interpolate(a);
-        auto e = (*s)->extrapolate(a);
-        auto u = (*s)->super_resolved();
+        auto i = s->interpolate(a);
+        auto e = s->extrapolate(a);
+        auto u = s->super_resolved();
         EXPECT_TRUE(i && e && u);
         if (!i || !e || !u) return r;
         r.isr = *capture::psnr((*i)[0].color, truth);
         r.esr = *capture::psnr((*e)[0].color, truth);
         r.sr = *capture::psnr(u->color, truth);
         r.out = {(*i)[0].color, (*e)[0].color};
-        r.aliasing = (*s)->input_aliasing();
+        r.aliasing = s->input_aliasing();
         return r;
     };
     const Run wide = run(defaults::sr_clip_antialiased, false), narrow = run(defaults::sr_clip, false);
@@ -1263,20 +1268,17 @@ TEST(Sr, IsrWarpIsCatmullRomOnAntialiasedInput) {
         float aliasing = -1.f;
     };
     auto run = [&](std::optional<Resample> warp, bool aliased) {
-        Params p;
-        p.scale = 2.f;
-        p.warp_resample = warp;
-        auto s = engine().create_session(internal_format(w, h), p);
-        EXPECT_TRUE(s);
+        auto s = sr_session(w, h, [&](Params& p) { p.warp_resample = warp; });
         Run r;
+        if (!s) return r;
         int count = 0;
         for (int k = 0; k < 8; ++k) {
             const RawFrame f = aliased ? still_noise(w, h, 80 + uint32_t(k)) : antialiased(double(k));
-            EXPECT_TRUE((*s)->submit(f.view()));
+            EXPECT_TRUE(s->submit(f.view()));
             if (k < 3) continue;
             const float a[] = {0.5f};
-            auto i = (*s)->interpolate(a);
-            auto e = (*s)->extrapolate(a);
+            auto i = s->interpolate(a);
+            auto e = s->extrapolate(a);
             EXPECT_TRUE(i && e);
             if (!i || !e) break;
             r.isr += *capture::psnr((*i)[0].color, scene.render_color(k - 0.5));
@@ -1285,7 +1287,7 @@ TEST(Sr, IsrWarpIsCatmullRomOnAntialiasedInput) {
             r.esr_out.push_back(std::move((*e)[0].color));
         }
         r.isr /= count;
-        r.aliasing = (*s)->input_aliasing();
+        r.aliasing = s->input_aliasing();
         return r;
     };
     const Run automatic = run(std::nullopt, false), bilinear = run(Resample::bilinear, false);
