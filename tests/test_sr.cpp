@@ -999,6 +999,11 @@ RawFrame still_noise(uint32_t w, uint32_t h, uint32_t seed) {
     return f;
 }
 
+// Frame `seed` of a still input: white noise (aliased) or `hr_scene` at time 0, averaged 2x2.
+RawFrame still_input(const SyntheticScene& hr_scene, uint32_t w, uint32_t h, bool aliased, uint32_t seed) {
+    return aliased ? still_noise(w, h, seed) : antialiased_wrong_vectors(hr_scene, w, h, 0.0);
+}
+
 // A 2x session on w x h internal frames with the Params `set` changes (the runs of the
 // antialiased-input tests); null, with a failed expectation, where it cannot be created.
 std::unique_ptr<Session> sr_session(uint32_t w, uint32_t h, const std::function<void(Params&)>& set) {
@@ -1129,9 +1134,7 @@ TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
         Run r;
         if (!s) return r;
         for (uint32_t k = 0; k < frames; ++k) {
-            const RawFrame f =
-                aliased ? still_noise(w, h, 40 + k) : antialiased_wrong_vectors(scene, w, h, 0.0);
-            EXPECT_TRUE(s->submit(f.view()));
+            EXPECT_TRUE(s->submit(still_input(scene, w, h, aliased, 40 + k).view()));
             auto out = s->super_resolved();
             EXPECT_TRUE(out);
             if (k >= 1) r.psnr += *capture::psnr(out->color, scene.render_color(0.0)) / double(frames - 1);
@@ -1192,9 +1195,7 @@ TEST(Sr, WiderHistoryClipOnAntialiasedInput) {
         Run r;
         if (!s) return r;
         for (uint32_t k = 0; k < frames; ++k) {
-            const RawFrame f =
-                aliased ? still_noise(w, h, 60 + k) : antialiased_wrong_vectors(scene, w, h, 0.0);
-            EXPECT_TRUE(s->submit(f.view()));
+            EXPECT_TRUE(s->submit(still_input(scene, w, h, aliased, 60 + k).view()));
         }
         const float a[] = {0.5f};
         auto i = s->interpolate(a);
