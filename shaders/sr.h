@@ -70,8 +70,10 @@
 
 FGSR_INLINE ivec2 clamp_lr(ivec2 q, SrParams p) { return clamp(q, ivec2(0), ivec2(int(p.lr_width) - 1, int(p.lr_height) - 1)); }
 
-// The spatial upsample: Catmull-Rom of the LR frame at an LR position, or with SR_SMOOTH_SPATIAL
-// the cubic B-spline (step 5).
+// The spatial upsample: Catmull-Rom of the LR frame at an LR position, clamped per channel to the
+// range of its inner 2x2 taps (as warp.h's cubic: beside a highlight far over white the negative
+// lobes would pull the pixels around it to black, a dark ring; docs/ACCURACY.md change 49), or with
+// SR_SMOOTH_SPATIAL the cubic B-spline (step 5; its weights are positive).
 FGSR_INLINE vec4 lr_upsample(vec2 pos, SrParams p) {
     vec2 x = pos - vec2(0.5f);
     vec2 b = floor(x);
@@ -81,8 +83,17 @@ FGSR_INLINE vec4 lr_upsample(vec2 pos, SrParams p) {
     vec4 wx = low_pass ? bspline_weights(f.x) : catmull_rom_weights(f.x);
     vec4 wy = low_pass ? bspline_weights(f.y) : catmull_rom_weights(f.y);
     vec4 sum = vec4(0.0f);
+    vec4 lo = vec4(3.0e38f), hi = vec4(-3.0e38f);
     for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) sum += wx[i] * wy[j] * load_lr_color(clamp_lr(base + ivec2(i - 1, j - 1), p));
+        for (int i = 0; i < 4; ++i) {
+            vec4 c = load_lr_color(clamp_lr(base + ivec2(i - 1, j - 1), p));
+            sum += wx[i] * wy[j] * c;
+            if (i >= 1 && i <= 2 && j >= 1 && j <= 2) {
+                lo = min(lo, c);
+                hi = max(hi, c);
+            }
+        }
+    if (!low_pass) sum = clamp(sum, lo, hi);
     return max(sum, vec4(0.0f));
 }
 

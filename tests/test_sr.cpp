@@ -1175,6 +1175,69 @@ TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
     expect_no_validation_errors();
 }
 
+// The Catmull-Rom upsample of the sr pass (shaders/sr.h, lr_upsample: the current samples' term on
+// antialiased input, and the spatial answer where the history is rejected) stays within its inner
+// 2x2 taps (change 49). Its negative lobes beside a highlight far over white (linear 30 here, 60x
+// the background) would otherwise pull the pixels around it to black, a ring that the
+// history, clipped to the 3x3's range, cannot lift. On the still synthetic scene box-filtered 2x2
+// with three such lamps, antialiased by their coverage: no output pixel lies below the darkest
+// input pixel within 3 input pixels of it, and the lamps keep their peak.
+TEST(Sr, CatmullRomUpsampleCastsNoDarkRingAroundHighlights) {
+    const uint32_t w = 96, h = 64, frames = 4;
+    const float lamp = 30.f;
+    SyntheticScene scene(hr_options(2 * w, 2 * h, 0.f));
+    RawFrame f = antialiased_wrong_vectors(scene, w, h, 0.0);
+    std::vector<float> c(f.color.size() / sizeof(float));
+    std::memcpy(c.data(), f.color.data(), f.color.size());
+    const glm::vec2 lamps[] = {{24.3f, 20.6f}, {60.5f, 40.2f}, {80.1f, 15.7f}};
+    for (const glm::vec2 centre : lamps)
+        for (int y = int(centre.y) - 4; y <= int(centre.y) + 4; ++y)
+            for (int x = int(centre.x) - 4; x <= int(centre.x) + 4; ++x) {
+                int inside = 0; // of 4x4 sub-samples, radius 2.5 input pixels
+                for (int j = 0; j < 4; ++j)
+                    for (int i = 0; i < 4; ++i)
+                        inside += glm::length(glm::vec2(x + (i + 0.5f) / 4.f, y + (j + 0.5f) / 4.f) -
+                                              centre) < 2.5f;
+                const float cover = float(inside) / 16.f;
+                for (int k = 0; k < 3; ++k) {
+                    float& v = c[(size_t(y) * w + x) * 4 + k];
+                    v = v * (1.f - cover) + lamp * cover;
+                }
+            }
+    std::memcpy(f.color.data(), c.data(), f.color.size());
+    auto s = sr_session(w, h, [](Params&) {});
+    ASSERT_TRUE(s);
+    std::optional<GeneratedFrame> out;
+    for (uint32_t k = 0; k < frames; ++k) {
+        ASSERT_TRUE(s->submit(f.view()));
+        auto u = s->super_resolved();
+        ASSERT_TRUE(u);
+        out = std::move(*u);
+    }
+    ASSERT_TRUE(measures_antialiased(s->input_aliasing())) << s->input_aliasing();
+    float worst = 1e9f, peak = 0.f; // worst: output less the darkest input within 3 input pixels
+    for (uint32_t y = 0; y < 2 * h; ++y)
+        for (uint32_t x = 0; x < 2 * w; ++x) {
+            const int lx = int(x / 2), ly = int(y / 2);
+            for (int k = 0; k < 3; ++k) {
+                float darkest = 1e9f;
+                for (int j = std::max(ly - 3, 0); j <= std::min(ly + 3, int(h) - 1); ++j)
+                    for (int i = std::max(lx - 3, 0); i <= std::min(lx + 3, int(w) - 1); ++i)
+                        darkest = std::min(darkest, c[(size_t(j) * w + i) * 4 + k]);
+                const float v = out->color.rgba[(size_t(y) * 2 * w + x) * 4 + k];
+                worst = std::min(worst, v - darkest);
+                peak = std::max(peak, v);
+            }
+        }
+    std::printf(
+        "[ measured ] antialiased still input with lamps at %.0f, 2x: lowest output less the darkest input "
+        "near it %.4f, peak %.2f\n",
+        lamp, worst, peak);
+    EXPECT_GT(worst, -1e-3f);
+    EXPECT_GT(peak, 0.95f * lamp);
+    expect_no_validation_errors();
+}
+
 // Params::sr_clip_antialiased (change 47): ISR and ESR clip the warped SR history to the spread of
 // the input's 3x3 neighbourhood, which on antialiased input is low-passed: at 0.7 of that spread the
 // clip cuts the detail the history restores. On the still synthetic scene box-filtered 2x2 (exact
