@@ -1177,11 +1177,11 @@ TEST(Sr, SharpCurrentTermOnAntialiasedInput) {
 
 // The Catmull-Rom upsample of the sr pass (shaders/sr.h, lr_upsample: the current samples' term on
 // antialiased input, and the spatial answer where the history is rejected) stays within its inner
-// 2x2 taps (change 49). Its negative lobes beside a highlight far over white (linear 30 here, 60x
-// the background) would otherwise pull the pixels around it to black, a ring that the
-// history, clipped to the 3x3's range, cannot lift. On the still synthetic scene box-filtered 2x2
-// with three such lamps, antialiased by their coverage: no output pixel lies below the darkest
-// input pixel within 3 input pixels of it, and the lamps keep their peak.
+// 2x2 taps (change 49). Its negative lobes beside a highlight far over white (linear 30 here) would
+// otherwise pull the pixels around it to black, a ring that the history, clipped to the 3x3's
+// range, cannot lift (with change 48's shader the lowest output lies 0.21 below that bound). On the still
+// synthetic scene box-filtered 2x2 with three such lamps, antialiased by their coverage: no output pixel lies
+// below the darkest input pixel within 3 input pixels of it, and the lamps keep their peak.
 TEST(Sr, CatmullRomUpsampleCastsNoDarkRingAroundHighlights) {
     const uint32_t w = 96, h = 64, frames = 4;
     const float lamp = 30.f;
