@@ -49,7 +49,8 @@
 #define WARP_OUT_DEPTH0 6
 #define WARP_OUT_COLOR1 7 // extrapolation: the output frame
 #define WARP_OUT_DEPTH1 8
-#define WARP_COUNT 9
+#define WARP_FIELD_STATE 9 // extrapolation: the holes' state (warp.h, extrapolated_color)
+#define WARP_COUNT 10
 
 #define BLEND_COLOR0 0
 #define BLEND_DEPTH0 1

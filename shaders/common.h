@@ -112,12 +112,15 @@ struct GenParams {
     uint blend_mode; // BLEND_MIX: weighted blend when similar (else paper Eq. 1: the temporally
                      // closer) | BLEND_DEPTH_MOTION (blend.h)
     uint fill_gaps;  // 1: refine fills grid-like gaps; 0: every empty pixel is a hole
-    uint fill_holes; // 1: disocc gives holes a vector; 0: holes keep a zero vector;
-                     // FGSR_FILL_HOLES_COVER: the same, and a hole pixel that the footprint of
-                     // a surface in front overlaps takes that surface's vectors (disocc.h)
+    uint fill_holes; // 0: holes keep a zero vector; else bit 1 (disocc gives holes a vector) |
+                     // FGSR_FILL_HOLES_COVER (a hole pixel that the footprint of a surface in
+                     // front overlaps takes that surface's vectors) | FGSR_FILL_HOLES_FRAME0
+                     // (extrapolation: a hole takes frame 0 where frame 1's sample lies on the
+                     // surface that left; disocc.h, warp.h)
     uint warp_cubic; // 1: warp samples colour with the de-ringed Catmull-Rom cubic; 0: bilinear (warp.h)
 };
 #define FGSR_FILL_HOLES_COVER 2u
+#define FGSR_FILL_HOLES_FRAME0 4u
 // GenParams::blend_mode
 #define BLEND_MIX 1u          // where the warped frames agree: the alpha-weighted mix (BlendMode::mix)
 #define BLEND_DEPTH_MOTION 2u // the depth test: frame 0's depth against what frame 1 may show (blend_depth.h)

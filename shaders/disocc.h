@@ -43,13 +43,11 @@ FGSR_INLINE vec4 leaving_frame0(ivec2 t, vec4 v, GenParams g) {
     return vec4(moved, v.z, v.w);
 }
 
-FGSR_INLINE FieldSample fill_hole(ivec2 t, GenParams g) {
-    if (g.extrapolate != 0u) {
-        vec2 v1 = g.alpha * load_mv1(t);
-        return field_sample(vec4(v1, v1), FGSR_FAR_DEPTH, FIELD_HOLE_FILLED);
-    }
+// The farthest splatted pixel on the sparse ring pattern around t (8 directions, radii 1, 2, 4, 8,
+// 16): its key (an empty key where none is).
+FGSR_INLINE uint64_t farthest_on_ring(ivec2 t, GenParams g) {
     float farthest = -1.0f;
-    uint best = 0u;
+    uint64_t best = uint64_t(FGSR_EMPTY_KEY_LO);
     for (int r = 1; r <= 16; r *= 2)
         for (int d = 0; d < 8; ++d) {
             ivec2 dir = ivec2(d < 3 ? -1 : (d == 3 || d == 7 ? 0 : 1), d == 1 || d == 5 ? 0 : (d < 1 || d > 5 ? -1 : 1));
@@ -58,16 +56,41 @@ FGSR_INLINE FieldSample fill_hole(ivec2 t, GenParams g) {
                 uint64_t k = load_key(q);
                 if (!key_empty(k) && key_depth(k) > farthest) {
                     farthest = key_depth(k);
-                    best = key_source(k);
+                    best = k;
                 }
             }
         }
+    return best;
+}
+
+// Extrapolation with FGSR_FILL_HOLES_FRAME0 (docs/ACCURACY.md, change 50): the paper's sample
+// lands on the surface that left where that surface is small against its step or its path bends
+// (a lamp on a circle, a turning vane), and shows it twice. The fill then also carries, as its v0,
+// the vector to frame 0 of the background (the farthest splatted pixel on the ring, as in
+// interpolation): where frame 0 shows something behind frame 1's sample there, the frame takes
+// frame 0 (warp.h, extrapolated_color). Without the bit (or with no splatted pixel on the ring) v0
+// is v1, as before.
+FGSR_INLINE FieldSample fill_hole(ivec2 t, GenParams g) {
+    if (g.extrapolate != 0u) {
+        vec2 v1 = g.alpha * load_mv1(t);
+        vec2 v0 = v1;
+        if ((g.fill_holes & FGSR_FILL_HOLES_FRAME0) != 0u) {
+            uint64_t k = farthest_on_ring(t, g);
+            if (!key_empty(k) && key_depth(k) > 0.0f) {
+                vec4 m = load_motion(key_source(k));
+                v0 = vec2(m.x, m.y);
+            }
+        }
+        return field_sample(vec4(v0, v1), FGSR_FAR_DEPTH, FIELD_HOLE_FILLED);
+    }
+    uint64_t best = farthest_on_ring(t, g);
+    float farthest = key_empty(best) ? -1.0f : key_depth(best);
     if (farthest > 0.0f)
-        return field_sample(leaving_frame0(t, load_motion(best), g), farthest, FIELD_HOLE_FILLED);
+        return field_sample(leaving_frame0(t, load_motion(key_source(best)), g), farthest, FIELD_HOLE_FILLED);
     return field_sample(vec4(0.0f), FGSR_FAR_DEPTH, FIELD_HOLE_FILLED);
 }
 
-// Edge cover (GenParams::fill_holes == FGSR_FILL_HOLES_COVER; docs/ACCURACY.md, change 14).
+// Edge cover (GenParams::fill_holes & FGSR_FILL_HOLES_COVER; docs/ACCURACY.md, change 14).
 // Splatting writes a source to the one pixel under its centre, so the pixel beside a moving edge
 // is a hole (its fill: the background, or in extrapolation what the surface uncovered) even where
 // the surface's footprint, the pixel square around where its source landed, overlaps it; which side
@@ -115,5 +138,5 @@ FGSR_INLINE FieldSample hole_cover(ivec2 t, FieldSample f, GenParams g) {
 // fill_hole, then the edge cover where the parameters ask for it.
 FGSR_INLINE FieldSample fill_hole_covered(ivec2 t, GenParams g) {
     FieldSample f = fill_hole(t, g);
-    return g.fill_holes == FGSR_FILL_HOLES_COVER ? hole_cover(t, f, g) : f;
+    return (g.fill_holes & FGSR_FILL_HOLES_COVER) != 0u ? hole_cover(t, f, g) : f;
 }

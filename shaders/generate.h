@@ -12,7 +12,7 @@ FGSR_INLINE void generate_finish(ivec2 t, FieldSample f, GenParams g) {
     vec2 centre = vec2(t) + vec2(0.5f);
     WarpSample w1 = warp_sample(1u, centre, vec2(f.v.z, f.v.w), g);
     if (g.extrapolate != 0u) {
-        store_output(i, w1.color);
+        store_output(i, extrapolated_color(w1, f.v, f.state, centre, g));
         return;
     }
     WarpSample w0 = warp_sample(0u, centre, vec2(f.v.x, f.v.y), g);

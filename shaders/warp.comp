@@ -13,6 +13,7 @@ layout(std430, binding = WARP_OUT_COLOR0) writeonly buffer OutColor0 { vec4 out_
 layout(std430, binding = WARP_OUT_DEPTH0) writeonly buffer OutDepth0 { float out_depth0[]; };
 layout(std430, binding = WARP_OUT_COLOR1) writeonly buffer OutColor1 { vec4 out_color1[]; };
 layout(std430, binding = WARP_OUT_DEPTH1) writeonly buffer OutDepth1 { float out_depth1[]; };
+layout(std430, binding = WARP_FIELD_STATE) readonly buffer FieldState { uint field_state[]; }; // extrapolation
 
 vec4 load_color0(ivec2 q) { return unpack_color(color0[q.y * int(pc.g.width) + q.x]); }
 vec4 load_color1(ivec2 q) { return unpack_color(color1[q.y * int(pc.g.width) + q.x]); }
@@ -29,7 +30,7 @@ void main() {
     vec4 f = field[i];
     vec2 centre = vec2(t) + vec2(0.5f);
     WarpSample w1 = warp_sample(1u, centre, vec2(f.z, f.w), pc.g);
-    out_color1[i] = w1.color;
+    out_color1[i] = pc.g.extrapolate != 0u ? extrapolated_color(w1, f, field_state[i], centre, pc.g) : w1.color;
     out_depth1[i] = w1.depth;
     if (pc.g.extrapolate == 0u) {
         WarpSample w0 = warp_sample(0u, centre, vec2(f.x, f.y), pc.g);

@@ -199,12 +199,12 @@ TEST(Presets, SwitchesApplyAndToggle) {
     const fgsr::Params base = *fgsr::preset_params("balanced");
     const std::vector<std::string> toggles = fgsr::switch_toggles(base);
     const std::set<std::string> expected{
-        "motion=linear",   "resample=catmull_rom", "resample=lut",         "fill_gaps=off",
-        "fill_holes=off",  "blend=select",         "dilate_mvs=on",        "denoise=off",
-        "passes=separate", "correct_vectors=on",   "fast_motion=on",       "dilate_edges=on",
-        "accel_search=on", "accel_median=on",      "accel_depth=on",       "blend_depth=off",
-        "cover_edges=off", "vector_cuts=off",      "motion_consensus=off", "colour_agree=on",
-        "warp=bilinear",   "warp=cubic",           "motion_search=off"};
+        "motion=linear",   "resample=catmull_rom", "resample=lut",    "fill_gaps=off",
+        "fill_holes=off",  "blend=select",         "dilate_mvs=on",   "denoise=off",
+        "passes=separate", "correct_vectors=on",   "fast_motion=on",  "dilate_edges=on",
+        "accel_search=on", "accel_median=on",      "accel_depth=on",  "blend_depth=off",
+        "cover_edges=off", "hole_frame0=off",      "vector_cuts=off", "motion_consensus=off",
+        "colour_agree=on", "warp=bilinear",        "warp=cubic",      "motion_search=off"};
     EXPECT_EQ(std::set<std::string>(toggles.begin(), toggles.end()), expected);
     for (const std::string& t : toggles) {
         fgsr::Params x = base;

@@ -409,6 +409,76 @@ TEST(Scenes, EdgeCoverBringsMovingEdgesCloserToTheirCoverage) {
     }
 }
 
+// Extrapolation's holes that frame 0 saw (shaders/disocc.h, fill_hole; shaders/warp.h,
+// hole_takes_frame0; docs/ACCURACY.md, change 50) on the CPU reference: a bright bar 12 px wide
+// accelerating right over still ground, x(t) = s + 13 (t - 1) + 3 (t - 1)^2 (steps of 4 and 10 px),
+// point-sampled in depth and vectors, frames 0 and 1 with their vectors. At 1.5 the bar has moved
+// 7.25 px; the paper's fill of the uncovered ground reads frame 1 half a step back along the bar's
+// vector (5 px), which for the last 2.25 px lands on the bar itself: a strip of bar. Frame 0,
+// where the bar was 10 px further left, shows the ground there. The analytic frame at 1.5 is the truth. Over
+// a sweep of sub-pixel positions, the uncovered ground's error falls with the rule and is large without it;
+// pixels more than 3 px from the uncovered span are left exactly as they were; the separate passes equal the
+// fused pass with the rule and without.
+ref::InternalFrame accelerating_bar(uint32_t w, uint32_t h, float s, float time) {
+    const glm::vec4 ground(0.2f, 0.25f, 0.3f, 1.f), bar(1.f, 0.9f, 0.6f, 1.f);
+    const float width = 12.f;
+    auto x_at = [&](float t) { return s + 13.f * (t - 1.f) + 3.f * (t - 1.f) * (t - 1.f); };
+    const float b = x_at(time), step = x_at(time - 1.f) - b; // to the previous frame
+    ref::InternalFrame f = flat_frame(w, h);
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            const float cover =
+                std::clamp(std::min(b + width, float(x) + 1.f) - std::max(b, float(x)), 0.f, 1.f);
+            f.color[i] = glm::mix(ground, bar, cover);
+            const bool front = float(x) + 0.5f > b && float(x) + 0.5f < b + width;
+            f.depth[i] = front ? 1.f : 10.f;
+            f.mv.push_back(front ? glm::vec2(step, 0.f) : glm::vec2(0.f));
+        }
+    return f;
+}
+
+TEST(Scenes, ExtrapolatedHolesTakeFrameZeroWhereFrameOneShowsTheSurfaceThatLeft) {
+    const uint32_t w = 64, h = 4;
+    const float a = 0.5f, moved = 13.f * a + 3.f * a * a; // 7.25 px by 1.5
+    double err_on = 0, err_off = 0;
+    size_t uncovered = 0;
+    for (int k = 0; k < 10; ++k) {
+        const float s = 20.f + 0.1f * float(k) + 0.03f;
+        const ref::InternalFrame f0 = accelerating_bar(w, h, s, 0.f), f1 = accelerating_bar(w, h, s, 1.f);
+        const ref::InternalFrame truth = accelerating_bar(w, h, s, 1.f + a);
+        std::vector<glm::vec4> out[2], fused[2];
+        for (bool on : {false, true}) {
+            Params p = given_field();
+            p.hole_frame0 = on;
+            const ref::GenParams g = params::gen_params(internal_format(w, h), p, a, true, true, true);
+            out[on] = ref::generate(f0, f1, g);
+            fused[on] = ref::generate_fused(f0, f1, ref::splat(f0, f1, g), g);
+        }
+        for (size_t i = 0; i < out[1].size(); ++i) {
+            for (int j : {0, 1})
+                EXPECT_LT(glm::length(out[j][i] - fused[j][i]), 1e-5f) << "separate vs fused, pixel " << i;
+            const float x = float(i % w) + 0.5f;
+            if (x < s - 3.f || x > s + moved + 3.f) {
+                EXPECT_EQ(out[0][i], out[1][i]) << "pixel " << i << " away from the uncovered ground";
+                continue;
+            }
+            if (x < s + 0.5f || x > s + moved - 0.5f) continue; // partly covered in the truth
+            ++uncovered;
+            err_off += glm::length(glm::vec3(out[0][i] - truth.color[i]));
+            err_on += glm::length(glm::vec3(out[1][i] - truth.color[i]));
+        }
+    }
+    err_off /= double(uncovered);
+    err_on /= double(uncovered);
+    std::printf(
+        "[ measured ] accelerating bar, extrapolation to 1.5: uncovered ground's error %.4f without the "
+        "rule, %.4f with it (%zu pixels)\n",
+        err_off, err_on, uncovered);
+    EXPECT_GT(err_off, 0.1) << "the paper's fill shows the bar a second time";
+    EXPECT_LT(err_on, 0.25 * err_off);
+}
+
 // Content leaving the frame (shaders/splat.h, splat_leaving, and shaders/disocc.h, leaving_frame0;
 // docs/ACCURACY.md, changes 28 and 29) on the CPU reference: a textured ground panning left at
 // 12 px a frame and a near post crossing the left edge at 40 px a frame, gone by frame 1,

@@ -142,7 +142,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_frames(std::span<con
     for (size_t k = 0; k < alphas.size(); ++k) {
         gpu::GenParams g =
             params::gen_params(format, params, alphas[k], extrapolate, f0.has_mv, f1.has_mv, input_measure());
-        if (sr()) g.fill_holes = std::min(g.fill_holes, 1u); // generate_sr has no edge cover (disocc.h)
+        if (sr()) g.fill_holes &= ~FGSR_FILL_HOLES_COVER; // generate_sr has no edge cover (disocc.h)
         const uint32_t q0 = uint32_t(k) * kQueriesPerFrame;
         uint32_t q = q0;
         const vk::Buffer& out = outputs[k];
@@ -248,7 +248,7 @@ Result<std::vector<GeneratedFrame>> Session::Impl::generate_frames(std::span<con
             at<WARP_FIELD>(field), at<WARP_COLOR0>(f0.color), at<WARP_COLOR1>(f1.color),
             at<WARP_DEPTH0>(f0.depth), at<WARP_DEPTH1>(f1.depth), at<WARP_OUT_COLOR0>(warped_color0),
             at<WARP_OUT_DEPTH0>(warped_depth0), at<WARP_OUT_COLOR1>(extrapolate ? out : warped_color1),
-            at<WARP_OUT_DEPTH1>(warped_depth1));
+            at<WARP_OUT_DEPTH1>(warped_depth1), at<WARP_FIELD_STATE>(field_state));
         FGSR_TRY(rec.dispatch_pixels(Variant::warp, wb, &g, format.width, format.height));
         rec.barrier();
         rec.timestamp(q++);

@@ -197,7 +197,9 @@ GenParams gen_params(const FrameFormat& format, const Params& params, float alph
     g.blend_mode = (params.blend == BlendMode::mix ? BLEND_MIX : 0u) |
                    (params.blend_depth_motion ? BLEND_DEPTH_MOTION : 0u);
     g.fill_gaps = params.fill_gaps ? 1u : 0u;
-    g.fill_holes = params.fill_holes ? (params.cover_edges ? FGSR_FILL_HOLES_COVER : 1u) : 0u;
+    g.fill_holes = params.fill_holes ? 1u | (params.cover_edges ? FGSR_FILL_HOLES_COVER : 0u) |
+                                           (params.hole_frame0 ? FGSR_FILL_HOLES_FRAME0 : 0u)
+                                     : 0u;
     // automatic: the cubic where the positions are the client's vectors' (not estimated from colour)
     // and the frames are inputs on both sides of the instant (docs/ACCURACY.md change 39).
     g.warp_cubic = params.warp_kernel == WarpKernel::cubic ||

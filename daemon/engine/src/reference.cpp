@@ -423,7 +423,8 @@ Warped warp(const InternalFrame& f0, const InternalFrame& f1, const Field& field
         const glm::vec4 v = field.v[i];
         const glm::vec2 centre = glm::vec2(q) + 0.5f;
         auto w1 = cpu.warp_sample(1u, centre, glm::vec2(v.z, v.w), g);
-        out.color[n + i] = w1.color;
+        out.color[n + i] =
+            g.extrapolate != 0u ? cpu.extrapolated_color(w1, v, field.state[i], centre, g) : w1.color;
         out.depth[n + i] = w1.depth;
         if (g.extrapolate == 0u) {
             auto w0 = cpu.warp_sample(0u, centre, glm::vec2(v.x, v.y), g);

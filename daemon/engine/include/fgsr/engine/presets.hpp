@@ -71,6 +71,7 @@ inline Params preset_params(Preset preset) {
         p.accel_median = false;
         p.accel_depth_motion = false;
         p.cover_edges = false;
+        p.hole_frame0 = false;                // the holes' ring search in extrapolation
         p.warp_kernel = WarpKernel::bilinear; // the cubic's 16 reads a warped sample
         p.warp_resample = Resample::bilinear; // ISR's too
         p.motion_search = false;              // fast_motion refines nothing anyway
@@ -88,6 +89,7 @@ inline Params preset_params(Preset preset) {
         p.accel_median = false;
         p.accel_depth_motion = false;
         p.cover_edges = true;
+        p.hole_frame0 = true;
         p.motion_search = true;
         p.colour_agree = false; // several times a frame's cost on CPU devices
         break;
@@ -103,6 +105,7 @@ inline Params preset_params(Preset preset) {
         p.accel_median = true;
         p.accel_depth_motion = true; // docs/ACCURACY.md, changes 21, 23
         p.cover_edges = true;
+        p.hole_frame0 = true;
         p.motion_search = true;
         p.colour_agree = true; // docs/ACCURACY.md, change 41
         break;
@@ -140,7 +143,7 @@ struct SwitchInfo {
 };
 
 // clang-format off
-inline constexpr std::array<SwitchInfo, 21> kSwitches{{
+inline constexpr std::array<SwitchInfo, 22> kSwitches{{
     {"motion", {"linear", "quadratic", ""}, "uniform velocity (Eqs. 14-15) or uniform acceleration"},
     {"resample", kResampleNames, "SR history resampling"},
     {"fill_gaps", {"on", "off", ""}, "refine: fill splatting gaps"},
@@ -158,6 +161,7 @@ inline constexpr std::array<SwitchInfo, 21> kSwitches{{
     {"blend_depth", {"on", "off", ""}, "interpolation: frame 0's depth against what frame 1 shows within a pixel, with its vectors' depth change"},
     {"warp", {"auto", "bilinear", "cubic"}, "warps' colour kernel: auto = cubic in interpolation of input that measures antialiased"},
     {"cover_edges", {"on", "off", ""}, "disocc: a hole pixel that a front surface's footprint overlaps takes its vectors"},
+    {"hole_frame0", {"on", "off", ""}, "disocc, extrapolation: a hole takes frame 0 where frame 1's sample lies on the surface that left"},
     {"vector_cuts", {"on", "off", ""}, "with vectors: a frame whose vectors do not explain its colour is a scene cut"},
     {"motion_consensus", {"on", "off", ""}, "without vectors: ambiguous blocks of the coarse levels take their neighbours' consensus"},
     {"colour_agree", {"on", "off", ""}, "per pixel the frame from vectors estimated from colour where they explain the colour and the given vectors do not"},
@@ -188,6 +192,7 @@ inline std::string_view switch_value(const Params& p, std::string_view key) {
                : p.warp_kernel == WarpKernel::cubic  ? "cubic"
                                                      : "auto";
     if (key == "cover_edges") return onoff(p.cover_edges);
+    if (key == "hole_frame0") return onoff(p.hole_frame0);
     if (key == "vector_cuts") return onoff(p.vector_cuts);
     if (key == "motion_consensus") return onoff(p.motion_consensus);
     if (key == "colour_agree") return onoff(p.colour_agree);
@@ -209,7 +214,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
             "unknown switch '" + std::string(key) + "' in '" + std::string(setting) +
                 "' (switches: motion, resample, fill_gaps, fill_holes, blend, dilate_mvs, denoise, passes, "
                 "correct_vectors, fast_motion, dilate_edges, accel_search, accel_median, accel_depth, "
-                "blend_depth, warp, cover_edges, vector_cuts, motion_consensus, colour_agree, "
+                "blend_depth, warp, cover_edges, hole_frame0, vector_cuts, motion_consensus, colour_agree, "
                 "motion_search)");
     bool known = false;
     for (std::string_view v : info->values) known = known || (!v.empty() && v == value);
@@ -241,6 +246,7 @@ inline Result<void> apply_switch(Params& p, std::string_view setting) {
                         : value == "cubic"  ? WarpKernel::cubic
                                             : WarpKernel::automatic;
     if (key == "cover_edges") p.cover_edges = on;
+    if (key == "hole_frame0") p.hole_frame0 = on;
     if (key == "vector_cuts") p.vector_cuts = on;
     if (key == "motion_consensus") p.motion_consensus = on;
     if (key == "colour_agree") p.colour_agree = on;
