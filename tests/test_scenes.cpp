@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace fgsr::test {
 namespace {
@@ -343,6 +344,28 @@ TEST(Scenes, InterpolationTakesTheMedianAccelerationOfTheSameSurface) {
 // pixels at the bar's edges come closer to it with the cover than without in interpolation (and
 // no further from it in extrapolation); pixels more than 3 px from an edge are left exactly as
 // they were; the separate passes and the fused pass agree, with the cover and without.
+// The CPU reference's frame at alpha (1 + alpha when extrap) with one Params switch off and on
+// (`set`), by the separate passes and by the fused pass, which are expected to agree pixel by pixel.
+struct Toggled {
+    std::vector<glm::vec4> out[2]; // separate passes: [0] off, [1] on
+};
+Toggled generate_toggled(const ref::InternalFrame& f0, const ref::InternalFrame& f1, float a, bool extrap,
+                         const std::function<void(Params&, bool)>& set) {
+    Toggled t;
+    for (bool on : {false, true}) {
+        Params p = given_field();
+        set(p, on);
+        const ref::GenParams g =
+            params::gen_params(internal_format(f0.width, f0.height), p, a, extrap, true, true);
+        t.out[on] = ref::generate(f0, f1, g);
+        const std::vector<glm::vec4> fused = ref::generate_fused(f0, f1, ref::splat(f0, f1, g), g);
+        for (size_t i = 0; i < fused.size(); ++i)
+            EXPECT_LT(glm::length(t.out[on][i] - fused[i]), 1e-5f)
+                << "separate vs fused, switch " << on << ", pixel " << i;
+    }
+    return t;
+}
+
 struct BarCase {
     float start, end, speed; // the bar's extent in frame 1 and its speed (px per frame, to the right)
 };
@@ -373,17 +396,10 @@ TEST(Scenes, EdgeCoverBringsMovingEdgesCloserToTheirCoverage) {
                 const float a = 0.5f, time = extrap ? 1.f + a : a;
                 const ref::InternalFrame f0 = bar_frame(w, h, c, 0.f), f1 = bar_frame(w, h, c, 1.f);
                 const ref::InternalFrame truth = bar_frame(w, h, c, time);
-                std::vector<glm::vec4> out[2], fused[2];
-                for (bool cover : {false, true}) {
-                    Params p = given_field();
-                    p.cover_edges = cover;
-                    const ref::GenParams g = params::gen_params(internal_format(w, h), p, a, extrap, true, true);
-                    out[cover] = ref::generate(f0, f1, g);
-                    fused[cover] = ref::generate_fused(f0, f1, ref::splat(f0, f1, g), g);
-                }
+                const Toggled t =
+                    generate_toggled(f0, f1, a, extrap, [](Params& p, bool on) { p.cover_edges = on; });
+                const auto& out = t.out;
                 for (size_t i = 0; i < out[1].size(); ++i) {
-                    for (int j : {0, 1})
-                        EXPECT_LT(glm::length(out[j][i] - fused[j][i]), 1e-5f) << "separate vs fused, pixel " << i;
                     const float x = float(i % w) + 0.5f, shift = (time - 1.f) * speed;
                     const bool edge = std::abs(x - (c.start + shift)) < 3.f || std::abs(x - (c.end + shift)) < 3.f;
                     if (!edge) {
@@ -447,17 +463,9 @@ TEST(Scenes, ExtrapolatedHolesTakeFrameZeroWhereFrameOneShowsTheSurfaceThatLeft)
         const float s = 20.f + 0.1f * float(k) + 0.03f;
         const ref::InternalFrame f0 = accelerating_bar(w, h, s, 0.f), f1 = accelerating_bar(w, h, s, 1.f);
         const ref::InternalFrame truth = accelerating_bar(w, h, s, 1.f + a);
-        std::vector<glm::vec4> out[2], fused[2];
-        for (bool on : {false, true}) {
-            Params p = given_field();
-            p.hole_frame0 = on;
-            const ref::GenParams g = params::gen_params(internal_format(w, h), p, a, true, true, true);
-            out[on] = ref::generate(f0, f1, g);
-            fused[on] = ref::generate_fused(f0, f1, ref::splat(f0, f1, g), g);
-        }
+        const Toggled t = generate_toggled(f0, f1, a, true, [](Params& p, bool on) { p.hole_frame0 = on; });
+        const auto& out = t.out;
         for (size_t i = 0; i < out[1].size(); ++i) {
-            for (int j : {0, 1})
-                EXPECT_LT(glm::length(out[j][i] - fused[j][i]), 1e-5f) << "separate vs fused, pixel " << i;
             const float x = float(i % w) + 0.5f;
             if (x < s - 3.f || x > s + moved + 3.f) {
                 EXPECT_EQ(out[0][i], out[1][i]) << "pixel " << i << " away from the uncovered ground";
