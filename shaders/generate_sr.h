@@ -5,7 +5,9 @@
 // (resample.h with s.resample = Params::warp_resample, bilinear by default: these positions come
 // from frame generation's motion, and the sharp kernels lost to it, docs/ACCURACY.md change 10)
 // replaces the plain warp.
-//   ESR: the frame at 1 + alpha is the newest SR output (I_1^sr) resampled at q + v1 * scale.
+//   ESR: the frame at 1 + alpha is the newest SR output (I_1^sr) resampled at q + v1 * scale;
+//        a hole whose frame-1 sample lies on the surface that left takes input frame 0 instead
+//        (warp.h, hole_takes_frame0; docs/ACCURACY.md change 50).
 //   ISR: frame 0 is the previous SR output (I_0^sr) resampled at q + v0 * scale; frame 1 is the
 //        newest low-resolution frame itself (no wait for its SR), read bilinearly at its jittered
 //        input position; blend.h selects / blends them with input-resolution depths.
