@@ -7,7 +7,7 @@
 // replaces the plain warp.
 //   ESR: the frame at 1 + alpha is the newest SR output (I_1^sr) resampled at q + v1 * scale;
 //        a hole whose frame-1 sample lies on the surface that left takes input frame 0 instead
-//        (warp.h, hole_takes_frame0; docs/ACCURACY.md change 50).
+//        (warp.h, frame0_behind; docs/ACCURACY.md change 50).
 //   ISR: frame 0 is the previous SR output (I_0^sr) resampled at q + v0 * scale; frame 1 is the
 //        newest low-resolution frame itself (no wait for its SR), read bilinearly at its jittered
 //        input position; blend.h selects / blends them with input-resolution depths.
@@ -57,13 +57,13 @@ FGSR_INLINE vec4 generate_sr_finish(ivec2 q, vec4 v, uint state, GenParams g, Sr
     vec2 pos = qc / s.scale;
     ivec2 out_size = ivec2(int(s.hr_width), int(s.hr_height));
     if (g.extrapolate != 0u) {
-        if (state == FIELD_HOLE_FILLED && (g.fill_holes & FGSR_FILL_HOLES_FRAME0) != 0u) {
-            // A hole whose frame-1 sample lies on the surface that left (warp.h, hole_takes_frame0):
+        if (hole_may_take_frame0(state, g)) {
+            // A hole whose frame-1 sample lies on the surface that left (warp.h, frame0_behind):
             // input frame 0 (its SR output is not kept), as frame generation takes it.
             vec2 lr = pos - vec2(s.jitter_x, s.jitter_y);
             WarpSample w1 = warp_sample(1u, lr, vec2(v.z, v.w), g);
             WarpSample w0 = warp_sample(0u, lr, vec2(v.x, v.y), g);
-            if (hole_takes_frame0(state, w0.depth, w1.depth, g)) return w0.color;
+            if (frame0_behind(w0.depth, w1.depth, g)) return w0.color;
         }
         vec2 h1 = qc + vec2(v.z, v.w) * s.scale;
         vec4 c1 = max(resample(h1, out_size, s.resample), vec4(0.0f));

@@ -88,7 +88,7 @@ FGSR_INLINE vec4 lr_upsample(vec2 pos, SrParams p) {
         for (int i = 0; i < 4; ++i) {
             vec4 c = load_lr_color(clamp_lr(base + ivec2(i - 1, j - 1), p));
             sum += wx[i] * wy[j] * c;
-            if (i >= 1 && i <= 2 && j >= 1 && j <= 2) {
+            if (!low_pass && i >= 1 && i <= 2 && j >= 1 && j <= 2) {
                 lo = min(lo, c);
                 hi = max(hi, c);
             }

@@ -60,19 +60,21 @@ FGSR_INLINE WarpSample warp_sample(uint frame, vec2 centre, vec2 v, GenParams g)
     return w;
 }
 
-// Extrapolation, a hole of disocc's (FIELD_HOLE_FILLED) with FGSR_FILL_HOLES_FRAME0 (disocc.h,
-// fill_hole; docs/ACCURACY.md, change 50): does frame 0, sampled at the background's vector (d0),
-// show something behind frame 1's sample along the path of the surface that left (d1), by more than
-// T_D? Then frame 1's sample lies on that surface, and frame 0 shows what it uncovered.
-FGSR_INLINE bool hole_takes_frame0(uint state, float d0, float d1, GenParams g) {
-    return state == FIELD_HOLE_FILLED && (g.fill_holes & FGSR_FILL_HOLES_FRAME0) != 0u && d0 >= 0.0f &&
-           d1 >= 0.0f && d0 - d1 > g.t_depth * d1;
+// Extrapolation with FGSR_FILL_HOLES_FRAME0 (disocc.h, fill_hole; docs/ACCURACY.md, change 50): a
+// hole of disocc's (FIELD_HOLE_FILLED) may take frame 0, sampled at the background's vector (v0).
+FGSR_INLINE bool hole_may_take_frame0(uint state, GenParams g) {
+    return state == FIELD_HOLE_FILLED && (g.fill_holes & FGSR_FILL_HOLES_FRAME0) != 0u;
+}
+// It does where that sample (depth d0) lies behind frame 1's sample along the path of the surface
+// that left (d1) by more than T_D: frame 1's sample is on that surface, frame 0 shows what it uncovered.
+FGSR_INLINE bool frame0_behind(float d0, float d1, GenParams g) {
+    return d0 >= 0.0f && d1 >= 0.0f && d0 - d1 > g.t_depth * d1;
 }
 
 // The extrapolated colour of the pixel at `centre` with field vectors v (v0 used only by the
 // holes above) and frame 1's sample w1.
 FGSR_INLINE vec4 extrapolated_color(WarpSample w1, vec4 v, uint state, vec2 centre, GenParams g) {
-    if (state != FIELD_HOLE_FILLED || (g.fill_holes & FGSR_FILL_HOLES_FRAME0) == 0u) return w1.color;
+    if (!hole_may_take_frame0(state, g)) return w1.color;
     WarpSample w0 = warp_sample(0u, centre, vec2(v.x, v.y), g);
-    return hole_takes_frame0(state, w0.depth, w1.depth, g) ? w0.color : w1.color;
+    return frame0_behind(w0.depth, w1.depth, g) ? w0.color : w1.color;
 }

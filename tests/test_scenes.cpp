@@ -426,7 +426,7 @@ TEST(Scenes, EdgeCoverBringsMovingEdgesCloserToTheirCoverage) {
 }
 
 // Extrapolation's holes that frame 0 saw (shaders/disocc.h, fill_hole; shaders/warp.h,
-// hole_takes_frame0; docs/ACCURACY.md, change 50) on the CPU reference: a bright bar 12 px wide
+// frame0_behind; docs/ACCURACY.md, change 50) on the CPU reference: a bright bar 12 px wide
 // accelerating right over still ground, x(t) = s + 13 (t - 1) + 3 (t - 1)^2 (steps of 4 and 10 px),
 // point-sampled in depth and vectors, frames 0 and 1 with their vectors. At 1.5 the bar has moved
 // 7.25 px; the paper's fill of the uncovered ground reads frame 1 half a step back along the bar's

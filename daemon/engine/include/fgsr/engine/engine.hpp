@@ -82,7 +82,7 @@ struct Params {
     // disocc, extrapolation: a hole also takes the background's vector to frame 0, and the frame
     // takes frame 0 there where frame 1's sample (the paper's, along the path of the surface that
     // left) lies on that surface: small surfaces against their step, bending paths (shaders/warp.h,
-    // hole_takes_frame0; docs/ACCURACY.md, change 50). Frame generation and ESR; with fill_holes.
+    // frame0_behind; docs/ACCURACY.md, change 50). Frame generation and ESR; with fill_holes.
     bool hole_frame0 = true;
     // false: splat, then one fused pass (refine, disocc, warp, blend per pixel; the default, and on
     // CPU devices several times faster). true: each pass on its own, with per-pass timings and
